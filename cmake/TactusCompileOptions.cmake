@@ -1,0 +1,39 @@
+# Warnings and sanitizers shared by every Tactus target (through tactus_options).
+add_library(tactus_options INTERFACE)
+target_compile_features(tactus_options INTERFACE cxx_std_20)
+target_compile_options(tactus_options INTERFACE
+  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor>
+  $<$<AND:$<CXX_COMPILER_ID:GNU,Clang>,$<BOOL:${TACTUS_WERROR}>>:-Werror>)
+
+if(TACTUS_SANITIZE STREQUAL "address")
+  set(_san -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+elseif(TACTUS_SANITIZE STREQUAL "thread")
+  set(_san -fsanitize=thread -fno-omit-frame-pointer)
+elseif(NOT TACTUS_SANITIZE STREQUAL "")
+  message(FATAL_ERROR "TACTUS_SANITIZE must be '', 'address' or 'thread', not '${TACTUS_SANITIZE}'")
+endif()
+if(_san)
+  target_compile_options(tactus_options INTERFACE ${_san})
+  target_link_options(tactus_options INTERFACE ${_san})
+endif()
+install(TARGETS tactus_options EXPORT TactusTargets)
+
+# tactus_add_library(NAME SOURCES... DEPS ...): one library per src/ folder.
+function(tactus_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  if(ARG_SOURCES)
+    add_library(tactus_${name} STATIC ${ARG_SOURCES})
+    target_link_libraries(tactus_${name} PUBLIC tactus_options ${ARG_DEPS})
+    target_include_directories(tactus_${name} PUBLIC
+      $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src>
+      $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/tactus>)
+  else()
+    add_library(tactus_${name} INTERFACE)
+    target_link_libraries(tactus_${name} INTERFACE tactus_options ${ARG_DEPS})
+    target_include_directories(tactus_${name} INTERFACE
+      $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src>
+      $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/tactus>)
+  endif()
+  add_library(Tactus::${name} ALIAS tactus_${name})
+  set_property(GLOBAL APPEND PROPERTY TACTUS_LIBRARIES tactus_${name})
+endfunction()

@@ -1,0 +1,40 @@
+#pragma once
+// Reading and writing meshes. The format comes from the file extension:
+//   .obj .stl .off .ply            surface (read + write)
+//   .msh (Gmsh 2.2 / 4.1 ASCII)    surface or volume (read + write 2.2 and 4.1)
+//   .node/.ele/.face (TetGen)      volume (read + write); name any of the three
+//   .vtk (legacy) .vtu             volume or surface (write only, for ParaView)
+// Every reader throws tactus::InputError naming the file, the line (byte offset for
+// binary files) and what is wrong; indices are checked before a mesh is returned.
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "mesh/tet_mesh.hpp"
+#include "mesh/tri_mesh.hpp"
+
+namespace tactus::mesh {
+
+enum class MeshFormat { obj, stl, off, ply, msh, tetgen, vtk, vtu };
+
+/// What a file held: a surface, a volume, or (Gmsh) both.
+struct MeshFile {
+  MeshFormat format{};
+  std::optional<TriMesh> surface;
+  std::optional<TetMesh> volume;
+};
+
+struct WriteOptions {
+  bool binary = false;             ///< STL and PLY: binary (little endian) instead of ASCII
+  int msh_version = 41;            ///< Gmsh: 22 or 41
+};
+
+/// Format from the extension; throws InputError for an unknown one.
+MeshFormat format_from_path(const std::filesystem::path& path);
+const char* format_name(MeshFormat f);
+
+MeshFile read_mesh(const std::filesystem::path& path);
+void write_mesh(const std::filesystem::path& path, const TriMesh& mesh, const WriteOptions& = {});
+void write_mesh(const std::filesystem::path& path, const TetMesh& mesh, const WriteOptions& = {});
+
+}  // namespace tactus::mesh

@@ -1,0 +1,29 @@
+#pragma once
+// Triangle surface mesh as plain arrays; richer topology lives in half_edge.hpp.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/math.hpp"
+
+namespace tactus::mesh {
+
+using Index = std::int32_t;
+using Triangle = std::array<Index, 3>;
+using Tet = std::array<Index, 4>;
+
+/// Triangles are counter-clockwise seen from outside (normals point out).
+struct TriMesh {
+  std::vector<Vec3> vertices;
+  std::vector<Triangle> triangles;
+
+  [[nodiscard]] Aabb bounds() const;
+  [[nodiscard]] double area() const;
+  /// Volume by the divergence theorem; the true volume when the mesh is closed and
+  /// outward oriented (negative when inward).
+  [[nodiscard]] double signed_volume() const;
+  [[nodiscard]] Vec3 face_normal(std::size_t t) const;  ///< unit; zero if degenerate
+  [[nodiscard]] double face_area(std::size_t t) const;
+};
+
+}  // namespace tactus::mesh
