@@ -13,5 +13,5 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/TactusConfig.cmake.in
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/TactusConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/TactusConfig.cmake ${PROJECT_BINARY_DIR}/TactusConfigVersion.cmake
-  ${PROJECT_SOURCE_DIR}/cmake/FindTetGen.cmake
+  ${PROJECT_SOURCE_DIR}/cmake/FindTetGen.cmake ${PROJECT_SOURCE_DIR}/cmake/FindCHOLMOD.cmake
   DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/Tactus)

@@ -1,0 +1,71 @@
+#pragma once
+// A body: a force model with its constraints, gravity and the integrator settings. Immutable;
+// BodyState carries what changes.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "physics/force_model.hpp"
+
+namespace tactus::physics {
+
+enum class Integrator { explicit_euler, symplectic_euler, rk4, implicit_euler };
+enum class LinearSolver { conjugate_gradient, cholesky };
+
+struct StepSettings {
+  Integrator integrator = Integrator::implicit_euler;
+  LinearSolver solver = LinearSolver::conjugate_gradient;
+  double cg_tolerance = 1e-4;  ///< relative residual
+  int cg_max_iterations = 200;
+  int newton_iterations = 1;   ///< 1 = the linearized (Baraff–Witkin) step
+  double newton_tolerance = 1e-8;  ///< relative force residual, when newton_iterations > 1
+};
+
+struct Body {
+  std::shared_ptr<const ForceModel> model;
+  /// One flag per degree of freedom (3N): fixed dofs are not integrated; their position is
+  /// whatever the state holds (the caller may prescribe a motion) and their velocity zero.
+  std::vector<std::uint8_t> fixed_dofs;
+  Vec3 gravity = Vec3::Zero();
+  StepSettings settings;
+
+  /// Fixes all three dofs of the given nodes.
+  void fix_nodes(const std::vector<std::int32_t>& nodes);
+  [[nodiscard]] std::size_t fixed_node_count() const;
+};
+
+struct SolverScratch;  // integrator buffers (defined in integrator.cpp)
+
+struct BodyState {
+  VecX x, v, q;  ///< positions, velocities (3N), internal variables
+  double time = 0.0;
+  std::unique_ptr<Scratch> model_scratch;
+  std::shared_ptr<SolverScratch> solver_scratch;
+
+  /// Statistics of the last step.
+  int last_linear_iterations = 0;
+  int last_newton_iterations = 0;
+};
+
+/// The rest state: x = rest positions, v = 0, q = 0.
+BodyState make_state(const Body& body);
+
+/// Advances the body by dt under the external forces f_ext (3N, may be empty).
+void step(const Body& body, BodyState& state, double dt, const VecX& f_ext = {});
+
+struct StaticResult {
+  bool converged = false;
+  int iterations = 0;
+  double residual = 0.0;  ///< final |f| over free dofs, relative to the load
+};
+/// Newton with backtracking line search to static equilibrium f(x) + f_ext + m·g = 0 over the
+/// free dofs (the fixed dofs hold their current positions).
+StaticResult solve_static(const Body& body, BodyState& state, const VecX& f_ext = {},
+                          int max_iterations = 50, double tolerance = 1e-8);
+
+/// Kinetic energy ½ vᵀMv (lumped) and elastic energy; their sum minus the work of gravity is
+/// conserved by an undamped exact integrator.
+double kinetic_energy(const Body& body, const BodyState& state);
+double potential_energy(const Body& body, const BodyState& state);  ///< elastic + gravity
+
+}  // namespace tactus::physics

@@ -1,0 +1,311 @@
+// Time integration and static solves for any ForceModel.
+#include <Eigen/CholmodSupport>
+#include <cmath>
+#include <stdexcept>
+
+#include "physics/body.hpp"
+
+namespace tactus::physics {
+
+void ForceModel::add_damping_product(const VecX&, VecX&, const Scratch&) const {}
+void ForceModel::update_internal(const VecX&, double, VecX&, Scratch&) const {}
+
+void Body::fix_nodes(const std::vector<std::int32_t>& nodes) {
+  fixed_dofs.resize(3 * model->node_count(), 0);
+  for (auto n : nodes) {
+    if (n < 0 || static_cast<std::size_t>(n) >= model->node_count())
+      throw std::out_of_range("fix_nodes: node " + std::to_string(n) + " out of range");
+    for (int k = 0; k < 3; ++k) fixed_dofs[3 * static_cast<std::size_t>(n) + k] = 1;
+  }
+}
+
+std::size_t Body::fixed_node_count() const {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i + 2 < fixed_dofs.size(); i += 3) n += fixed_dofs[i] != 0;
+  return n;
+}
+
+struct SolverScratch {
+  VecX force, rhs, delta, residual, z, p, Ap, diag, x_trial, v_trial, warm;
+  std::vector<Triplet> triplets;
+  SparseMatrix matrix;
+  Eigen::CholmodSupernodalLLT<SparseMatrix> cholesky;
+  bool pattern_analyzed = false;
+  VecX free_mask;  // 1 for free dofs, 0 for fixed
+};
+
+namespace {
+
+void zero_fixed(const Body& body, VecX& v) {
+  if (body.fixed_dofs.empty()) return;
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    if (body.fixed_dofs[static_cast<std::size_t>(i)]) v[i] = 0.0;
+}
+
+/// Total force: internal + external + gravity, written to f.
+void total_force(const Body& body, const VecX& x, const VecX& v, const VecX& q, const VecX& f_ext,
+                 BodyState& s, VecX& f) {
+  f.resize(x.size());  // no-op (no allocation) once sized
+  body.model->forces(x, v, q, f, *s.model_scratch);
+  if (f_ext.size() == f.size()) f += f_ext;
+  if (!body.gravity.isZero()) {
+    const VecX& m = body.model->lumped_mass();
+    for (Eigen::Index i = 0; i < f.size(); ++i) f[i] += m[i] * body.gravity[i % 3];
+  }
+}
+
+/// Solves (a·M + b·D + c·K) x = rhs over the free dofs, linearized already. CG warm starts
+/// from x's incoming value. Returns the number of iterations (0 for Cholesky).
+int solve_linear(const Body& body, BodyState& s, double a, double b, double c, const VecX& rhs,
+                 VecX& x) {
+  const ForceModel& model = *body.model;
+  SolverScratch& w = *s.solver_scratch;
+  const VecX& m = model.lumped_mass();
+  const Scratch& ms = *s.model_scratch;
+
+  if (body.settings.solver == LinearSolver::cholesky) {
+    w.triplets.clear();
+    model.add_triplets(c, b, w.triplets, ms);
+    const auto n = static_cast<Eigen::Index>(m.size());
+    // Fixed dofs: drop their rows and columns and put 1 on the diagonal, so x = 0 there.
+    std::size_t keep = 0;
+    for (const auto& t : w.triplets)
+      if (w.free_mask[t.row()] != 0.0 && w.free_mask[t.col()] != 0.0) w.triplets[keep++] = t;
+    w.triplets.resize(keep);
+    for (Eigen::Index i = 0; i < n; ++i)
+      w.triplets.emplace_back(i, i, w.free_mask[i] != 0.0 ? a * m[i] : 1.0);
+    w.matrix.resize(n, n);
+    w.matrix.setFromTriplets(w.triplets.begin(), w.triplets.end());
+    if (!w.pattern_analyzed) {
+      w.cholesky.analyzePattern(w.matrix);
+      w.pattern_analyzed = true;
+    }
+    w.cholesky.factorize(w.matrix);
+    if (w.cholesky.info() != Eigen::Success)
+      throw std::runtime_error("sparse Cholesky failed: the system matrix is not positive definite");
+    x = w.cholesky.solve(rhs.cwiseProduct(w.free_mask));
+    return 0;
+  }
+
+  // Jacobi-preconditioned conjugate gradients on the free dofs.
+  auto apply = [&](const VecX& in, VecX& out) {
+    out = a * m.cwiseProduct(in);
+    if (b != 0.0) {
+      w.z = b * in;
+      model.add_damping_product(w.z, out, ms);
+    }
+    w.z = c * in;
+    model.add_stiffness_product(w.z, out, ms);
+    out.array() *= w.free_mask.array();
+  };
+  w.diag = a * m;
+  model.add_diagonal(c, b, w.diag, ms);
+  for (Eigen::Index i = 0; i < w.diag.size(); ++i)
+    if (!(w.diag[i] > 0.0)) w.diag[i] = 1.0;  // guards indefinite or empty rows
+
+  x.array() *= w.free_mask.array();
+  apply(x, w.Ap);
+  w.residual = rhs.cwiseProduct(w.free_mask) - w.Ap;
+  const double rhs_norm = rhs.cwiseProduct(w.free_mask).norm();
+  if (rhs_norm == 0.0) {
+    x.setZero();
+    return 0;
+  }
+  const double target = body.settings.cg_tolerance * rhs_norm;
+  w.z = w.residual.cwiseQuotient(w.diag);
+  w.p = w.z;
+  double rz = w.residual.dot(w.z);
+  int it = 0;
+  for (; it < body.settings.cg_max_iterations && w.residual.norm() > target; ++it) {
+    apply(w.p, w.Ap);
+    const double pAp = w.p.dot(w.Ap);
+    if (!(pAp > 0.0)) break;  // not positive definite along p: keep the best so far
+    const double alpha = rz / pAp;
+    x += alpha * w.p;
+    w.residual -= alpha * w.Ap;
+    w.z = w.residual.cwiseQuotient(w.diag);
+    const double rz_next = w.residual.dot(w.z);
+    w.p = w.z + (rz_next / rz) * w.p;
+    rz = rz_next;
+  }
+  return it;
+}
+
+void prepare(const Body& body, BodyState& s) {
+  if (!s.solver_scratch) s.solver_scratch = std::make_shared<SolverScratch>();
+  SolverScratch& w = *s.solver_scratch;
+  const auto n = s.x.size();
+  if (w.free_mask.size() != n) {
+    w.free_mask = VecX::Ones(n);
+    for (std::size_t i = 0; i < body.fixed_dofs.size() && static_cast<Eigen::Index>(i) < n; ++i)
+      if (body.fixed_dofs[i]) w.free_mask[static_cast<Eigen::Index>(i)] = 0.0;
+    w.warm = VecX::Zero(n);
+    // Sized once so that stepping allocates nothing.
+    for (VecX* v : {&w.force, &w.rhs, &w.delta, &w.residual, &w.z, &w.p, &w.Ap, &w.diag,
+                    &w.x_trial, &w.v_trial})
+      *v = VecX::Zero(n);
+  }
+}
+
+void explicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, bool symplectic) {
+  SolverScratch& w = *s.solver_scratch;
+  total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
+  w.force.array() /= body.model->lumped_mass().array();  // acceleration
+  zero_fixed(body, w.force);
+  if (symplectic) {
+    s.v += h * w.force;
+    s.x += h * s.v;
+  } else {
+    s.x += h * s.v;
+    s.v += h * w.force;
+  }
+}
+
+void rk4_step(const Body& body, BodyState& s, double h, const VecX& f_ext) {
+  SolverScratch& w = *s.solver_scratch;
+  const VecX& m = body.model->lumped_mass();
+  auto accel = [&](const VecX& x, const VecX& v, VecX& out) {
+    total_force(body, x, v, s.q, f_ext, s, out);
+    out.array() /= m.array();
+    zero_fixed(body, out);
+  };
+  // Stages kept in local vectors: RK4 is for small offline models, not the haptic path.
+  VecX k1x = s.v, k1v, k2x, k2v, k3x, k3v, k4x, k4v;
+  accel(s.x, s.v, k1v);
+  k2x = s.v + 0.5 * h * k1v;
+  accel(s.x + 0.5 * h * k1x, k2x, k2v);
+  k3x = s.v + 0.5 * h * k2v;
+  accel(s.x + 0.5 * h * k2x, k3x, k3v);
+  k4x = s.v + h * k3v;
+  accel(s.x + h * k3x, k4x, k4v);
+  s.x += (h / 6.0) * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+  s.v += (h / 6.0) * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+  (void)w;
+}
+
+void implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext) {
+  SolverScratch& w = *s.solver_scratch;
+  const ForceModel& model = *body.model;
+  const VecX& m = model.lumped_mass();
+  // First iteration, linearized at (x_n, v_n) (Baraff & Witkin 1998):
+  //   (M + hD + h²K) Δv = h (f_n − h K v_n)
+  total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
+  model.linearize(s.x, s.v, s.q, *s.model_scratch);
+  w.rhs = w.force;
+  w.z = -h * s.v;
+  model.add_stiffness_product(w.z, w.rhs, *s.model_scratch);  // rhs = f − h K v
+  w.rhs *= h;
+  w.delta = w.warm;
+  s.last_linear_iterations = solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+  w.warm = w.delta;
+  w.v_trial = s.v + w.delta;
+  zero_fixed(body, w.v_trial);
+  s.last_newton_iterations = 1;
+
+  // Further Newton iterations on g(v) = M (v − v_n) − h f(x_n + h v, v) = 0.
+  const double scale = std::max(w.force.cwiseProduct(w.free_mask).norm(), 1e-300);
+  for (int it = 1; it < body.settings.newton_iterations; ++it) {
+    w.x_trial = s.x + h * w.v_trial;
+    total_force(body, w.x_trial, w.v_trial, s.q, f_ext, s, w.force);
+    w.rhs = h * w.force - m.cwiseProduct(w.v_trial - s.v);  // −g
+    w.rhs.array() *= w.free_mask.array();
+    if (w.rhs.norm() <= body.settings.newton_tolerance * h * scale) break;
+    model.linearize(w.x_trial, w.v_trial, s.q, *s.model_scratch);
+    w.delta.setZero();
+    s.last_linear_iterations += solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+    w.v_trial += w.delta;
+    zero_fixed(body, w.v_trial);
+    ++s.last_newton_iterations;
+  }
+  s.v = w.v_trial;
+  s.x += h * s.v;
+}
+
+}  // namespace
+
+BodyState make_state(const Body& body) {
+  BodyState s;
+  s.x = body.model->rest_positions();
+  s.v = VecX::Zero(s.x.size());
+  s.q = VecX::Zero(static_cast<Eigen::Index>(body.model->internal_size()));
+  s.model_scratch = body.model->make_scratch();
+  prepare(body, s);
+  return s;
+}
+
+void step(const Body& body, BodyState& s, double dt, const VecX& f_ext) {
+  if (!(dt > 0.0)) throw std::invalid_argument("step: dt must be positive");
+  prepare(body, s);
+  switch (body.settings.integrator) {
+    case Integrator::explicit_euler: explicit_step(body, s, dt, f_ext, false); break;
+    case Integrator::symplectic_euler: explicit_step(body, s, dt, f_ext, true); break;
+    case Integrator::rk4: rk4_step(body, s, dt, f_ext); break;
+    case Integrator::implicit_euler: implicit_step(body, s, dt, f_ext); break;
+  }
+  zero_fixed(body, s.v);
+  body.model->update_internal(s.x, dt, s.q, *s.model_scratch);
+  s.time += dt;
+}
+
+StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int max_iterations,
+                          double tolerance) {
+  prepare(body, s);
+  SolverScratch& w = *s.solver_scratch;
+  const ForceModel& model = *body.model;
+  s.v.setZero();
+  // The load scale: external forces plus weight, or the internal force if there is no load
+  // (a prescribed displacement).
+  VecX load = VecX::Zero(s.x.size());
+  total_force(body, model.rest_positions(), s.v, s.q, f_ext, s, w.force);
+  load = w.force;
+  model.forces(model.rest_positions(), s.v, s.q, w.rhs, *s.model_scratch);
+  load -= w.rhs;  // external + gravity only
+  total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
+  double scale = std::max(load.cwiseProduct(w.free_mask).norm(),
+                          w.force.cwiseProduct(w.free_mask).norm());
+  if (scale == 0.0) return {true, 0, 0.0};
+
+  StaticResult result;
+  for (int it = 0; it < max_iterations; ++it) {
+    total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
+    w.force.array() *= w.free_mask.array();
+    const double r = w.force.norm();
+    result.residual = r / scale;
+    result.iterations = it;
+    if (result.residual <= tolerance) {
+      result.converged = true;
+      return result;
+    }
+    model.linearize(s.x, s.v, s.q, *s.model_scratch);
+    w.delta.setZero();
+    solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
+    if (!w.delta.allFinite()) break;
+    // Backtracking on the residual norm keeps Newton from overshooting on stiffening laws.
+    double alpha = 1.0;
+    for (int ls = 0; ls < 12; ++ls, alpha *= 0.5) {
+      w.x_trial = s.x + alpha * w.delta;
+      total_force(body, w.x_trial, s.v, s.q, f_ext, s, w.rhs);
+      w.rhs.array() *= w.free_mask.array();
+      if (w.rhs.allFinite() && w.rhs.norm() < r) break;
+    }
+    s.x = w.x_trial;
+  }
+  total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
+  result.residual = w.force.cwiseProduct(w.free_mask).norm() / scale;
+  result.converged = result.residual <= tolerance;
+  result.iterations = max_iterations;
+  return result;
+}
+
+double kinetic_energy(const Body& body, const BodyState& s) {
+  return 0.5 * s.v.dot(body.model->lumped_mass().cwiseProduct(s.v));
+}
+
+double potential_energy(const Body& body, const BodyState& s) {
+  double e = body.model->elastic_energy(s.x, s.q);
+  const VecX& m = body.model->lumped_mass();
+  for (Eigen::Index i = 0; i < s.x.size(); ++i) e -= m[i] * body.gravity[i % 3] * s.x[i];
+  return e;
+}
+
+}  // namespace tactus::physics
