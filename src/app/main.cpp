@@ -1,1 +1,60 @@
-int main() { return 0; }
+// The `tactus` command. Exit codes: 0 success, 1 user error (bad file, key or flag),
+// 2 internal error. Errors are one line on stderr.
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "app/commands.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+
+namespace {
+
+struct Subcommand {
+  CLI::App* app;
+  tactus::app::Action action;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"Tactus: real-time haptic interaction with deformable objects", "tactus"};
+  cli.require_subcommand(1);
+  bool verbose = false;
+  bool quiet = false;
+  cli.add_flag("-v,--verbose", verbose, "Print debug messages");
+  cli.add_flag("-q,--quiet", quiet, "Print errors only");
+
+  std::vector<Subcommand> subcommands;
+  auto add = [&](tactus::app::Action (*registrar)(CLI::App&), const char* name, const char* help) {
+    CLI::App* sub = cli.add_subcommand(name, help);
+    subcommands.push_back({sub, registrar(*sub)});
+  };
+  add(tactus::app::add_version, "version", "Print the version and build information");
+  add(tactus::app::add_inspect, "inspect", "Summarize and check a mesh or scene file");
+  add(tactus::app::add_mesh, "mesh", "Convert, generate or tetrahedralize meshes");
+  add(tactus::app::add_run, "run", "Load a scene (the built-in default without one) and run it");
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return cli.exit(e);  // --help
+    std::fprintf(stderr, "tactus: %s (see 'tactus --help')\n", e.what());
+    return 1;
+  }
+
+  tactus::log::init(verbose ? tactus::log::Level::debug
+                            : quiet ? tactus::log::Level::quiet : tactus::log::Level::info);
+  try {
+    for (const auto& s : subcommands)
+      if (s.app->parsed()) return s.action();
+    return 2;
+  } catch (const tactus::InputError& e) {
+    std::fprintf(stderr, "tactus: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tactus: internal error: %s\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,111 @@
+// `tactus inspect FILE`: a mesh's or scene's summary and the problems found in it.
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <string>
+
+#include "app/commands.hpp"
+#include "core/error.hpp"
+#include "mesh/io/mesh_io.hpp"
+#include "mesh/quality.hpp"
+#include "mesh/tet_topology.hpp"
+#include "mesh/validate.hpp"
+#include "scene/scene.hpp"
+
+namespace tactus::app {
+namespace {
+
+std::string vec(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x(), v.y(), v.z()); }
+
+std::string stats(const mesh::Stats& s, const char* unit = "") {
+  if (s.count == 0) return "n/a";
+  return fmt::format("min {:.4g}{} mean {:.4g}{} max {:.4g}{}", s.min, unit, s.mean, unit, s.max, unit);
+}
+
+void print_bounds(const Aabb& box) {
+  std::printf("  bounds: min %s max %s, size %s m\n", vec(box.min).c_str(), vec(box.max).c_str(),
+              vec(box.size()).c_str());
+}
+
+/// Prints the report's problems; returns true when there are errors.
+bool print_problems(const mesh::ValidationReport& report) {
+  if (report.problems.empty()) {
+    std::printf("  no problems found\n");
+    return false;
+  }
+  std::printf("  problems: %zu error(s), %zu warning(s)\n", report.count(mesh::Severity::error),
+              report.count(mesh::Severity::warning));
+  for (const auto& p : report.problems)
+    std::printf("    %s: %s\n", p.severity == mesh::Severity::error ? "error" : "warning", p.what.c_str());
+  return !report.ok();
+}
+
+bool inspect_surface(const mesh::TriMesh& m) {
+  std::printf("surface: %zu vertices, %zu triangles\n", m.vertices.size(), m.triangles.size());
+  const auto report = mesh::validate(m);
+  const bool indices_ok = report.ok();
+  if (indices_ok) {
+    print_bounds(m.bounds());
+    std::printf("  area: %.6g m²\n", m.area());
+    std::printf("  enclosed volume: %.6g m³ (meaningful when closed and outward oriented)\n",
+                m.signed_volume());
+    const auto q = mesh::tri_quality(m);
+    std::printf("  min angle: %s\n", stats(q.min_angle_deg, "°").c_str());
+    std::printf("  aspect ratio: %s\n", stats(q.aspect_ratio).c_str());
+    std::printf("  edge length: %s m\n", stats(q.edge_length).c_str());
+  }
+  return print_problems(report);
+}
+
+bool inspect_volume(const mesh::TetMesh& m) {
+  std::printf("volume: %zu vertices, %zu tetrahedra\n", m.vertices.size(), m.tets.size());
+  const auto report = mesh::validate(m);
+  bool indices_ok = true;
+  for (const auto& p : report.problems)
+    if (p.what.find("out of range") != std::string::npos) indices_ok = false;
+  if (indices_ok && !m.tets.empty()) {
+    print_bounds(m.bounds());
+    std::printf("  volume: %.6g m³\n", m.volume());
+    const auto b = mesh::extract_boundary(m);
+    std::printf("  boundary: %zu vertices, %zu triangles, area %.6g m²\n", b.surface.vertices.size(),
+                b.surface.triangles.size(), b.surface.area());
+    const auto q = mesh::tet_quality(m);
+    std::printf("  radius ratio (1 = regular): %s\n", stats(q.radius_ratio).c_str());
+    std::printf("  dihedral angles: min %.4g°, max %.4g°\n", q.min_dihedral_deg.min, q.max_dihedral_deg.max);
+    std::printf("  edge length ratio: %s\n", stats(q.edge_length_ratio).c_str());
+    std::printf("  inverted: %zu, slivers (radius ratio < %.2g): %zu\n", q.inverted, mesh::kSliverRadiusRatio,
+                q.slivers);
+  }
+  return print_problems(report);
+}
+
+}  // namespace
+
+Action add_inspect(CLI::App& app) {
+  auto path = std::make_shared<std::string>();
+  app.add_option("file", *path, "Mesh (obj stl off ply msh node/ele) or scene (toml)")->required();
+  app.footer("Exit status 1 when the file cannot be read or has errors (warnings are fine).");
+  return [path] {
+    const std::filesystem::path p(*path);
+    if (!std::filesystem::exists(p)) throw InputError(SourceLocation{*path, {}, {}, {}}, "no such file");
+    if (p.extension() == ".toml") {
+      const auto model = scene::load_scene(p);
+      std::fputs(scene::summarize(model).c_str(), stdout);
+      return 0;
+    }
+    const auto file = mesh::read_mesh(p);
+    std::printf("%s (%s)\n", path->c_str(), mesh::format_name(file.format));
+    bool errors = false;
+    if (file.volume) errors |= inspect_volume(*file.volume);
+    if (file.volume && file.surface) {
+      // Gmsh: triangles beside tetrahedra are labelled boundary patches on the volume's nodes.
+      std::printf("labelled surface patches: %zu triangles on the volume's nodes\n",
+                  file.surface->triangles.size());
+    } else if (file.surface) {
+      errors |= inspect_surface(*file.surface);
+    }
+    return errors ? 1 : 0;
+  };
+}
+
+}  // namespace tactus::app

@@ -1,0 +1,132 @@
+// `tactus mesh`: convert between formats, generate shapes, tetrahedralize closed surfaces.
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "app/commands.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "mesh/generators.hpp"
+#include "mesh/io/mesh_io.hpp"
+#include "mesh/tet_topology.hpp"
+#include "mesh/tetrahedralize.hpp"
+#include "mesh/validate.hpp"
+
+namespace tactus::app {
+namespace {
+
+struct MeshOptions {
+  std::string input, output, generate;
+  double size = 0.1;
+  int resolution = 0;
+  std::optional<double> max_volume;
+  std::optional<double> quality;
+  std::optional<double> min_dihedral;
+  std::optional<std::size_t> nodes;
+  bool binary = false;
+  int msh_version = 41;
+  bool boundary = false;
+};
+
+mesh::TriMesh generate(const MeshOptions& o) {
+  const double s = o.size;
+  if (!(s > 0.0)) throw InputError("--size must be positive");
+  const int r = o.resolution;
+  if (o.generate == "organ") return mesh::organ(s, r > 0 ? r : 24);
+  if (o.generate == "sphere") return mesh::sphere(s, r > 0 ? r : 3);
+  if (o.generate == "box") return mesh::box_surface(Vec3::Constant(s), r > 0 ? r : 4);
+  if (o.generate == "cylinder") return mesh::cylinder(s, 4.0 * s, r > 0 ? r : 24, r > 0 ? r : 8);
+  if (o.generate == "plate") return mesh::grid_plate(s, s, r > 0 ? r : 20, r > 0 ? r : 20);
+  throw InputError("--generate: unknown shape '" + o.generate +
+                   "' (organ, sphere, box, cylinder, plate)");
+}
+
+bool wants_tets(const MeshOptions& o) { return o.max_volume || o.quality || o.min_dihedral || o.nodes; }
+
+}  // namespace
+
+Action add_mesh(CLI::App& app) {
+  auto o = std::make_shared<MeshOptions>();
+  app.add_option("input", o->input, "Input mesh (omit with --generate)");
+  app.add_option("-o,--output", o->output, "Output mesh; the format follows the extension")->required();
+  app.add_option("--generate", o->generate, "Generate a shape: organ, sphere, box, cylinder, plate");
+  app.add_option("--size", o->size,
+                 "Generated size [m]: organ length, sphere/cylinder radius, box/plate edge")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--resolution", o->resolution,
+                 "Generated resolution: organ cells along its length (default 24; 7 gives ~500 "
+                 "nodes, 12 ~2000 with --nodes), sphere subdivisions, cells per edge")
+      ->check(CLI::Range(1, 400));
+  app.add_option("--max-volume", o->max_volume, "Tetrahedralize: largest tetrahedron volume [m³]")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--quality", o->quality, "Tetrahedralize: radius-edge ratio bound (TetGen q, >= 1.1)")
+      ->check(CLI::Range(1.1, 10.0));
+  app.add_option("--min-dihedral", o->min_dihedral, "Tetrahedralize: minimum dihedral angle [°]")
+      ->check(CLI::Range(0.0, 30.0));
+  app.add_option("--nodes", o->nodes, "Tetrahedralize to about this many nodes (within 10%)")
+      ->check(CLI::Range(std::size_t{4}, std::size_t{10'000'000}));
+  app.add_flag("--binary", o->binary, "STL and PLY: write binary (little endian)");
+  app.add_option("--msh-version", o->msh_version, "Gmsh output version: 22 or 41")->check(CLI::IsMember({22, 41}));
+  app.add_flag("--boundary", o->boundary, "Write the boundary surface of a volume mesh");
+  app.footer(
+      "Without tetrahedralization options the input is converted (a volume stays a volume).\n"
+      "Examples:\n"
+      "  tactus mesh --generate organ --size 0.22 -o organ.stl\n"
+      "  tactus mesh organ.stl -o organ.msh --max-volume 2e-7 --quality 1.4\n"
+      "  tactus mesh organ.msh -o organ.vtu");
+
+  return [o] {
+    if (o->input.empty() == o->generate.empty())
+      throw InputError("give either an input mesh or --generate SHAPE (not both)");
+    mesh::MeshFile in;
+    if (!o->generate.empty()) {
+      in.surface = generate(*o);
+    } else {
+      in = mesh::read_mesh(o->input);
+    }
+    const mesh::WriteOptions wo{o->binary, o->msh_version};
+    const std::string source = o->generate.empty() ? o->input : "--generate " + o->generate;
+
+    if (wants_tets(*o)) {
+      if (!in.surface || in.volume)
+        throw InputError(SourceLocation{source, {}, {}, {}}, "tetrahedralization needs a surface mesh");
+      const auto report = mesh::validate(*in.surface, mesh::SurfaceChecks{true});
+      for (const auto& p : report.problems)
+        if (p.severity == mesh::Severity::error)
+          throw InputError(SourceLocation{source, {}, {}, {}}, "cannot tetrahedralize: " + p.what);
+      mesh::TetMesh tets;
+      if (o->nodes) {
+        if (o->max_volume) throw InputError("--nodes and --max-volume exclude each other");
+        tets = mesh::tetrahedralize_to_node_count(*in.surface, *o->nodes, o->quality.value_or(1.414));
+      } else {
+        mesh::TetrahedralizeOptions to;
+        to.max_volume = o->max_volume;
+        if (o->quality) to.radius_edge_ratio = *o->quality;
+        if (o->min_dihedral) to.min_dihedral_deg = *o->min_dihedral;
+        tets = mesh::tetrahedralize(*in.surface, to);
+      }
+      mesh::write_mesh(o->output, tets, wo);
+      std::printf("%s: %zu nodes, %zu tetrahedra, volume %.6g m³\n", o->output.c_str(), tets.vertices.size(),
+                  tets.tets.size(), tets.volume());
+      return 0;
+    }
+
+    if (in.volume && o->boundary) {
+      const auto b = mesh::extract_boundary(*in.volume);
+      mesh::write_mesh(o->output, b.surface, wo);
+      std::printf("%s: boundary, %zu vertices, %zu triangles\n", o->output.c_str(), b.surface.vertices.size(),
+                  b.surface.triangles.size());
+    } else if (in.volume) {
+      mesh::write_mesh(o->output, *in.volume, wo);
+      std::printf("%s: %zu nodes, %zu tetrahedra\n", o->output.c_str(), in.volume->vertices.size(),
+                  in.volume->tets.size());
+    } else {
+      mesh::write_mesh(o->output, *in.surface, wo);
+      std::printf("%s: %zu vertices, %zu triangles\n", o->output.c_str(), in.surface->vertices.size(),
+                  in.surface->triangles.size());
+    }
+    return 0;
+  };
+}
+
+}  // namespace tactus::app

@@ -1,0 +1,435 @@
+// Gmsh MSH, ASCII versions 2.x and 4.1. Nodes are kept in file order; element node tags
+// are mapped through the node tags (which need not be contiguous). Triangles (type 2)
+// and tetrahedra (type 4) are read with their physical tag (2.x: the first element tag;
+// 4.1: the first physical tag of the element's entity in $Entities); other element
+// types and unknown sections are skipped. Gmsh's reference tetrahedron is positively
+// oriented, so tets are kept as written; orient_whole_file() still corrects a file that
+// is inverted throughout.
+#include <algorithm>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "core/text.hpp"
+#include "mesh/io/io_common.hpp"
+
+namespace tactus::mesh::io {
+
+namespace {
+
+struct Element {
+  std::array<Index, 4> nodes{};
+  int physical = 0;
+};
+
+class MshReader {
+ public:
+  MshReader(std::string_view data, const std::string& file) : in_(data, file) {}
+
+  MeshFile read() {
+    std::string_view line;
+    while (in_.next_content(line, 0)) {
+      const auto tok = text::split(line);
+      const auto name = tok[0];
+      if (name.size() < 2 || name[0] != '$')
+        in_.fail_at(name, "expected a section such as '$MeshFormat', got '" + quote(name) + "'");
+      if (name == "$NOD" || name == "$NOE")
+        in_.fail_at(name, "MSH version 1 is not supported (supported: 2.2, 4.1)");
+      if (name != "$MeshFormat" && version_ == 0)
+        in_.fail_at(name, "'" + quote(name) + "' before '$MeshFormat'");
+      if (name == "$MeshFormat") read_format();
+      else if (name == "$Entities" && version_ == 4) read_entities();
+      else if (name == "$Nodes") version_ == 2 ? read_nodes2() : read_nodes4();
+      else if (name == "$Elements") version_ == 2 ? read_elements2() : read_elements4();
+      else skip_section(name);
+    }
+    if (version_ == 0) in_.fail("no '$MeshFormat' section: not a Gmsh MSH file");
+    if (!have_nodes_) in_.fail("no '$Nodes' section");
+    return result();
+  }
+
+ private:
+  std::vector<std::string_view> content(const std::string& context) {
+    std::string_view line;
+    if (!in_.next_content(line, 0)) in_.fail("truncated file: end of file while reading " + context);
+    return text::split(line);
+  }
+
+  void end_section(std::string_view name) {
+    const std::string want = "$End" + std::string(name.substr(1));
+    const auto tok = content(std::string(name) + " (missing '" + want + "')");
+    if (tok[0] != want) in_.fail_at(tok[0], "expected '" + want + "', got '" + quote(tok[0]) + "'");
+  }
+
+  void skip_section(std::string_view name) {
+    // Only the name is kept: the view into the line dies with the next read.
+    const std::string want = "$End" + std::string(name.substr(1));
+    const std::string section(name);
+    std::string_view line;
+    while (in_.next(line))
+      if (text::trim(line) == want) return;
+    in_.fail("truncated file: end of file inside section '" + quote(section) + "' (missing '" + quote(want) + "')");
+  }
+
+  void read_format() {
+    const auto tok = content("$MeshFormat");
+    if (tok.size() != 3) in_.fail("expected 'version file-type data-size' in $MeshFormat");
+    if (tok[0] == "4.1") version_ = 4;
+    else if (tok[0] == "2.2" || tok[0] == "2.1" || tok[0] == "2.0" || tok[0] == "2") version_ = 2;
+    else in_.fail_at(tok[0], "unsupported MSH version '" + quote(tok[0]) + "' (supported: 2.2, 4.1)");
+    const std::int64_t type = in_.to_int(tok[1], "a file type");
+    if (type == 1) in_.fail_at(tok[1], "binary MSH is not supported; save the mesh as ASCII (Mesh.Binary = 0)");
+    if (type != 0) in_.fail_at(tok[1], "unknown MSH file type " + std::to_string(type));
+    if (text::to_int(tok[2]) != 8) in_.fail_at(tok[2], "unsupported data size '" + quote(tok[2]) + "'");
+    end_section("$MeshFormat");
+  }
+
+  void read_entities() {
+    const auto head = content("$Entities");
+    if (head.size() != 4) in_.fail("expected 'numPoints numCurves numSurfaces numVolumes'");
+    std::int64_t counts[4];
+    for (int d = 0; d < 4; ++d) counts[d] = in_.count(head[static_cast<std::size_t>(d)], "entity count");
+    for (int dim = 0; dim < 4; ++dim) {
+      for (std::int64_t i = 0; i < counts[dim]; ++i) {
+        const auto tok = content("$Entities: " + std::to_string(counts[dim]) + " entities of dimension " +
+                                 std::to_string(dim) + ": got " + std::to_string(i));
+        const std::size_t phys_at = dim == 0 ? 4 : 7;  // points have X Y Z, others a box
+        if (tok.size() <= phys_at) in_.fail("entity line too short");
+        const std::int64_t tag = in_.to_int(tok[0], "an entity tag");
+        const std::int64_t n_phys = in_.count(tok[phys_at], "physical tag count");
+        if (static_cast<std::int64_t>(tok.size()) < static_cast<std::int64_t>(phys_at) + 1 + n_phys)
+          in_.fail("entity line lists fewer physical tags than its count " + std::to_string(n_phys));
+        int phys = 0;
+        if (n_phys > 0) phys = physical_of(tok[phys_at + 1]);
+        for (std::int64_t k = 1; k < n_phys; ++k) (void)in_.to_int(tok[phys_at + 1 + static_cast<std::size_t>(k)]);
+        entity_physical_[{dim, tag}] = phys;
+      }
+    }
+    end_section("$Entities");
+  }
+
+  int physical_of(std::string_view tok) const {
+    const std::int64_t v = in_.to_int(tok, "a physical tag");
+    if (v < INT32_MIN || v > INT32_MAX) in_.fail_at(tok, "physical tag " + std::to_string(v) + " out of range");
+    return static_cast<int>(v);
+  }
+
+  void add_node(std::string_view tag_text, std::string_view x, std::string_view y, std::string_view z) {
+    const std::int64_t tag = in_.to_int(tag_text, "a node tag");
+    if (!node_index_.try_emplace(tag, static_cast<Index>(nodes_.size())).second)
+      in_.fail_at(tag_text, "node tag " + std::to_string(tag) + " defined twice");
+    nodes_.emplace_back(in_.coordinate(x), in_.coordinate(y), in_.coordinate(z));
+  }
+
+  void begin_nodes() {
+    if (have_nodes_) in_.fail("second '$Nodes' section");
+    have_nodes_ = true;
+  }
+
+  void read_nodes2() {
+    begin_nodes();
+    const auto head = content("$Nodes");
+    const std::int64_t n = in_.count(head[0], "node count");
+    reserve_bounded(nodes_, static_cast<std::uint64_t>(n), in_.remaining(), 8);
+    for (std::int64_t i = 0; i < n; ++i) {
+      const auto tok = content(std::to_string(n) + " nodes: got " + std::to_string(i));
+      if (tok.size() != 4) in_.fail("expected 'tag x y z' for node " + std::to_string(i) + ", got " + std::to_string(tok.size()) + " values");
+      add_node(tok[0], tok[1], tok[2], tok[3]);
+    }
+    end_section("$Nodes");
+  }
+
+  void read_nodes4() {
+    begin_nodes();
+    const auto head = content("$Nodes");
+    if (head.size() != 4) in_.fail("expected 'numEntityBlocks numNodes minNodeTag maxNodeTag'");
+    const std::int64_t blocks = in_.count(head[0], "block count");
+    const std::int64_t n = in_.count(head[1], "node count");
+    reserve_bounded(nodes_, static_cast<std::uint64_t>(n), in_.remaining(), 8);
+    std::vector<std::int64_t> tags;
+    for (std::int64_t b = 0; b < blocks; ++b) {
+      const auto bh = content(std::to_string(blocks) + " node blocks: got " + std::to_string(b));
+      if (bh.size() != 4) in_.fail("expected 'entityDim entityTag parametric numNodesInBlock'");
+      const std::int64_t dim = in_.to_int(bh[0], "an entity dimension");
+      if (dim < 0 || dim > 3) in_.fail_at(bh[0], "entity dimension must be 0..3, got " + std::to_string(dim));
+      const std::int64_t parametric = in_.to_int(bh[2], "0 or 1");
+      if (parametric != 0 && parametric != 1) in_.fail_at(bh[2], "parametric flag must be 0 or 1");
+      const std::int64_t m = in_.count(bh[3], "block node count");
+      if (static_cast<std::int64_t>(nodes_.size()) + m > n)
+        in_.fail_at(bh[3], "node blocks hold more nodes than the " + std::to_string(n) + " declared");
+      const std::size_t values = 3 + (parametric ? static_cast<std::size_t>(dim) : 0);
+      // Tags come first, then coordinates.
+      tags.clear();
+      for (std::int64_t i = 0; i < m; ++i) {
+        const auto tok = content(std::to_string(m) + " node tags: got " + std::to_string(i));
+        if (tok.size() != 1) in_.fail("expected one node tag per line");
+        tags.push_back(in_.to_int(tok[0], "a node tag"));
+      }
+      for (std::int64_t i = 0; i < m; ++i) {
+        const auto tok = content(std::to_string(m) + " node coordinates: got " + std::to_string(i));
+        if (tok.size() != values)
+          in_.fail("expected " + std::to_string(values) + " coordinates, got " + std::to_string(tok.size()));
+        const std::int64_t tag = tags[static_cast<std::size_t>(i)];
+        if (!node_index_.try_emplace(tag, static_cast<Index>(nodes_.size())).second)
+          in_.fail("node tag " + std::to_string(tag) + " defined twice");
+        nodes_.emplace_back(in_.coordinate(tok[0]), in_.coordinate(tok[1]), in_.coordinate(tok[2]));
+      }
+    }
+    if (static_cast<std::int64_t>(nodes_.size()) != n)
+      in_.fail("$Nodes declares " + std::to_string(n) + " nodes but its blocks hold " + std::to_string(nodes_.size()));
+    end_section("$Nodes");
+  }
+
+  Index node(std::string_view tok, const std::string& element) const {
+    const std::int64_t tag = in_.to_int(tok, "a node tag");
+    const auto it = node_index_.find(tag);
+    if (it == node_index_.end()) in_.fail_at(tok, element + " refers to node tag " + std::to_string(tag) + ", which is not defined");
+    return it->second;
+  }
+
+  void add_element(std::int64_t type, const std::vector<std::string_view>& tok, std::size_t first, int physical,
+                   std::string_view id) {
+    const std::size_t n = type == 2 ? 3 : 4;
+    const std::string what = std::string(type == 2 ? "triangle " : "tetrahedron ") + std::string(id);
+    if (tok.size() != first + n)
+      in_.fail(what + ": expected " + std::to_string(n) + " nodes, got " + std::to_string(tok.size() > first ? tok.size() - first : 0));
+    Element e;
+    e.physical = physical;
+    for (std::size_t k = 0; k < n; ++k) e.nodes[k] = node(tok[first + k], what);
+    (type == 2 ? tris_ : tets_).push_back(e);
+  }
+
+  void begin_elements() {
+    if (!have_nodes_) in_.fail("'$Elements' before '$Nodes'");
+    if (have_elements_) in_.fail("second '$Elements' section");
+    have_elements_ = true;
+  }
+
+  void read_elements2() {
+    begin_elements();
+    const auto head = content("$Elements");
+    const std::int64_t n = in_.count(head[0], "element count");
+    for (std::int64_t i = 0; i < n; ++i) {
+      const auto tok = content(std::to_string(n) + " elements: got " + std::to_string(i));
+      if (tok.size() < 3) in_.fail("expected 'number type number-of-tags tags... nodes...'");
+      (void)in_.to_int(tok[0], "an element number");
+      const std::int64_t type = in_.to_int(tok[1], "an element type");
+      const std::int64_t ntags = in_.count(tok[2], "tag count");
+      if (static_cast<std::int64_t>(tok.size()) < 3 + ntags) in_.fail("element has fewer tags than its count");
+      if (type != 2 && type != 4) continue;
+      const int phys = ntags > 0 ? physical_of(tok[3]) : 0;
+      add_element(type, tok, 3 + static_cast<std::size_t>(ntags), phys, tok[0]);
+    }
+    end_section("$Elements");
+  }
+
+  void read_elements4() {
+    begin_elements();
+    const auto head = content("$Elements");
+    if (head.size() != 4) in_.fail("expected 'numEntityBlocks numElements minElementTag maxElementTag'");
+    const std::int64_t blocks = in_.count(head[0], "block count");
+    const std::int64_t n = in_.count(head[1], "element count");
+    std::int64_t seen = 0;
+    for (std::int64_t b = 0; b < blocks; ++b) {
+      const auto bh = content(std::to_string(blocks) + " element blocks: got " + std::to_string(b));
+      if (bh.size() != 4) in_.fail("expected 'entityDim entityTag elementType numElementsInBlock'");
+      const std::int64_t dim = in_.to_int(bh[0], "an entity dimension");
+      const std::int64_t entity = in_.to_int(bh[1], "an entity tag");
+      const std::int64_t type = in_.to_int(bh[2], "an element type");
+      const std::int64_t m = in_.count(bh[3], "block element count");
+      if (seen + m > n) in_.fail_at(bh[3], "element blocks hold more elements than the " + std::to_string(n) + " declared");
+      seen += m;
+      const auto it = entity_physical_.find({static_cast<int>(std::clamp<std::int64_t>(dim, -1, 4)), entity});
+      const int phys = it == entity_physical_.end() ? 0 : it->second;
+      for (std::int64_t i = 0; i < m; ++i) {
+        const auto tok = content(std::to_string(m) + " elements of a block: got " + std::to_string(i));
+        if (type == 2 || type == 4) add_element(type, tok, 1, phys, tok[0]);
+      }
+    }
+    if (seen != n) in_.fail("$Elements declares " + std::to_string(n) + " elements but its blocks hold " + std::to_string(seen));
+    end_section("$Elements");
+  }
+
+  MeshFile result() {
+    MeshFile out;
+    out.format = MeshFormat::msh;
+    std::vector<Triangle> tris;
+    std::vector<int> markers;
+    bool any_marker = false;
+    for (const auto& e : tris_) {
+      tris.push_back({e.nodes[0], e.nodes[1], e.nodes[2]});
+      markers.push_back(e.physical);
+      any_marker = any_marker || e.physical != 0;
+    }
+    if (!any_marker) markers.clear();  // no physical surfaces: no labels
+    if (!tets_.empty()) {
+      TetMesh vol;
+      vol.vertices = nodes_;
+      bool any_region = false;
+      for (const auto& e : tets_) {
+        vol.tets.push_back(e.nodes);
+        vol.tet_regions.push_back(e.physical);
+        any_region = any_region || e.physical != 0;
+      }
+      if (!any_region) vol.tet_regions.clear();
+      vol.faces = tris;
+      vol.face_markers = markers;
+      orient_whole_file(vol);
+      out.volume = std::move(vol);
+    }
+    if (!tris.empty() || tets_.empty()) {
+      TriMesh surf;
+      surf.vertices = std::move(nodes_);
+      surf.triangles = std::move(tris);
+      out.surface = std::move(surf);
+    }
+    return out;
+  }
+
+  LineReader in_;
+  int version_ = 0;
+  bool have_nodes_ = false;
+  bool have_elements_ = false;
+  std::vector<Vec3> nodes_;
+  std::unordered_map<std::int64_t, Index> node_index_;
+  std::map<std::pair<int, std::int64_t>, int> entity_physical_;
+  std::vector<Element> tris_, tets_;
+};
+
+void put_vec(std::string& out, const Vec3& v) {
+  for (int k = 0; k < 3; ++k) {
+    out += ' ';
+    put_double(out, v[k]);
+  }
+}
+
+void put_nodes(std::string& out, const std::vector<Index>& nodes) {
+  for (const Index i : nodes) {
+    out += ' ';
+    put_int(out, std::int64_t{i} + 1);
+  }
+}
+
+}  // namespace
+
+MeshFile parse_msh(std::string_view data, const std::string& file) { return MshReader(data, file).read(); }
+
+std::string format_msh(const TriMesh* surface, const TetMesh* volume, int version) {
+  if (version != 22 && version != 41)
+    throw InputError("unsupported MSH version " + std::to_string(version) + " for writing (use 22 or 41)");
+  const std::vector<Vec3>& vertices = surface ? surface->vertices : volume->vertices;
+  const std::vector<Triangle>& tris = surface ? surface->triangles : volume->faces;
+  static const std::vector<Tet> no_tets;
+  static const std::vector<int> none;
+  const std::vector<Tet>& tets = volume ? volume->tets : no_tets;
+  const std::vector<int>& markers = volume ? volume->face_markers : none;
+  const std::vector<int>& regions = volume ? volume->tet_regions : none;
+  auto marker = [&](std::size_t i) { return markers.empty() ? 0 : markers[i]; };
+  auto region = [&](std::size_t i) { return regions.empty() ? 0 : regions[i]; };
+
+  std::string out = version == 22 ? "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n" : "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+  if (version == 22) {
+    out += "$Nodes\n";
+    put_int(out, static_cast<std::int64_t>(vertices.size()));
+    out += '\n';
+    for (std::size_t i = 0; i < vertices.size(); ++i) {
+      put_int(out, static_cast<std::int64_t>(i) + 1);
+      put_vec(out, vertices[i]);
+      out += '\n';
+    }
+    out += "$EndNodes\n$Elements\n";
+    put_int(out, static_cast<std::int64_t>(tris.size() + tets.size()));
+    out += '\n';
+    std::int64_t id = 1;
+    // Two tags: physical, then elementary (an entity, which must not be 0).
+    auto element = [&](int type, int phys, std::vector<Index> nodes) {
+      put_int(out, id++);
+      out += type == 2 ? " 2 2 " : " 4 2 ";
+      put_int(out, phys);
+      out += ' ';
+      put_int(out, phys != 0 ? phys : 1);
+      put_nodes(out, nodes);
+      out += '\n';
+    };
+    for (std::size_t i = 0; i < tris.size(); ++i) element(2, marker(i), {tris[i].begin(), tris[i].end()});
+    for (std::size_t i = 0; i < tets.size(); ++i) element(4, region(i), {tets[i].begin(), tets[i].end()});
+    out += "$EndElements\n";
+    return out;
+  }
+
+  // 4.1: one entity per distinct label; all nodes live in the first entity of the
+  // highest dimension present.
+  std::set<int> surf_labels, vol_labels;
+  for (std::size_t i = 0; i < tris.size(); ++i) surf_labels.insert(marker(i));
+  for (std::size_t i = 0; i < tets.size(); ++i) vol_labels.insert(region(i));
+  if (surf_labels.empty() && vol_labels.empty()) surf_labels.insert(0);
+  std::map<int, int> surf_entity, vol_entity;
+  for (const int l : surf_labels) surf_entity.emplace(l, static_cast<int>(surf_entity.size()) + 1);
+  for (const int l : vol_labels) vol_entity.emplace(l, static_cast<int>(vol_entity.size()) + 1);
+  Aabb box;
+  for (const auto& v : vertices) box.add(v);
+  const Vec3 lo = box.empty() ? Vec3::Zero() : box.min, hi = box.empty() ? Vec3::Zero() : box.max;
+  out += "$Entities\n0 0 ";
+  put_int(out, static_cast<std::int64_t>(surf_entity.size()));
+  out += ' ';
+  put_int(out, static_cast<std::int64_t>(vol_entity.size()));
+  out += '\n';
+  for (const auto* entities : {&surf_entity, &vol_entity}) {
+    for (const auto& [label, tag] : *entities) {
+      put_int(out, tag);
+      put_vec(out, lo);
+      put_vec(out, hi);
+      out += label != 0 ? " 1 " + std::to_string(label) + " 0\n" : " 0 0\n";
+    }
+  }
+  out += "$EndEntities\n$Nodes\n";
+  const auto n = static_cast<std::int64_t>(vertices.size());
+  const int node_dim = vol_entity.empty() ? 2 : 3;
+  if (n == 0) {
+    out += "0 0 0 0\n";
+  } else {
+    out += "1 " + std::to_string(n) + " 1 " + std::to_string(n) + '\n';
+    out += std::to_string(node_dim) + " 1 0 " + std::to_string(n) + '\n';
+    for (std::int64_t i = 1; i <= n; ++i) {
+      put_int(out, i);
+      out += '\n';
+    }
+    for (const auto& v : vertices) {
+      put_vec(out, v);
+      out += '\n';
+    }
+  }
+  out += "$EndNodes\n$Elements\n";
+  // One block per run of equal labels keeps the elements in their original order.
+  struct Block {
+    int dim, entity;
+    std::size_t begin, end;
+  };
+  std::vector<Block> blocks;
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    if (i == 0 || marker(i) != marker(i - 1)) blocks.push_back({2, surf_entity.at(marker(i)), i, i});
+    blocks.back().end = i + 1;
+  }
+  for (std::size_t i = 0; i < tets.size(); ++i) {
+    if (i == 0 || region(i) != region(i - 1)) blocks.push_back({3, vol_entity.at(region(i)), i, i});
+    blocks.back().end = i + 1;
+  }
+  const std::size_t total = tris.size() + tets.size();
+  out += std::to_string(blocks.size()) + ' ' + std::to_string(total) + ' ' +
+         (total ? "1 " + std::to_string(total) : std::string("0 0")) + '\n';
+  std::int64_t id = 1;
+  for (const auto& b : blocks) {
+    out += std::to_string(b.dim) + ' ' + std::to_string(b.entity) + (b.dim == 2 ? " 2 " : " 4 ") +
+           std::to_string(b.end - b.begin) + '\n';
+    for (std::size_t i = b.begin; i < b.end; ++i) {
+      put_int(out, id++);
+      if (b.dim == 2) put_nodes(out, {tris[i].begin(), tris[i].end()});
+      else put_nodes(out, {tets[i].begin(), tets[i].end()});
+      out += '\n';
+    }
+  }
+  out += "$EndElements\n";
+  return out;
+}
+
+}  // namespace tactus::mesh::io

@@ -1,0 +1,93 @@
+// algorithms.<name>: the force algorithms that turn tool–tissue contact into a force.
+#include "scene/loader.hpp"
+
+namespace tactus::scene::detail {
+
+Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model) {
+  Algorithm a;
+  a.name = name;
+  enum Type { proxy, hertz_finger, fingerpad, multi_surface, pulse, needle };
+  const Type type = r.choice<Type>("type",
+                                   {{"proxy", proxy}, {"hertz_finger", hertz_finger}, {"fingerpad", fingerpad},
+                                    {"multi_surface", multi_surface}, {"pulse", pulse}, {"needle", needle}},
+                                   std::nullopt);
+  const auto tool = r.string("tool");
+  if (!tool) r.fail_missing("tool", "a tool name");
+  a.tool = resolve_name(r, "tool", *tool, model.tools, "tool");
+  const ToolShape& shape = model.tools[a.tool].shape;
+  const bool is_needle = std::holds_alternative<NeedleTool>(shape);
+  if ((type == needle) != is_needle)
+    r.fail("tool", type == needle ? "the needle algorithm needs a tool of type 'needle'"
+                                  : std::string("a needle tool takes the 'needle' algorithm, not this one"));
+  if (type == hertz_finger && !std::holds_alternative<SphereTool>(shape) &&
+      !std::holds_alternative<SphereSetTool>(shape))
+    r.fail("tool", "hertz_finger needs a tool of type 'sphere' or 'sphere_set'");
+
+  for (const auto& body : r.string_list("bodies", {})) {
+    const std::size_t b = resolve_name(r, "bodies", body, model.bodies, "body");
+    for (const std::size_t seen : a.bodies)
+      if (seen == b) r.fail("bodies", "body '" + body + "' listed twice");
+    a.bodies.push_back(b);
+  }
+  a.enabled = r.boolean("enabled", true);
+
+  switch (type) {
+    case proxy: {
+      ProxyParams p;
+      p.stiffness = r.number("stiffness", p.stiffness, Range::positive());
+      p.damping = r.number("damping", p.damping, Range::non_negative());
+      p.static_friction = r.number("static_friction", p.static_friction, Range::non_negative());
+      p.kinetic_friction = r.number("kinetic_friction", p.kinetic_friction, Range::non_negative());
+      if (p.kinetic_friction > p.static_friction)
+        r.fail("kinetic_friction", "must not exceed static_friction");
+      a.params = p;
+      break;
+    }
+    case hertz_finger: {
+      HertzFingerParams p;
+      p.curvature_rings = r.integer("curvature_rings", p.curvature_rings, 1, 10);
+      p.friction = r.number("friction", p.friction, Range::non_negative());
+      p.weight_compensation = r.boolean("weight_compensation", p.weight_compensation);
+      a.params = p;
+      break;
+    }
+    case fingerpad: {
+      FingerpadParams p;
+      p.b = r.number("b", p.b, Range::positive());
+      p.m = r.number("m", p.m, Range::positive());
+      p.quasilinear_viscoelastic = r.boolean("quasilinear_viscoelastic", p.quasilinear_viscoelastic);
+      a.params = p;
+      break;
+    }
+    case multi_surface: {
+      MultiSurfaceParams p;
+      p.stiffness = r.number("stiffness", p.stiffness, Range::positive());
+      p.damping = r.number("damping", p.damping, Range::non_negative());
+      a.params = p;
+      break;
+    }
+    case pulse: {
+      PulseParams p;
+      const auto body = r.string("body");
+      if (!body) r.fail_missing("body", "the name of the body the pulse comes from");
+      p.body = resolve_name(r, "body", *body, model.bodies, "body");
+      p.rate = r.number("rate", p.rate, Range::closed(30.0, 200.0));
+      p.duty_cycle = r.number("duty_cycle", p.duty_cycle, Range::open(0.0, 1.0));
+      p.amplitude = r.number("amplitude", p.amplitude, Range::positive());
+      p.sources = r.integer("sources", p.sources, 1, 10000);
+      p.range = r.number("range", p.range, Range::positive());
+      a.params = p;
+      break;
+    }
+    case needle: {
+      NeedleParams p;
+      p.lateral_stiffness = r.number("lateral_stiffness", p.lateral_stiffness, Range::non_negative());
+      a.params = p;
+      break;
+    }
+  }
+  r.finish();
+  return a;
+}
+
+}  // namespace tactus::scene::detail

@@ -1,0 +1,386 @@
+// bodies.<name>: kind, material, mesh (file or generator), fixed regions, time stepping.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "mesh/generators.hpp"
+#include "mesh/io/mesh_io.hpp"
+#include "mesh/tet_topology.hpp"
+#include "mesh/tetrahedralize.hpp"
+#include "scene/loader.hpp"
+
+namespace tactus::scene::detail {
+
+namespace {
+
+struct LoadedMesh {
+  std::optional<mesh::TriMesh> surface;
+  std::optional<mesh::TetMesh> volume;
+  std::optional<mesh::QuadMesh> quads;
+  std::string source;
+};
+
+/// Guards against generator calls that would run for hours or exhaust memory.
+void check_budget(Reader& g, std::string_view key, double cells) {
+  const auto limit = static_cast<double>(g.context().options.max_generated_cells);
+  if (cells > limit)
+    g.fail(key, fmt::format("asks for about {} cells; the limit is {}", number_text(cells), number_text(limit)));
+}
+
+/// `cells` as one integer (the same on every axis) or an array of N integers.
+template <int N>
+std::array<int, N> read_cells(Reader& g, std::array<int, N> fallback) {
+  const toml::node* n = g.get("cells");
+  if (!n) return fallback;
+  std::array<int, N> out{};
+  if (n->is_integer()) {
+    const int c = g.integer("cells", 1, 1, 100000);
+    out.fill(c);
+    return out;
+  }
+  const auto list = g.integer_list("cells", 1, 100000);
+  if (list.size() != static_cast<std::size_t>(N))
+    g.fail("cells", fmt::format("expected an integer or an array of {} integers, got {} element{}", N, list.size(),
+                                list.size() == 1 ? "" : "s"));
+  for (int i = 0; i < N; ++i) out[static_cast<std::size_t>(i)] = static_cast<int>(list[static_cast<std::size_t>(i)]);
+  return out;
+}
+
+LoadedMesh generate(Reader& g, const std::string& generator, bool volumetric) {
+  LoadedMesh out;
+  if (generator == "grid_plate") {
+    const Vec2 size = g.required_vec2("size");
+    if (!(size.array() > 0).all()) g.fail("size", "every extent must be > 0");
+    const auto cells = read_cells<2>(g, {10, 10});
+    check_budget(g, "cells", double(cells[0]) * cells[1]);
+    const bool quads = g.boolean("quads", false);
+    const mesh::QuadMesh q = mesh::grid_plate_quads(size.x(), size.y(), cells[0], cells[1]);
+    out.surface = q.triangulated();
+    if (quads) out.quads = q;
+    out.source = fmt::format("grid_plate(size {}x{} m, {}x{} cells{})", number_text(size.x()),
+                             number_text(size.y()), cells[0], cells[1], quads ? ", quads" : "");
+  } else if (generator == "box") {
+    const Vec3 size = g.required_vec3("size");
+    if (!(size.array() > 0).all()) g.fail("size", "every extent must be > 0");
+    const auto c = read_cells<3>(g, {1, 1, 1});
+    check_budget(g, "cells", double(c[0]) * c[1] * c[2]);
+    if (volumetric) {
+      out.volume = mesh::box_volume(size, c[0], c[1], c[2]);
+    } else {
+      if (c[0] != c[1] || c[1] != c[2])
+        g.fail("cells", "a box surface takes the same number of cells on every edge; give one integer");
+      out.surface = mesh::box_surface(size, c[0]);
+    }
+    out.source = fmt::format("box({}x{}x{} m, {}x{}x{} cells)", number_text(size.x()), number_text(size.y()),
+                             number_text(size.z()), c[0], c[1], c[2]);
+  } else if (generator == "sphere") {
+    const double radius = g.required_number("radius", Range::positive());
+    const int subdivisions = g.integer("subdivisions", 3, 0, 10);
+    check_budget(g, "subdivisions", 20.0 * std::pow(4.0, subdivisions));
+    out.surface = mesh::sphere(radius, subdivisions);
+    out.source = fmt::format("sphere(radius {} m, {} subdivisions)", number_text(radius), subdivisions);
+  } else if (generator == "cylinder") {
+    const double radius = g.required_number("radius", Range::positive());
+    const double height = g.required_number("height", Range::positive());
+    const int segments = g.integer("segments", 32, 3, 100000);
+    const int rings = g.integer("rings", 8, 1, 100000);
+    check_budget(g, "segments", double(segments) * (rings + 2));
+    out.surface = mesh::cylinder(radius, height, segments, rings);
+    out.source = fmt::format("cylinder(radius {} m, height {} m, {} segments, {} rings)", number_text(radius),
+                             number_text(height), segments, rings);
+  } else if (generator == "organ") {
+    const double length = g.number("length", 0.22, Range::positive());
+    const int resolution = g.integer("resolution", 40, 4, 100000);
+    // The implicit surface is sampled on a grid of about resolution³ cells.
+    check_budget(g, "resolution", std::pow(double(resolution), 3.0));
+    out.surface = mesh::organ(length, resolution);
+    out.source = fmt::format("organ(length {} m, resolution {})", number_text(length), resolution);
+  } else {
+    const std::vector<std::string> names{"grid_plate", "box", "sphere", "cylinder", "organ"};
+    std::string msg = "unknown generator '" + generator + "'";
+    if (const auto s = suggestion(generator, names); !s.empty()) msg += "; " + s;
+    g.fail("generator", msg + " (expected one of: grid_plate, box, sphere, cylinder, organ)");
+  }
+  return out;
+}
+
+LoadedMesh read_file_mesh(Reader& r, std::string_view key, const std::string& value) {
+  const std::filesystem::path path = resolve_file(r, key, value);
+  LoadedMesh out;
+  try {
+    mesh::MeshFile file = mesh::read_mesh(path);
+    out.surface = std::move(file.surface);
+    out.volume = std::move(file.volume);
+  } catch (const InputError& e) {
+    // The mesh reader's message already names the mesh file and line; keep it whole.
+    r.fail(key, std::string("cannot load mesh: ") + e.what());
+  }
+  out.source = path.generic_string();
+  return out;
+}
+
+void transform(std::vector<Vec3>& vertices, double scale, const Vec3& translate) {
+  for (Vec3& v : vertices) v = scale * v + translate;
+}
+
+struct TetOptions {
+  std::optional<double> max_volume;
+  std::optional<std::int64_t> target_nodes;
+  double radius_edge_ratio = 1.414;
+};
+
+TetOptions read_tet_options(Reader& m) {
+  TetOptions o;
+  o.max_volume = m.number("max_tet_volume", Range::positive());
+  o.target_nodes = m.integer("target_nodes", 4, 100000000);
+  o.radius_edge_ratio = m.number("radius_edge_ratio", o.radius_edge_ratio, Range::closed(1.0, 10.0));
+  if (o.max_volume && o.target_nodes) m.fail("target_nodes", "give max_tet_volume or target_nodes, not both");
+  return o;
+}
+
+/// Fills a volumetric body's tet mesh from its closed surface, through TetGen; errors are
+/// reported at r[key].
+void tetrahedralize_surface(Reader& r, std::string_view key, LoadedMesh& out, const TetOptions& o) {
+  const double enclosed = std::abs(out.surface->signed_volume());
+  if (o.max_volume) check_budget(r, key, enclosed / *o.max_volume);
+  if (o.target_nodes) check_budget(r, key, 6.0 * double(*o.target_nodes));
+  try {
+    if (o.target_nodes) {
+      out.volume = mesh::tetrahedralize_to_node_count(*out.surface, static_cast<std::size_t>(*o.target_nodes),
+                                                      o.radius_edge_ratio);
+    } else {
+      mesh::TetrahedralizeOptions options;
+      options.max_volume = o.max_volume;
+      options.radius_edge_ratio = o.radius_edge_ratio;
+      out.volume = mesh::tetrahedralize(*out.surface, options);
+    }
+  } catch (const InputError& e) {
+    r.fail(key, out.source + ": cannot tetrahedralize: " + e.what());
+  }
+  out.source += ", tetrahedralized";
+}
+
+LoadedMesh read_mesh_key(Reader& r, bool volumetric) {
+  const toml::node* n = r.get("mesh");
+  if (!n) r.fail_missing("mesh", "a file name or a table with 'file' or 'generator'");
+  if (n->is_string()) {
+    LoadedMesh out = read_file_mesh(r, "mesh", r.required_string("mesh"));
+    if (volumetric && !out.volume && out.surface) tetrahedralize_surface(r, "mesh", out, TetOptions{});
+    return out;
+  }
+  if (!n->is_table()) r.fail("mesh", "expected a string (file name) or a table, got " + type_name(n->type()));
+
+  Reader m = *r.table("mesh");
+  const bool has_file = m.table().contains("file");
+  const bool has_gen = m.table().contains("generator");
+  if (has_file == has_gen) m.fail_here("give exactly one of 'file' and 'generator'");
+  LoadedMesh out;
+  try {
+    out = has_file ? read_file_mesh(m, "file", m.required_string("file"))
+                   : generate(m, m.required_string("generator"), volumetric);
+  } catch (const InputError& e) {
+    if (e.where().line) throw;  // already located in the scene
+    m.fail(has_file ? "file" : "generator", e.what());
+  }
+  const double scale = m.number("scale", 1.0, Range::positive());
+  const Vec3 translate = m.vec3("translate", Vec3::Zero());
+  if (scale != 1.0 || !translate.isZero()) {
+    if (out.surface) transform(out.surface->vertices, scale, translate);
+    if (out.volume) transform(out.volume->vertices, scale, translate);
+    if (out.quads) transform(out.quads->vertices, scale, translate);
+  }
+  if (volumetric && !out.volume && out.surface) {
+    const TetOptions options = read_tet_options(m);
+    tetrahedralize_surface(m, has_file ? "file" : "generator", out, options);
+  }
+  m.finish();
+  return out;
+}
+
+/// Puts the loaded mesh into the body in the form its kind needs.
+void attach_mesh(Reader& r, Body& b, LoadedMesh&& m) {
+  b.mesh_source = m.source;
+  const std::string kind = to_string(b.kind);
+  if (b.volumetric()) {
+    if (!m.volume || m.volume->tets.empty())
+      r.fail("mesh", "a '" + kind + "' body needs a tetrahedral mesh or a closed surface, but " + m.source +
+                         " holds neither");
+    try {
+      mesh::BoundarySurface boundary = mesh::extract_boundary(*m.volume);
+      b.surface = std::move(boundary.surface);
+      b.surface_to_volume = std::move(boundary.surface_to_volume);
+    } catch (const InputError& e) {
+      r.fail("mesh", std::string("invalid tetrahedral mesh: ") + e.what());
+    }
+    b.volume = std::move(m.volume);
+  } else if (m.surface && !m.surface->triangles.empty()) {
+    b.surface = std::move(*m.surface);
+    b.quads = std::move(m.quads);
+  } else if (b.kind == BodyKind::rigid && m.volume && !m.volume->tets.empty()) {
+    try {
+      b.surface = mesh::extract_boundary(*m.volume).surface;
+    } catch (const InputError& e) {
+      r.fail("mesh", std::string("invalid tetrahedral mesh: ") + e.what());
+    }
+  } else {
+    r.fail("mesh", "a '" + kind + "' body needs a triangle surface, but " + m.source + " holds none");
+  }
+}
+
+/// Nodes on edges used by one triangle only: the border of an open sheet.
+std::vector<mesh::Index> border_nodes(const mesh::TriMesh& s) {
+  std::map<std::pair<mesh::Index, mesh::Index>, int> edge_uses;
+  for (const auto& t : s.triangles)
+    for (int i = 0; i < 3; ++i) {
+      const mesh::Index a = t[static_cast<std::size_t>(i)], c = t[static_cast<std::size_t>((i + 1) % 3)];
+      ++edge_uses[{std::min(a, c), std::max(a, c)}];
+    }
+  std::vector<mesh::Index> out;
+  for (const auto& [e, uses] : edge_uses)
+    if (uses == 1) {
+      out.push_back(e.first);
+      out.push_back(e.second);
+    }
+  return out;
+}
+
+FixedRegion read_fixed(Reader& f, const Body& b, std::size_t index) {
+  FixedRegion region;
+  region.name = f.string("name", fmt::format("fixed{}", index));
+  const auto& vertices = b.simulation_vertices();
+  const auto& t = f.table();
+  const int selectors = int(t.contains("nodes")) + int(t.contains("box")) + int(t.contains("side")) +
+                        int(t.contains("marker")) + int(t.contains("border"));
+  if (selectors != 1)
+    f.fail_here(selectors == 0 ? "missing a node selector: give one of nodes, box, side, marker, border"
+                               : "give only one node selector (nodes, box, side, marker or border)");
+  std::vector<mesh::Index> nodes;
+  if (t.contains("nodes")) {
+    region.selector = "nodes";
+    const auto list = f.integer_list("nodes", 0, std::int64_t(vertices.size()) - 1);
+    if (list.empty()) f.fail("nodes", "the list is empty");
+    for (const auto i : list) nodes.push_back(static_cast<mesh::Index>(i));
+  } else if (auto box = f.table("box")) {
+    region.selector = "box";
+    Aabb a;
+    a.min = box->required_vec3("min");
+    a.max = box->required_vec3("max");
+    box->finish();
+    if (!(a.min.array() <= a.max.array()).all()) f.fail("box", "min must not exceed max on any axis");
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      if (a.contains(vertices[i])) nodes.push_back(static_cast<mesh::Index>(i));
+  } else if (t.contains("side")) {
+    enum Side { x_min, x_max, y_min, y_max, z_min, z_max };
+    const Side side = f.choice<Side>("side",
+                                     {{"x_min", x_min}, {"x_max", x_max}, {"y_min", y_min},
+                                      {"y_max", y_max}, {"z_min", z_min}, {"z_max", z_max}},
+                                     std::nullopt);
+    region.selector = "side " + f.required_string("side");
+    Aabb bounds;
+    for (const Vec3& v : vertices) bounds.add(v);
+    const double tol = f.number("tolerance", 1e-4 * bounds.size().norm(), Range::non_negative());
+    const int axis = side / 2;
+    const double plane = (side % 2 == 0) ? bounds.min[axis] : bounds.max[axis];
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      if (std::abs(vertices[i][axis] - plane) <= tol) nodes.push_back(static_cast<mesh::Index>(i));
+  } else if (t.contains("marker")) {
+    const int marker = f.integer("marker", 0, -1000000000, 1000000000);
+    region.selector = fmt::format("marker {}", marker);
+    if (!b.volume || b.volume->face_markers.empty())
+      f.fail("marker", "the body's mesh carries no face markers (Gmsh physical surfaces, TetGen .face markers)");
+    for (std::size_t i = 0; i < b.volume->faces.size(); ++i)
+      if (b.volume->face_markers[i] == marker)
+        for (const auto v : b.volume->faces[i]) nodes.push_back(v);
+  } else {
+    region.selector = "border";
+    if (!f.boolean("border", true)) f.fail("border", "only 'border = true' selects nodes");
+    if (b.volumetric()) f.fail("border", "'border' selects the open edge of a surface sheet; use side, box or marker on a volume");
+    nodes = border_nodes(b.surface);
+  }
+  f.finish();
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  if (nodes.empty()) f.fail_here("fixed region '" + region.name + "' (" + region.selector + ") selects no node");
+  region.nodes = std::move(nodes);
+  return region;
+}
+
+}  // namespace
+
+Body read_body(Reader& r, const std::string& name, const Model& model) {
+  Body b;
+  b.name = name;
+  b.kind = r.choice<BodyKind>("kind",
+                              {{"surface_mass_spring", BodyKind::surface_mass_spring},
+                               {"tet_mass_spring", BodyKind::tet_mass_spring},
+                               {"fem", BodyKind::fem},
+                               {"rigid", BodyKind::rigid}},
+                              std::nullopt);
+  const bool rigid = b.kind == BodyKind::rigid;
+
+  if (const auto material = r.string("material")) {
+    b.material = resolve_name(r, "material", *material, model.materials, "material");
+    if (b.kind == BodyKind::fem && model.materials[*b.material].model == ConstitutiveModel::mass_spring)
+      r.fail("material", "material '" + *material + "' has model 'mass_spring'; a 'fem' body needs a continuum model"
+                         " (linear, corotational, stvk, neo_hookean or mooney_rivlin)");
+  } else if (!rigid) {
+    r.fail_missing("material", "a material name");
+  }
+
+  attach_mesh(r, b, read_mesh_key(r, b.volumetric()));
+
+  if (rigid) {
+    if (r.table().contains("fixed")) r.fail("fixed", "a rigid body does not move; it takes no fixed regions");
+    r.finish();
+    return b;
+  }
+
+  std::set<std::string> region_names;
+  std::size_t index = 0;
+  for (Reader& f : r.table_array("fixed")) {
+    FixedRegion region = read_fixed(f, b, index++);
+    if (!region_names.insert(region.name).second)
+      f.fail("name", "duplicate fixed region name '" + region.name + "'");
+    b.fixed.push_back(std::move(region));
+  }
+
+  b.integrator = r.choice<Integrator>("integrator",
+                                      {{"explicit_euler", Integrator::explicit_euler},
+                                       {"symplectic_euler", Integrator::symplectic_euler},
+                                       {"rk4", Integrator::rk4},
+                                       {"implicit_euler", Integrator::implicit_euler},
+                                       {"static", Integrator::static_solve}},
+                                      Integrator::implicit_euler);
+  b.time_step = r.number("time_step", 1.0 / model.rates.simulation, Range::open_closed(0.0, 1.0));
+  b.solver = r.choice<LinearSolver>("solver", {{"cg", LinearSolver::cg}, {"cholesky", LinearSolver::cholesky}},
+                                    LinearSolver::cg);
+  b.solver_tolerance = r.number("solver_tolerance", 1e-4, Range::open(0.0, 1.0));
+  b.solver_max_iterations = r.integer("solver_max_iterations", 200, 1, 1000000);
+  b.mass_matrix = r.choice<MassMatrix>("mass_matrix",
+                                       {{"lumped", MassMatrix::lumped}, {"consistent", MassMatrix::consistent}},
+                                       MassMatrix::lumped);
+
+  if (b.kind == BodyKind::surface_mass_spring) {
+    const auto springs = r.string_list("springs", {"longitudinal"});
+    if (springs.empty()) r.fail("springs", "give at least one spring type");
+    const std::vector<std::pair<std::string, SpringType>> known{{"longitudinal", SpringType::longitudinal},
+                                                                {"diagonal", SpringType::diagonal},
+                                                                {"torsional", SpringType::torsional},
+                                                                {"bending", SpringType::bending}};
+    for (const auto& s : springs) {
+      auto it = std::find_if(known.begin(), known.end(), [&](const auto& k) { return k.first == s; });
+      if (it == known.end())
+        r.fail("springs", "unknown spring type '" + s + "' (expected longitudinal, diagonal, torsional or bending)");
+      if (std::find(b.springs.begin(), b.springs.end(), it->second) != b.springs.end())
+        r.fail("springs", "spring type '" + s + "' listed twice");
+      b.springs.push_back(it->second);
+    }
+  }
+  r.finish();
+  return b;
+}
+
+}  // namespace tactus::scene::detail

@@ -1,0 +1,125 @@
+// Scene text → Model: parses the TOML, then reads the sections in dependency order.
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "scene/loader.hpp"
+#include "scene/scene.hpp"
+
+namespace tactus::scene {
+
+namespace detail {
+
+std::filesystem::path resolve_file(Reader& r, std::string_view key, const std::string& value) {
+  const Context& ctx = r.context();
+  if (!ctx.options.allow_file_access) r.fail(key, "file access is disabled; cannot read '" + value + "'");
+  if (value.empty()) r.fail(key, "empty file name");
+  std::filesystem::path p(value);
+  if (p.is_relative() && !ctx.base_dir.empty()) p = ctx.base_dir / p;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(p, ec)) r.fail(key, "file not found: '" + p.generic_string() + "'");
+  return p;
+}
+
+namespace {
+
+LoopRates read_rates(Reader& root) {
+  LoopRates rates;
+  if (auto r = root.table("rates")) {
+    rates.haptic = r->number("haptic", rates.haptic, Range::closed(100.0, 10000.0));
+    rates.simulation = r->number("simulation", rates.simulation, Range::closed(1.0, 1000.0));
+    rates.interaction = r->number("interaction", rates.interaction, Range::closed(1.0, 1000.0));
+    rates.visual = r->number("visual", rates.visual, Range::closed(1.0, 240.0));
+    if (rates.simulation > rates.haptic)
+      r->fail("simulation", fmt::format("{} Hz exceeds the haptic rate ({} Hz)", number_text(rates.simulation),
+                                        number_text(rates.haptic)));
+    r->finish();
+  }
+  return rates;
+}
+
+Recording read_recording(Reader& root) {
+  Recording rec;
+  auto r = root.table("recording");
+  if (!r) return rec;
+  rec.path = r->string("path", "");
+  const auto include = r->string_list("include", {"poses", "forces", "contacts", "timings", "events"});
+  rec.poses = rec.forces = rec.contacts = rec.timings = rec.events = false;
+  for (const auto& what : include) {
+    bool* flag = what == "poses"      ? &rec.poses
+                 : what == "forces"   ? &rec.forces
+                 : what == "contacts" ? &rec.contacts
+                 : what == "timings"  ? &rec.timings
+                 : what == "events"   ? &rec.events
+                                      : nullptr;
+    if (!flag) {
+      std::string msg = "unknown item '" + what + "'";
+      if (const auto s = suggestion(what, {"poses", "forces", "contacts", "timings", "events"}); !s.empty())
+        msg += "; " + s;
+      r->fail("include", msg + " (expected poses, forces, contacts, timings or events)");
+    }
+    *flag = true;
+  }
+  r->finish();
+  return rec;
+}
+
+Model read_model(Reader& root, const std::string& source_name) {
+  Model m;
+  m.source = source_name;
+  m.name = std::filesystem::path(source_name).stem().string();
+  if (auto s = root.table("scene")) {
+    m.name = s->string("name", m.name);
+    m.description = s->string("description", "");
+    m.gravity = s->vec3("gravity", m.gravity);
+    s->finish();
+  }
+  m.rates = read_rates(root);
+
+  // Sections in dependency order: each may refer to the ones before it.
+  if (auto t = root.table("materials"))
+    for (auto& [name, r] : t->named_tables()) m.materials.push_back(detail::read_material(r, name));
+  if (auto t = root.table("bodies"))
+    for (auto& [name, r] : t->named_tables()) m.bodies.push_back(detail::read_body(r, name, m));
+  if (auto t = root.table("devices"))
+    for (auto& [name, r] : t->named_tables()) m.devices.push_back(detail::read_device(r, name));
+  if (auto t = root.table("tools"))
+    for (auto& [name, r] : t->named_tables()) m.tools.push_back(detail::read_tool(r, name, m));
+  if (auto t = root.table("algorithms"))
+    for (auto& [name, r] : t->named_tables()) m.algorithms.push_back(detail::read_algorithm(r, name, m));
+  m.recording = read_recording(root);
+  root.finish();
+  return m;
+}
+
+}  // namespace
+}  // namespace detail
+
+Model parse_scene(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
+  detail::Context ctx;
+  ctx.file = source_name;
+  ctx.base_dir = options.base_dir.empty() ? std::filesystem::path(source_name).parent_path() : options.base_dir;
+  ctx.options = options;
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source_name);
+  } catch (const toml::parse_error& e) {
+    throw InputError(detail::location(ctx, e.source()), std::string(e.description()));
+  }
+  detail::Reader reader(ctx, root, "");
+  return detail::read_model(reader, source_name);
+}
+
+Model load_scene(const std::filesystem::path& path, const LoadOptions& options) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(SourceLocation{path.string(), {}, {}, {}}, "cannot open scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  LoadOptions opts = options;
+  if (opts.base_dir.empty()) opts.base_dir = path.parent_path();
+  return parse_scene(text.str(), path.string(), opts);
+}
+
+}  // namespace tactus::scene

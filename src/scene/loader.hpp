@@ -1,0 +1,39 @@
+#pragma once
+// The loader's sections, one file each (private to src/scene). Each reads one named
+// table into its Model part, resolving references against what `model` already holds:
+// materials, then bodies, devices, tools, algorithms.
+#include <string>
+#include <vector>
+
+#include "scene/model.hpp"
+#include "scene/toml_reader.hpp"
+
+namespace tactus::scene::detail {
+
+Material read_material(Reader& r, const std::string& name);
+Body read_body(Reader& r, const std::string& name, const Model& model);
+Device read_device(Reader& r, const std::string& name);
+Tool read_tool(Reader& r, const std::string& name, const Model& model);
+Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model);
+
+/// A path from the scene, resolved against the scene's folder; checks that the file
+/// exists (or that file access is allowed at all).
+std::filesystem::path resolve_file(Reader& r, std::string_view key, const std::string& value);
+
+/// The index of the item named by r[key] in `items`, or an error naming the undefined
+/// `what` with a did-you-mean.
+template <class T>
+std::size_t resolve_name(Reader& r, std::string_view key, const std::string& value,
+                         const std::vector<T>& items, const char* what) {
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (items[i].name == value) return i;
+    names.push_back(items[i].name);
+  }
+  std::string msg = std::string("undefined ") + what + " '" + value + "'";
+  if (const auto s = suggestion(value, names); !s.empty()) msg += "; " + s;
+  else if (names.empty()) msg += " (the scene defines none)";
+  r.fail(key, msg);
+}
+
+}  // namespace tactus::scene::detail

@@ -1,0 +1,356 @@
+#pragma once
+// The immutable Model a scene file describes: plain structs in SI units (m, kg, s, N, Pa).
+// A Model is built once by the loader and then only read; share it as ModelPtr.
+// docs/scene-format.md documents every field as the key that sets it.
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "core/math.hpp"
+#include "mesh/generators.hpp"
+#include "mesh/tet_mesh.hpp"
+#include "mesh/tri_mesh.hpp"
+
+namespace tactus::scene {
+
+// ---------------------------------------------------------------------------------------
+// Loop rates [Hz]
+
+struct LoopRates {
+  double haptic = 1000.0;      ///< [100, 10000]
+  double simulation = 100.0;   ///< [1, 1000]
+  double interaction = 120.0;  ///< [1, 1000]
+  double visual = 60.0;        ///< [1, 240]
+};
+
+// ---------------------------------------------------------------------------------------
+// Materials
+
+enum class ConstitutiveModel { mass_spring, linear, corotational, stvk, neo_hookean, mooney_rivlin };
+
+struct Damping {
+  double rayleigh_alpha = 0.0;  ///< mass-proportional [1/s]
+  double rayleigh_beta = 0.0;   ///< stiffness-proportional [s]
+  double nodal = 0.0;           ///< per-node absolute-velocity damping (seed 000 d_i) [N·s/m]
+};
+
+enum class ViscoelasticModel { none, kelvin_voigt, standard_linear_solid, prony };
+
+/// One term of a Prony series: relative modulus g_i of a Maxwell branch and its relaxation
+/// time τ_i. The long-term modulus is E·(1 − Σ g_i).
+struct PronyTerm {
+  double g = 0.0;    ///< (0, 1)
+  double tau = 0.0;  ///< [s], > 0
+};
+
+struct Viscoelasticity {
+  ViscoelasticModel model = ViscoelasticModel::none;
+  /// kelvin_voigt: retardation time η/E (creep); standard_linear_solid: relaxation time [s].
+  double tau = 0.0;
+  /// standard_linear_solid: E_∞ / E_0, in (0, 1); 1 otherwise.
+  double long_term_fraction = 1.0;
+  std::vector<PronyTerm> prony;  ///< prony only
+};
+
+/// Elastic constants are always all filled in, whichever pair the file gave.
+struct Material {
+  std::string name;
+  ConstitutiveModel model = ConstitutiveModel::corotational;
+  double young_modulus = 0.0;  ///< E [Pa]
+  double poisson_ratio = 0.0;  ///< ν, in (−1, 0.5)
+  double shear_modulus = 0.0;  ///< μ [Pa]
+  double bulk_modulus = 0.0;   ///< κ [Pa]
+  double lame_lambda = 0.0;    ///< λ [Pa]
+  /// Mooney–Rivlin constants [Pa] (W = C10 (Ī1 − 3) + C01 (Ī2 − 3) + κ/2 (J − 1)²);
+  /// for every other model C10 = μ/2 and C01 = 0.
+  double c10 = 0.0;
+  double c01 = 0.0;
+  double density = 0.0;  ///< [kg/m³]
+  Damping damping;
+  Viscoelasticity viscoelastic;
+};
+
+// ---------------------------------------------------------------------------------------
+// Bodies
+
+enum class BodyKind { surface_mass_spring, tet_mass_spring, fem, rigid };
+enum class Integrator { explicit_euler, symplectic_euler, rk4, implicit_euler, static_solve };
+enum class LinearSolver { cg, cholesky };
+enum class MassMatrix { lumped, consistent };
+enum class SpringType { longitudinal, diagonal, torsional, bending };
+
+/// Nodes held fixed. `selector` says how they were chosen, for summaries and messages.
+struct FixedRegion {
+  std::string name;
+  std::string selector;             ///< e.g. "side z_min", "box", "nodes", "marker 3"
+  std::vector<mesh::Index> nodes;   ///< sorted, unique, never empty
+};
+
+struct Body {
+  std::string name;
+  BodyKind kind = BodyKind::fem;
+  /// Index into Model::materials; empty only for a rigid body given no material.
+  std::optional<std::size_t> material;
+  /// Where the mesh came from: the resolved file path or the generator call.
+  std::string mesh_source;
+
+  /// Collision and display surface (always present). For volumetric bodies it is the
+  /// boundary of `volume` with its own compact numbering (see surface_to_volume).
+  mesh::TriMesh surface;
+  /// Tetrahedral mesh of tet_mass_spring and fem bodies.
+  std::optional<mesh::TetMesh> volume;
+  /// Surface vertex → volume vertex (volumetric bodies only).
+  std::vector<mesh::Index> surface_to_volume;
+  /// The quad sheet of a surface mass-spring made by the grid_plate generator with
+  /// quads = true; its vertices are the surface's vertices.
+  std::optional<mesh::QuadMesh> quads;
+
+  std::vector<FixedRegion> fixed;  ///< node indices into simulation_vertices()
+
+  // Time stepping (deformable bodies).
+  Integrator integrator = Integrator::implicit_euler;
+  double time_step = 0.01;  ///< [s]
+  LinearSolver solver = LinearSolver::cg;
+  double solver_tolerance = 1e-4;  ///< CG relative residual
+  int solver_max_iterations = 200;
+  MassMatrix mass_matrix = MassMatrix::lumped;
+  std::vector<SpringType> springs;  ///< surface_mass_spring only
+
+  [[nodiscard]] bool volumetric() const {
+    return kind == BodyKind::tet_mass_spring || kind == BodyKind::fem;
+  }
+  /// The nodes the physics moves: the tet mesh's for volumetric bodies, else the surface's.
+  [[nodiscard]] const std::vector<Vec3>& simulation_vertices() const {
+    return volumetric() ? volume->vertices : surface.vertices;
+  }
+};
+
+// ---------------------------------------------------------------------------------------
+// Tools (what touches the tissue)
+
+struct Sphere {
+  Vec3 center = Vec3::Zero();  ///< offset from the tool frame [m]
+  double radius = 0.0;         ///< [m]
+};
+
+/// Elastic sphere(s) with a silicone-rubber default (seed 000's finger).
+struct FingerProperties {
+  double mass = 0.01;             ///< whole finger [kg]
+  double young_modulus = 1.0e6;   ///< [Pa]
+  double poisson_ratio = 0.48;
+};
+
+struct SphereTool {
+  double radius = 0.008;
+  FingerProperties finger;
+};
+/// 1 or 8 spheres (seed 000 Fig. 1), resolved to offsets in the tool frame.
+struct SphereSetTool {
+  std::vector<Sphere> spheres;
+  FingerProperties finger;
+};
+struct NeedleTool {
+  double length = 0.08;      ///< [m]
+  double diameter = 0.0013;  ///< [m]
+  double mass = 0.005;       ///< [kg]
+};
+/// Two fingertip spheres (seed 002), each driven by its own device.
+struct TwoFingersTool {
+  double radius = 0.008;
+  FingerProperties finger;  ///< per finger
+};
+
+using ToolShape = std::variant<SphereTool, SphereSetTool, NeedleTool, TwoFingersTool>;
+
+struct Tool {
+  std::string name;
+  ToolShape shape;
+  /// Indices into Model::devices: one, or two for two_fingers (first, second).
+  std::vector<std::size_t> devices;
+};
+
+// ---------------------------------------------------------------------------------------
+// Devices
+
+struct Waypoint {
+  double time = 0.0;  ///< [s]
+  Vec3 position = Vec3::Zero();
+};
+struct WaypointsPath {
+  std::vector<Waypoint> points;  ///< times strictly increasing
+  bool loop = false;
+};
+/// Boustrophedon scan of the rectangle [min, max] in x–y at height z (palpation).
+struct RasterPath {
+  Vec2 min = Vec2::Zero();
+  Vec2 max = Vec2::Zero();
+  double z = 0.0;
+  double spacing = 0.005;  ///< between scan lines [m]
+  double speed = 0.02;     ///< [m/s]
+};
+/// Move from `position` along `direction` by `depth`, hold, return; `repeat` times.
+struct PressPath {
+  Vec3 position = Vec3::Zero();
+  Vec3 direction = Vec3(0, 0, -1);  ///< unit
+  double depth = 0.005;
+  double speed = 0.01;
+  double hold = 1.0;  ///< [s]
+  int repeat = 1;
+};
+struct CirclePath {
+  Vec3 center = Vec3::Zero();
+  Vec3 normal = Vec3(0, 0, 1);  ///< unit
+  double radius = 0.01;
+  double period = 2.0;  ///< [s]
+};
+/// Straight insertion from entry towards target at constant speed.
+struct NeedleLinePath {
+  Vec3 entry = Vec3::Zero();
+  Vec3 target = Vec3::Zero();
+  double speed = 0.005;
+};
+using Trajectory = std::variant<WaypointsPath, RasterPath, PressPath, CirclePath, NeedleLinePath>;
+
+struct Tremor {
+  double amplitude = 0.0;   ///< [m]; 0 = none
+  double frequency = 8.0;   ///< [Hz]
+};
+
+struct ScriptedDevice {
+  Trajectory trajectory;
+  Tremor tremor;
+};
+/// A hand model (mass-spring-damper) coupling the handle to a scripted target.
+struct SimulatedOperatorDevice {
+  Trajectory target;
+  Tremor tremor;
+  double hand_mass = 0.2;        ///< [kg]
+  double hand_stiffness = 300.0; ///< [N/m]
+  double hand_damping = 5.0;     ///< [N·s/m]
+};
+struct ReplayDevice {
+  std::filesystem::path file;  ///< resolved against the scene's folder
+};
+struct NetworkDevice {
+  std::string address = "127.0.0.1";
+  int port = 47600;
+  double timeout = 0.05;  ///< force fades to zero after this long without packets [s]
+};
+using DeviceSource = std::variant<ScriptedDevice, SimulatedOperatorDevice, ReplayDevice, NetworkDevice>;
+
+struct Device {
+  std::string name;
+  DeviceSource source;
+  double max_force = 10.0;        ///< [N]
+  double max_stiffness = 2000.0;  ///< [N/m]
+  Aabb workspace;                 ///< in device coordinates [m]
+  double scale = 1.0;             ///< device → scene: p_scene = scale · p_device + offset
+  Vec3 offset = Vec3::Zero();
+};
+
+// ---------------------------------------------------------------------------------------
+// Force algorithms
+
+/// God-object / proxy with virtual coupling and Coulomb friction.
+struct ProxyParams {
+  double stiffness = 500.0;  ///< [N/m]
+  double damping = 0.0;      ///< [N·s/m]
+  double static_friction = 0.0;
+  double kinetic_friction = 0.0;
+};
+/// Body-based finger: Hertz contact per sphere with dynamic curvature (seed 000).
+struct HertzFingerParams {
+  int curvature_rings = 2;  ///< q-ring neighbourhood of the curvature vote
+  double friction = 0.2;
+  bool weight_compensation = true;
+};
+/// Pawluk & Howe fingerpad law F = (b/m)(e^(m·d) − 1) (seed 002 eq. 1).
+struct FingerpadParams {
+  double b = 190.0;   ///< [N/m]
+  double m = 2100.0;  ///< [1/m]
+  bool quasilinear_viscoelastic = false;
+};
+/// Constraint planes at every surface hit along the tool ray (seed 003 §3.5); the layers
+/// are the algorithm's bodies, outermost first.
+struct MultiSurfaceParams {
+  double stiffness = 500.0;
+  double damping = 0.0;
+};
+/// Rectangular pulse wave from point sources along a body (an artery).
+struct PulseParams {
+  std::size_t body = 0;       ///< index into Model::bodies
+  double rate = 72.0;         ///< [beats/min], [30, 200]
+  double duty_cycle = 0.2;    ///< (0, 1)
+  double amplitude = 0.3;     ///< [N]
+  int sources = 10;           ///< point sources along the body
+  double range = 0.03;        ///< distance over which the pulse fades [m]
+};
+struct NeedleParams {
+  double lateral_stiffness = 200.0;  ///< spring towards the puncture path [N/m]
+};
+using AlgorithmParams = std::variant<ProxyParams, HertzFingerParams, FingerpadParams,
+                                     MultiSurfaceParams, PulseParams, NeedleParams>;
+
+struct Algorithm {
+  std::string name;
+  std::size_t tool = 0;              ///< index into Model::tools
+  std::vector<std::size_t> bodies;   ///< indices into Model::bodies; empty = every body
+  bool enabled = true;
+  AlgorithmParams params;
+};
+
+// ---------------------------------------------------------------------------------------
+// Recording
+
+struct Recording {
+  std::string path;  ///< empty = no recording (a --record flag may still ask for one)
+  bool poses = true;
+  bool forces = true;
+  bool contacts = true;
+  bool timings = true;
+  bool events = true;
+};
+
+// ---------------------------------------------------------------------------------------
+
+struct Model {
+  std::string name;
+  std::string description;
+  std::string source;  ///< the file (or built-in name) it was loaded from
+  Vec3 gravity = Vec3(0, 0, -9.81);  ///< [m/s²]
+  LoopRates rates;
+  std::vector<Material> materials;
+  std::vector<Body> bodies;      ///< in file order
+  std::vector<Device> devices;
+  std::vector<Tool> tools;
+  std::vector<Algorithm> algorithms;
+  Recording recording;
+
+  [[nodiscard]] const Material* find_material(std::string_view name) const;
+  [[nodiscard]] const Body* find_body(std::string_view name) const;
+  [[nodiscard]] const Device* find_device(std::string_view name) const;
+  [[nodiscard]] const Tool* find_tool(std::string_view name) const;
+  [[nodiscard]] const Algorithm* find_algorithm(std::string_view name) const;
+};
+
+using ModelPtr = std::shared_ptr<const Model>;
+
+// Names as written in scene files (the inverse of what the loader accepts).
+const char* to_string(ConstitutiveModel m);
+const char* to_string(ViscoelasticModel m);
+const char* to_string(BodyKind k);
+const char* to_string(Integrator i);
+const char* to_string(LinearSolver s);
+const char* to_string(MassMatrix m);
+const char* to_string(SpringType s);
+const char* tool_type_name(const ToolShape& s);
+const char* device_type_name(const DeviceSource& s);
+const char* trajectory_type_name(const Trajectory& t);
+const char* algorithm_type_name(const AlgorithmParams& p);
+
+}  // namespace tactus::scene

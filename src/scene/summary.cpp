@@ -1,0 +1,159 @@
+// The human-readable summary printed by `tactus inspect` and `tactus run`.
+#include <map>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "scene/scene.hpp"
+
+namespace tactus::scene {
+
+namespace {
+
+std::string g(double v) { return fmt::format("{:g}", v); }
+std::string vec(const Vec3& v) { return fmt::format("({:g}, {:g}, {:g})", v.x(), v.y(), v.z()); }
+
+bool closed(const mesh::TriMesh& s) {
+  std::map<std::pair<mesh::Index, mesh::Index>, int> uses;
+  for (const auto& t : s.triangles)
+    for (std::size_t i = 0; i < 3; ++i) {
+      const mesh::Index a = t[i], b = t[(i + 1) % 3];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  for (const auto& [e, n] : uses)
+    if (n != 2) return false;
+  return !s.triangles.empty();
+}
+
+std::string material_line(const Material& m) {
+  std::string s = fmt::format("  {}: {}, E {} Pa, nu {}, density {} kg/m^3", m.name, to_string(m.model),
+                              g(m.young_modulus), g(m.poisson_ratio), g(m.density));
+  if (m.model == ConstitutiveModel::mooney_rivlin) s += fmt::format(", C10 {} Pa, C01 {} Pa", g(m.c10), g(m.c01));
+  const Damping& d = m.damping;
+  if (d.rayleigh_alpha > 0 || d.rayleigh_beta > 0)
+    s += fmt::format(", Rayleigh alpha {} 1/s beta {} s", g(d.rayleigh_alpha), g(d.rayleigh_beta));
+  if (d.nodal > 0) s += fmt::format(", nodal damping {} N*s/m", g(d.nodal));
+  const Viscoelasticity& v = m.viscoelastic;
+  switch (v.model) {
+    case ViscoelasticModel::none: break;
+    case ViscoelasticModel::kelvin_voigt: s += fmt::format(", Kelvin-Voigt tau {} s", g(v.tau)); break;
+    case ViscoelasticModel::standard_linear_solid:
+      s += fmt::format(", standard linear solid tau {} s, E_inf/E_0 {}", g(v.tau), g(v.long_term_fraction));
+      break;
+    case ViscoelasticModel::prony: s += fmt::format(", Prony series of {} terms", v.prony.size()); break;
+  }
+  return s + "\n";
+}
+
+std::string body_lines(const Model& model, const Body& b) {
+  std::string s = fmt::format("  {}: {}", b.name, to_string(b.kind));
+  if (b.material) s += ", material " + model.materials[*b.material].name;
+  s += "\n    mesh: " + b.mesh_source + "\n";
+  if (b.volume)
+    s += fmt::format("    tet mesh: {} vertices, {} tets\n", b.volume->vertices.size(), b.volume->tets.size());
+  s += fmt::format("    surface: {} vertices, {} triangles", b.surface.vertices.size(), b.surface.triangles.size());
+  if (b.quads) s += fmt::format(", {} quads", b.quads->quads.size());
+  s += "\n";
+  const Aabb box = b.volume ? b.volume->bounds() : b.surface.bounds();
+  s += fmt::format("    bounds: {} .. {} m (size {})\n", vec(box.min), vec(box.max), vec(box.size()));
+  if (b.volume)
+    s += fmt::format("    volume: {} m^3\n", g(b.volume->volume()));
+  else if (closed(b.surface))
+    s += fmt::format("    volume: {} m^3\n", g(b.surface.signed_volume()));
+  for (const FixedRegion& f : b.fixed)
+    s += fmt::format("    fixed '{}' ({}): {} nodes\n", f.name, f.selector, f.nodes.size());
+  if (b.kind != BodyKind::rigid) {
+    s += fmt::format("    stepping: {}, dt {} s, solver {} (tolerance {:g}, at most {} iterations), {} mass",
+                     to_string(b.integrator), g(b.time_step), to_string(b.solver), b.solver_tolerance,
+                     b.solver_max_iterations, to_string(b.mass_matrix));
+    if (!b.springs.empty()) {
+      s += ", springs";
+      for (const SpringType t : b.springs) s += std::string(" ") + to_string(t);
+    }
+    s += "\n";
+  }
+  return s;
+}
+
+std::string finger_text(const FingerProperties& f) {
+  return fmt::format("mass {} kg, E {} Pa, nu {}", g(f.mass), g(f.young_modulus), g(f.poisson_ratio));
+}
+
+std::string tool_line(const Model& model, const Tool& t) {
+  std::string s = fmt::format("  {}: {}", t.name, tool_type_name(t.shape));
+  if (const auto* p = std::get_if<SphereTool>(&t.shape))
+    s += fmt::format(", radius {} m, {}", g(p->radius), finger_text(p->finger));
+  else if (const auto* q = std::get_if<SphereSetTool>(&t.shape))
+    s += fmt::format(", {} spheres of radius {} m, {}", q->spheres.size(), g(q->spheres.front().radius),
+                     finger_text(q->finger));
+  else if (const auto* n = std::get_if<NeedleTool>(&t.shape))
+    s += fmt::format(", length {} m, diameter {} m, mass {} kg", g(n->length), g(n->diameter), g(n->mass));
+  else if (const auto* f = std::get_if<TwoFingersTool>(&t.shape))
+    s += fmt::format(", radius {} m, {} (each)", g(f->radius), finger_text(f->finger));
+  s += t.devices.size() == 1 ? "; device " : "; devices ";
+  for (std::size_t i = 0; i < t.devices.size(); ++i) s += (i ? ", " : "") + model.devices[t.devices[i]].name;
+  return s + "\n";
+}
+
+std::string device_line(const Device& d) {
+  std::string s = fmt::format("  {}: {}", d.name, device_type_name(d.source));
+  if (const auto* sc = std::get_if<ScriptedDevice>(&d.source))
+    s += fmt::format(" ({} trajectory)", trajectory_type_name(sc->trajectory));
+  else if (const auto* op = std::get_if<SimulatedOperatorDevice>(&d.source))
+    s += fmt::format(" ({} target, hand {} kg, {} N/m, {} N*s/m)", trajectory_type_name(op->target),
+                     g(op->hand_mass), g(op->hand_stiffness), g(op->hand_damping));
+  else if (const auto* rp = std::get_if<ReplayDevice>(&d.source))
+    s += " (" + rp->file.generic_string() + ")";
+  else if (const auto* nw = std::get_if<NetworkDevice>(&d.source))
+    s += fmt::format(" (udp {}:{})", nw->address, nw->port);
+  s += fmt::format(", max force {} N, max stiffness {} N/m, workspace {} .. {} m\n", g(d.max_force),
+                   g(d.max_stiffness), vec(d.workspace.min), vec(d.workspace.max));
+  return s;
+}
+
+std::string algorithm_line(const Model& model, const Algorithm& a) {
+  std::string s = fmt::format("  {}: {}, tool {}", a.name, algorithm_type_name(a.params), model.tools[a.tool].name);
+  if (a.bodies.empty()) {
+    s += ", every body";
+  } else {
+    s += ", bodies";
+    for (std::size_t b : a.bodies) s += " " + model.bodies[b].name;
+  }
+  if (!a.enabled) s += ", disabled";
+  return s + "\n";
+}
+
+}  // namespace
+
+std::string summarize(const Model& m) {
+  std::string s = fmt::format("scene '{}' ({})\n", m.name, m.source);
+  if (!m.description.empty()) s += "  " + m.description + "\n";
+  s += fmt::format("  rates: haptic {} Hz, simulation {} Hz, interaction {} Hz, visual {} Hz\n", g(m.rates.haptic),
+                   g(m.rates.simulation), g(m.rates.interaction), g(m.rates.visual));
+  s += fmt::format("  gravity: {} m/s^2\n", vec(m.gravity));
+  s += fmt::format("materials: {}\n", m.materials.size());
+  for (const auto& x : m.materials) s += material_line(x);
+  s += fmt::format("bodies: {}\n", m.bodies.size());
+  for (const auto& x : m.bodies) s += body_lines(m, x);
+  s += fmt::format("devices: {}\n", m.devices.size());
+  for (const auto& x : m.devices) s += device_line(x);
+  s += fmt::format("tools: {}\n", m.tools.size());
+  for (const auto& x : m.tools) s += tool_line(m, x);
+  s += fmt::format("algorithms: {}\n", m.algorithms.size());
+  for (const auto& x : m.algorithms) s += algorithm_line(m, x);
+  if (m.recording.path.empty()) {
+    s += "recording: none\n";
+  } else {
+    s += "recording: " + m.recording.path + " (";
+    std::string items;
+    const std::pair<bool, const char*> flags[] = {{m.recording.poses, "poses"},     {m.recording.forces, "forces"},
+                                                  {m.recording.contacts, "contacts"}, {m.recording.timings, "timings"},
+                                                  {m.recording.events, "events"}};
+    for (const auto& [on, name] : flags)
+      if (on) items += (items.empty() ? "" : ", ") + std::string(name);
+    s += items + ")\n";
+  }
+  return s;
+}
+
+}  // namespace tactus::scene

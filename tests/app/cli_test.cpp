@@ -1,0 +1,171 @@
+// End to end: the `tactus` binary as a user runs it.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "mesh/io/mesh_io.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("tactus_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Result run(const std::string& args) {
+    const fs::path out = dir_ / "stdout.txt";
+    const fs::path err = dir_ / "stderr.txt";
+    const std::string cmd = std::string("CI=1 '") + TACTUS_BINARY + "' " + args + " >'" +
+                            out.string() + "' 2>'" + err.string() + "' </dev/null";
+    const int status = std::system(cmd.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+  }
+
+  fs::path dir_;
+};
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+TEST_F(Cli, VersionSucceeds) {
+  const auto r = run("version");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("tactus 0."), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, HelpListsSubcommands) {
+  const auto r = run("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* sub : {"version", "inspect", "mesh", "run"})
+    EXPECT_NE(r.out.find(sub), std::string::npos) << sub;
+  EXPECT_EQ(run("mesh --help").exit_code, 0);
+}
+
+TEST_F(Cli, BadFlagIsAUserErrorOnOneLine) {
+  for (const char* args : {"--no-such-flag", "frobnicate", "", "inspect"}) {
+    const auto r = run(args);
+    EXPECT_EQ(r.exit_code, 1) << args;
+    EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
+  }
+}
+
+TEST_F(Cli, InspectMissingFileIsAUserError) {
+  const auto r = run("inspect " + (dir_ / "nope.obj").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("nope.obj"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, InspectReportsAGoodTetrahedron) {
+  std::ofstream(dir_ / "tet.node") << "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n";
+  std::ofstream(dir_ / "tet.ele") << "1 4 0\n0 0 1 2 3\n";
+  const auto r = run("inspect " + (dir_ / "tet.node").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("4 vertices"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1 tetrahedra"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0.1666"), std::string::npos) << r.out;  // volume 1/6
+  EXPECT_NE(r.out.find("no problems"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, InspectFlagsAnInvertedTetrahedron) {
+  std::ofstream(dir_ / "bad.node") << "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 0 0 -1\n";
+  std::ofstream(dir_ / "bad.ele") << "2 4 0\n0 0 1 2 3\n1 0 1 2 4\n";  // second one inverted
+  const auto r = run("inspect " + (dir_ / "bad.node").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("tetrahedron 1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("inverted"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, InspectFlagsAnOpenSurfaceAndMalformedFile) {
+  std::ofstream(dir_ / "open.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  auto r = run("inspect " + (dir_ / "open.obj").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;  // an open sheet is a valid surface, with a warning
+  EXPECT_NE(r.out.find("boundary"), std::string::npos) << r.out;
+
+  std::ofstream(dir_ / "broken.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";
+  r = run("inspect " + (dir_ / "broken.obj").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("broken.obj:4"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, GeneratesAndConvertsMeshes) {
+  const fs::path stl = dir_ / "sphere.stl";
+  auto r = run("mesh --generate sphere --size 0.05 --resolution 3 -o " + stl.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const fs::path ply = dir_ / "sphere.ply";
+  r = run("mesh " + stl.string() + " -o " + ply.string() + " --binary");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto a = tactus::mesh::read_mesh(stl);
+  const auto b = tactus::mesh::read_mesh(ply);
+  ASSERT_TRUE(a.surface && b.surface);
+  EXPECT_EQ(a.surface->vertices.size(), b.surface->vertices.size());
+  EXPECT_EQ(a.surface->triangles.size(), b.surface->triangles.size());
+  // r = 5 cm: an icosphere at 3 subdivisions holds within 2% of 4/3 pi r^3.
+  EXPECT_NEAR(b.surface->signed_volume(), 4.0 / 3.0 * M_PI * 0.05 * 0.05 * 0.05, 0.02 * 5.3e-4);
+}
+
+TEST_F(Cli, TetrahedralizesTheOrganToANodeCount) {
+  const fs::path surface = dir_ / "organ.obj";
+  auto r = run("mesh --generate organ --size 0.22 --resolution 7 -o " + surface.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const fs::path volume = dir_ / "organ.msh";
+  r = run("mesh " + surface.string() + " -o " + volume.string() + " --nodes 500");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto m = tactus::mesh::read_mesh(volume);
+  ASSERT_TRUE(m.volume);
+  EXPECT_NEAR(static_cast<double>(m.volume->vertices.size()), 500.0, 50.0);
+  r = run("inspect " + volume.string());
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+}
+
+TEST_F(Cli, TetrahedralizingAnOpenSurfaceIsAUserError) {
+  std::ofstream(dir_ / "open.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const auto r = run("mesh " + (dir_ / "open.obj").string() + " -o " + (dir_ / "o.msh").string() +
+                     " --max-volume 0.01");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+}
+
+TEST_F(Cli, RunsTheDefaultScene) {
+  const auto r = run("run");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(r.out.empty());
+}
+
+TEST_F(Cli, RunRejectsABadSceneWithItsLocation) {
+  std::ofstream(dir_ / "bad.toml") << "[scene]\nname = \"x\"\n\n[materials.skin]\nyoung_modulus = -5\n";
+  const auto r = run("run " + (dir_ / "bad.toml").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("bad.toml:"), std::string::npos) << r.err;
+}
+
+}  // namespace

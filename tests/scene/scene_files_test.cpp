@@ -1,0 +1,142 @@
+// Scene files on disk: the bundled scenes, the compiled-in default, relative mesh paths.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "core/error.hpp"
+#include "scene/scene.hpp"
+
+namespace tactus::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kScenes = fs::path(TACTUS_SOURCE_DIR) / "scenes";
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(SceneFiles, DefaultSceneMatchesBundledFile) {
+  EXPECT_EQ(std::string(default_scene_text()), read_text(kScenes / "default.toml"));
+}
+
+TEST(SceneFiles, EveryBundledSceneLoads) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(kScenes)) {
+    if (entry.path().extension() != ".toml") continue;
+    SCOPED_TRACE(entry.path().string());
+    try {
+      const Model m = load_scene(entry.path());
+      EXPECT_FALSE(m.bodies.empty());
+      EXPECT_FALSE(summarize(m).empty());
+    } catch (const InputError& e) {
+      ADD_FAILURE() << e.what();
+    }
+    ++count;
+  }
+  EXPECT_GE(count, 3);
+}
+
+TEST(SceneFiles, BundledSceneContents) {
+  const Model liver = load_scene(kScenes / "liver.toml");
+  const Body& organ = *liver.find_body("liver");
+  ASSERT_TRUE(organ.volume.has_value());
+  EXPECT_NEAR(organ.surface.bounds().size().x(), 0.22, 0.01);  // liver-sized
+  EXPECT_FALSE(organ.fixed.empty());
+
+  const Model patch = load_scene(kScenes / "skin_patch.toml");
+  const Body& nodule = *patch.find_body("nodule");
+  EXPECT_NE(nodule.mesh_source.find("meshes/nodule.obj"), std::string::npos) << nodule.mesh_source;
+  EXPECT_EQ(nodule.surface.triangles.size(), 20u);  // the icosahedron in the file
+}
+
+class SceneDir : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("tactus_scene_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+    fs::create_directories(dir_ / "scenes" / "meshes");
+    // A unit tetrahedron's closed surface, outward oriented.
+    std::ofstream(dir_ / "scenes" / "meshes" / "tet.obj")
+        << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+const char* kSceneWithMesh = R"(
+[bodies.stone]
+kind = "rigid"
+mesh = { file = "meshes/tet.obj", scale = 0.01 }
+)";
+
+TEST_F(SceneDir, MeshPathsAreRelativeToTheSceneFile) {
+  std::ofstream(dir_ / "scenes" / "stone.toml") << kSceneWithMesh;
+  const Model m = load_scene(dir_ / "scenes" / "stone.toml");
+  const Body& stone = m.bodies.at(0);
+  EXPECT_EQ(stone.surface.vertices.size(), 4u);
+  EXPECT_NEAR(stone.surface.signed_volume(), 1e-6 / 6.0, 1e-15);
+  EXPECT_EQ(fs::path(stone.mesh_source), dir_ / "scenes" / "meshes" / "tet.obj");
+
+  // The same text parsed as if it lived elsewhere does not find the mesh...
+  EXPECT_THROW(parse_scene(kSceneWithMesh, (dir_ / "other.toml").string()), InputError);
+  // ...unless told where relative paths start.
+  LoadOptions options;
+  options.base_dir = dir_ / "scenes";
+  EXPECT_NO_THROW(parse_scene(kSceneWithMesh, "memory", options));
+}
+
+TEST_F(SceneDir, SurfaceFileIsTetrahedralizedForVolumetricBodies) {
+  std::ofstream(dir_ / "scenes" / "soft.toml") << R"(
+[materials.m]
+young_modulus = 1e4
+density = 1000
+[bodies.soft]
+kind = "tet_mass_spring"
+material = "m"
+mesh = "meshes/tet.obj"
+)";
+  const Model m = load_scene(dir_ / "scenes" / "soft.toml");
+  const Body& b = m.bodies.at(0);
+  ASSERT_TRUE(b.volume.has_value());
+  EXPECT_NEAR(b.volume->volume(), 1.0 / 6.0, 1e-9);
+}
+
+TEST_F(SceneDir, MissingSceneFile) {
+  try {
+    load_scene(dir_ / "nope.toml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nope.toml: cannot open scene file"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace tactus::scene
+
+namespace tactus::scene {
+namespace {
+
+// The full example in docs/scene-format.md stays valid.
+TEST(SceneFiles, DocumentedExampleParses) {
+  const std::string doc = read_text(fs::path(TACTUS_SOURCE_DIR) / "docs" / "scene-format.md");
+  const std::size_t heading = doc.find("## Full example");
+  ASSERT_NE(heading, std::string::npos);
+  const std::size_t begin = doc.find("```toml\n", heading);
+  ASSERT_NE(begin, std::string::npos);
+  const std::size_t end = doc.find("```", begin + 8);
+  LoadOptions options;
+  options.base_dir = kScenes;  // its mesh file is the bundled nodule
+  const Model m = parse_scene(doc.substr(begin + 8, end - begin - 8), "scene-format.md", options);
+  EXPECT_EQ(m.name, "palpation");
+  EXPECT_EQ(m.bodies.size(), 2u);
+}
+
+}  // namespace
+}  // namespace tactus::scene
