@@ -247,9 +247,9 @@ std::vector<mesh::Index> border_nodes(const mesh::TriMesh& s) {
   return out;
 }
 
-FixedRegion read_fixed(Reader& f, const Body& b, std::size_t index) {
-  FixedRegion region;
-  region.name = f.string("name", fmt::format("fixed{}", index));
+/// The nodes one of the selectors (nodes, box, side, marker, border) picks; sets `selector`
+/// to a description. Used by fixed regions, loads and prescribed displacements.
+std::vector<mesh::Index> select_nodes(Reader& f, const Body& b, std::string& selector) {
   const auto& vertices = b.simulation_vertices();
   const auto& t = f.table();
   const int selectors = int(t.contains("nodes")) + int(t.contains("box")) + int(t.contains("side")) +
@@ -259,12 +259,12 @@ FixedRegion read_fixed(Reader& f, const Body& b, std::size_t index) {
                                : "give only one node selector (nodes, box, side, marker or border)");
   std::vector<mesh::Index> nodes;
   if (t.contains("nodes")) {
-    region.selector = "nodes";
+    selector = "nodes";
     const auto list = f.integer_list("nodes", 0, std::int64_t(vertices.size()) - 1);
     if (list.empty()) f.fail("nodes", "the list is empty");
     for (const auto i : list) nodes.push_back(static_cast<mesh::Index>(i));
   } else if (auto box = f.table("box")) {
-    region.selector = "box";
+    selector = "box";
     Aabb a;
     a.min = box->required_vec3("min");
     a.max = box->required_vec3("max");
@@ -278,7 +278,7 @@ FixedRegion read_fixed(Reader& f, const Body& b, std::size_t index) {
                                      {{"x_min", x_min}, {"x_max", x_max}, {"y_min", y_min},
                                       {"y_max", y_max}, {"z_min", z_min}, {"z_max", z_max}},
                                      std::nullopt);
-    region.selector = "side " + f.required_string("side");
+    selector = "side " + f.required_string("side");
     Aabb bounds;
     for (const Vec3& v : vertices) bounds.add(v);
     const double tol = f.number("tolerance", 1e-4 * bounds.size().norm(), Range::non_negative());
@@ -288,24 +288,61 @@ FixedRegion read_fixed(Reader& f, const Body& b, std::size_t index) {
       if (std::abs(vertices[i][axis] - plane) <= tol) nodes.push_back(static_cast<mesh::Index>(i));
   } else if (t.contains("marker")) {
     const int marker = f.integer("marker", 0, -1000000000, 1000000000);
-    region.selector = fmt::format("marker {}", marker);
+    selector = fmt::format("marker {}", marker);
     if (!b.volume || b.volume->face_markers.empty())
       f.fail("marker", "the body's mesh carries no face markers (Gmsh physical surfaces, TetGen .face markers)");
     for (std::size_t i = 0; i < b.volume->faces.size(); ++i)
       if (b.volume->face_markers[i] == marker)
         for (const auto v : b.volume->faces[i]) nodes.push_back(v);
   } else {
-    region.selector = "border";
+    selector = "border";
     if (!f.boolean("border", true)) f.fail("border", "only 'border = true' selects nodes");
     if (b.volumetric()) f.fail("border", "'border' selects the open edge of a surface sheet; use side, box or marker on a volume");
     nodes = border_nodes(b.surface);
   }
-  f.finish();
   std::sort(nodes.begin(), nodes.end());
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  return nodes;
+}
+
+FixedRegion read_fixed(Reader& f, const Body& b, std::size_t index) {
+  FixedRegion region;
+  region.name = f.string("name", fmt::format("fixed{}", index));
+  auto nodes = select_nodes(f, b, region.selector);
+  f.finish();
   if (nodes.empty()) f.fail_here("fixed region '" + region.name + "' (" + region.selector + ") selects no node");
   region.nodes = std::move(nodes);
   return region;
+}
+
+NodeLoad read_load(Reader& f, const Body& b, std::size_t index) {
+  NodeLoad load;
+  load.name = f.string("name", fmt::format("load{}", index));
+  load.nodes = select_nodes(f, b, load.selector);
+  load.force = f.required_vec3("force");
+  load.ramp_time = f.number("ramp_time", 0.0, Range::non_negative());
+  f.finish();
+  if (load.nodes.empty()) f.fail_here("load '" + load.name + "' (" + load.selector + ") selects no node");
+  return load;
+}
+
+PrescribedMotion read_prescribed(Reader& f, const Body& b, std::size_t index) {
+  PrescribedMotion p;
+  p.name = f.string("name", fmt::format("prescribed{}", index));
+  p.nodes = select_nodes(f, b, p.selector);
+  p.displacement = f.required_vec3("displacement");
+  p.ramp_time = f.number("ramp_time", 0.0, Range::non_negative());
+  f.finish();
+  if (p.nodes.empty()) f.fail_here("prescribed motion '" + p.name + "' (" + p.selector + ") selects no node");
+  return p;
+}
+
+Probe read_probe(Reader& f, std::size_t index) {
+  Probe p;
+  p.name = f.string("name", fmt::format("probe{}", index));
+  p.position = f.required_vec3("position");
+  f.finish();
+  return p;
 }
 
 }  // namespace
@@ -346,6 +383,31 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
       f.fail("name", "duplicate fixed region name '" + region.name + "'");
     b.fixed.push_back(std::move(region));
   }
+  index = 0;
+  for (Reader& f : r.table_array("loads")) {
+    NodeLoad load = read_load(f, b, index++);
+    if (!region_names.insert(load.name).second) f.fail("name", "duplicate region name '" + load.name + "'");
+    b.loads.push_back(std::move(load));
+  }
+  index = 0;
+  for (Reader& f : r.table_array("prescribed")) {
+    PrescribedMotion p = read_prescribed(f, b, index++);
+    if (!region_names.insert(p.name).second) f.fail("name", "duplicate region name '" + p.name + "'");
+    for (const auto& fixed : b.fixed)
+      for (auto n : p.nodes)
+        if (std::binary_search(fixed.nodes.begin(), fixed.nodes.end(), n))
+          f.fail_here(fmt::format("prescribed motion '{}' moves node {}, which fixed region '{}' holds", p.name, n,
+                                  fixed.name));
+    b.prescribed.push_back(std::move(p));
+  }
+  index = 0;
+  std::set<std::string> probe_names;
+  for (Reader& f : r.table_array("probes")) {
+    Probe p = read_probe(f, index++);
+    if (!probe_names.insert(p.name).second) f.fail("name", "duplicate probe name '" + p.name + "'");
+    b.probes.push_back(std::move(p));
+  }
+  b.load_steps = r.integer("load_steps", 1, 1, 100000);
 
   b.integrator = r.choice<Integrator>("integrator",
                                       {{"explicit_euler", Integrator::explicit_euler},

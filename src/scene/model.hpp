@@ -91,6 +91,31 @@ struct FixedRegion {
   std::vector<mesh::Index> nodes;   ///< sorted, unique, never empty
 };
 
+/// A constant external force, shared equally by the selected nodes; it ramps in linearly
+/// over ramp_time in dynamic runs (0 = a step).
+struct NodeLoad {
+  std::string name;
+  std::string selector;
+  std::vector<mesh::Index> nodes;  ///< sorted, unique, never empty
+  Vec3 force = Vec3::Zero();       ///< total [N]
+  double ramp_time = 0.0;          ///< [s]
+};
+
+/// Nodes moved by a prescribed displacement from rest (a point or patch indentation).
+struct PrescribedMotion {
+  std::string name;
+  std::string selector;
+  std::vector<mesh::Index> nodes;  ///< sorted, unique, never empty
+  Vec3 displacement = Vec3::Zero();  ///< final [m]
+  double ramp_time = 0.0;            ///< [s]; dynamic runs ramp linearly, static runs use load_steps
+};
+
+/// A named point in the rest configuration whose displacement is reported.
+struct Probe {
+  std::string name;
+  Vec3 position = Vec3::Zero();  ///< [m]
+};
+
 struct Body {
   std::string name;
   BodyKind kind = BodyKind::fem;
@@ -111,6 +136,10 @@ struct Body {
   std::optional<mesh::QuadMesh> quads;
 
   std::vector<FixedRegion> fixed;  ///< node indices into simulation_vertices()
+  std::vector<NodeLoad> loads;
+  std::vector<PrescribedMotion> prescribed;
+  std::vector<Probe> probes;
+  int load_steps = 1;  ///< static solves apply loads and prescribed motions in this many steps
 
   // Time stepping (deformable bodies).
   Integrator integrator = Integrator::implicit_euler;

@@ -62,6 +62,14 @@ std::string body_lines(const Model& model, const Body& b) {
     s += fmt::format("    volume: {} m^3\n", g(b.surface.signed_volume()));
   for (const FixedRegion& f : b.fixed)
     s += fmt::format("    fixed '{}' ({}): {} nodes\n", f.name, f.selector, f.nodes.size());
+  for (const NodeLoad& l : b.loads)
+    s += fmt::format("    load '{}' ({}): {} nodes, total force ({:g}, {:g}, {:g}) N\n", l.name, l.selector,
+                     l.nodes.size(), l.force.x(), l.force.y(), l.force.z());
+  for (const PrescribedMotion& p : b.prescribed)
+    s += fmt::format("    prescribed '{}' ({}): {} nodes, displacement ({:g}, {:g}, {:g}) m\n", p.name, p.selector,
+                     p.nodes.size(), p.displacement.x(), p.displacement.y(), p.displacement.z());
+  for (const Probe& p : b.probes)
+    s += fmt::format("    probe '{}' at ({:g}, {:g}, {:g}) m\n", p.name, p.position.x(), p.position.y(), p.position.z());
   if (b.kind != BodyKind::rigid) {
     s += fmt::format("    stepping: {}, dt {} s, solver {} (tolerance {:g}, at most {} iterations), {} mass",
                      to_string(b.integrator), g(b.time_step), to_string(b.solver), b.solver_tolerance,
