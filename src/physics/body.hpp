@@ -53,8 +53,13 @@ BodyState make_state(const Body& body);
 /// Advances the body by dt under the external forces f_ext (3N, may be empty).
 void step(const Body& body, BodyState& state, double dt, const VecX& f_ext = {});
 
+/// A static solve that stops improving (round-off) counts as converged below this relative
+/// residual.
+inline constexpr double kStagnationTolerance = 1e-6;
+
 struct StaticResult {
   bool converged = false;
+  bool stagnated = false;  ///< stopped at round-off before reaching the tolerance
   int iterations = 0;
   double residual = 0.0;  ///< final |f| over free dofs, relative to the load
 };

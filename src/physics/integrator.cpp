@@ -263,7 +263,7 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int
   total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
   double scale = std::max(load.cwiseProduct(w.free_mask).norm(),
                           w.force.cwiseProduct(w.free_mask).norm());
-  if (scale == 0.0) return {true, 0, 0.0};
+  if (scale == 0.0) return {true, false, 0, 0.0};
 
   StaticResult result;
   for (int it = 0; it < max_iterations; ++it) {
@@ -282,13 +282,35 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int
     if (!w.delta.allFinite()) break;
     // Backtracking on the residual norm keeps Newton from overshooting on stiffening laws.
     double alpha = 1.0;
+    bool decreased = false;
     for (int ls = 0; ls < 12; ++ls, alpha *= 0.5) {
       w.x_trial = s.x + alpha * w.delta;
       total_force(body, w.x_trial, s.v, s.q, f_ext, s, w.rhs);
       w.rhs.array() *= w.free_mask.array();
-      if (w.rhs.allFinite() && w.rhs.norm() < r) break;
+      if (w.rhs.allFinite() && w.rhs.norm() < r) {
+        decreased = true;
+        break;
+      }
     }
+    if (!decreased) {
+      // Stagnation at round-off: the residual cannot fall further along Newton's direction.
+      // Internal forces of stiff, slender bodies are far larger than the load, so round-off
+      // can sit above `tolerance`; accept up to kStagnationTolerance and say so.
+      result.stagnated = true;
+      result.converged = result.residual <= kStagnationTolerance;
+      return result;
+    }
+    const double moved = alpha * w.delta.norm();
     s.x = w.x_trial;
+    if (moved <= 1e-14 * std::max(s.x.norm(), 1e-300)) {
+      // The update is below double precision of the positions: nothing left to gain.
+      total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
+      result.residual = w.force.cwiseProduct(w.free_mask).norm() / scale;
+      result.iterations = it + 1;
+      result.stagnated = true;
+      result.converged = result.residual <= kStagnationTolerance;
+      return result;
+    }
   }
   total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
   result.residual = w.force.cwiseProduct(w.free_mask).norm() / scale;

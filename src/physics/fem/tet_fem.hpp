@@ -1,0 +1,74 @@
+#pragma once
+// Linear tetrahedral (P1) finite elements as a ForceModel: one material over a TetMesh,
+// lumped mass, Rayleigh damping and optional Prony relaxation.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "mesh/tet_mesh.hpp"
+#include "physics/fem/constitutive.hpp"
+#include "physics/fem/material.hpp"
+#include "physics/force_model.hpp"
+
+namespace tactus::physics {
+
+/// Rest data of one element, precomputed once.
+struct TetElement {
+  std::array<std::int32_t, 4> nodes{};
+  Eigen::Matrix<double, 3, 4> grad;   ///< shape-function gradients g_a = grad N_a (columns)
+  Eigen::Matrix<double, 3, 4> sgrad;  ///< sqrt(volume) * grad, for the stiffness kernel
+  double volume = 0.0;                ///< rest volume [m^3]
+};
+
+class TetFem final : public ForceModel {
+ public:
+  /// Throws InputError for an invalid material, an out-of-range node index, or an inverted
+  /// or zero-volume rest element (named by its index).
+  TetFem(const mesh::TetMesh& mesh, const FemMaterial& material);
+
+  [[nodiscard]] std::size_t node_count() const override { return static_cast<std::size_t>(rest_.size() / 3); }
+  [[nodiscard]] const VecX& rest_positions() const override { return rest_; }
+  [[nodiscard]] const VecX& lumped_mass() const override { return mass_; }
+  [[nodiscard]] std::size_t internal_size() const override { return elements_.size() * q_stride_; }
+  [[nodiscard]] std::unique_ptr<Scratch> make_scratch() const override;
+
+  void forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratch& s) const override;
+  void linearize(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const override;
+  /// Linear: K0. Corotational: R K0 R^T per element (the usual corotational stiffness,
+  /// without the derivative of R). Hyperelastic: the (projected) tangent at the linearization.
+  void add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const override;
+  /// D = alpha M + beta R K0 R^T (R = I for the linear law): Rayleigh damping on the rotated
+  /// rest stiffness, positive semi-definite for every law and state.
+  void add_damping_product(const VecX& dv, VecX& out, const Scratch& s) const override;
+  void add_diagonal(double a, double b, VecX& out, const Scratch& s) const override;
+  void add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const override;
+  void update_internal(const VecX& x, double dt, VecX& q, Scratch& s) const override;
+  /// Elastic energy of the laws' strain energy densities (the Maxwell branches' stored
+  /// energy is not included).
+  [[nodiscard]] double elastic_energy(const VecX& x, const VecX& q) const override;
+
+  [[nodiscard]] const FemMaterial& material() const { return material_; }
+  [[nodiscard]] const LawParams& law() const { return law_; }
+  [[nodiscard]] const std::vector<TetElement>& elements() const { return elements_; }
+  /// F = sum_a x_a g_a^T of element e at positions x.
+  [[nodiscard]] Mat3 deformation_gradient(const VecX& x, std::size_t e) const;
+
+ private:
+  struct Cache;
+  Cache& cache(Scratch& s) const;
+  const Cache& cache(const Scratch& s) const;
+  void ensure_rotations(const VecX& x, Cache& c) const;
+  template <bool Rotated>
+  void rest_stiffness_product(const VecX& dx, double scale, VecX& out, const Cache& c) const;
+  void tangent_product(const VecX& dx, VecX& out, const Cache& c) const;
+  void element_matrix(std::size_t e, double a, double b, const Cache& c, Eigen::Matrix<double, 12, 12>& k) const;
+  [[nodiscard]] bool rotated() const { return law_.law != FemLaw::linear; }
+
+  FemMaterial material_;
+  LawParams law_;
+  std::vector<TetElement> elements_;
+  VecX rest_, mass_;
+  std::size_t q_stride_ = 0;
+};
+
+}  // namespace tactus::physics

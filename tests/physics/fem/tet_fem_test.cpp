@@ -1,0 +1,199 @@
+// The element loop: input validation, rigid motions, and consistency of forces, stiffness
+// products, triplets and diagonals.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <random>
+
+#include "core/error.hpp"
+#include "fem_test_util.hpp"
+
+namespace tactus::physics {
+namespace {
+
+using fem_test::material;
+
+VecX forces_at(const TetFem& fem, const VecX& x, const VecX& v) {
+  auto s = fem.make_scratch();
+  VecX f;
+  fem.forces(x, v, VecX(), f, *s);
+  return f;
+}
+
+VecX random_vector(Eigen::Index n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  VecX v(n);
+  for (auto& c : v) c = u(rng);
+  return v;
+}
+
+/// ||K dx + (f(x + h dx) - f(x - h dx)) / 2h|| / ||K dx||.
+double stiffness_fd_error(const TetFem& fem, const VecX& x, const VecX& dx) {
+  auto s = fem.make_scratch();
+  const VecX zero = VecX::Zero(x.size());
+  fem.linearize(x, zero, VecX(), *s);
+  VecX Kdx = VecX::Zero(x.size());
+  fem.add_stiffness_product(dx, Kdx, *s);
+  const double h = 1e-7 * fem.rest_positions().cwiseAbs().maxCoeff() / dx.cwiseAbs().maxCoeff();
+  const VecX fd = -(forces_at(fem, x + h * dx, zero) - forces_at(fem, x - h * dx, zero)) / (2 * h);
+  return (Kdx - fd).norm() / Kdx.norm();
+}
+
+TEST(TetFem, RejectsInvertedAndFlatRestElementsNamingTheTet) {
+  mesh::TetMesh m = mesh::box_volume(Vec3(1, 1, 1), 1, 1, 1);
+  std::swap(m.tets[3][1], m.tets[3][2]);
+  try {
+    TetFem fem(m, material(FemLaw::linear));
+    FAIL() << "an inverted tet must be rejected";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tet 3"), std::string::npos) << e.what();
+  }
+  mesh::TetMesh flat = fem_test::single_tet();
+  flat.vertices[3] = Vec3(0.005, 0.005, 0.0);
+  EXPECT_THROW(TetFem(flat, material(FemLaw::corotational)), InputError);
+  FemMaterial bad = material(FemLaw::neo_hookean);
+  bad.poisson_ratio = 0.5;
+  EXPECT_THROW(TetFem(fem_test::single_tet(), bad), InputError);
+}
+
+TEST(TetFem, LumpedMassIsDensityTimesVolume) {
+  const mesh::TetMesh m = mesh::box_volume(Vec3(0.02, 0.03, 0.04), 2, 3, 2);
+  const TetFem fem(m, material(FemLaw::linear, 1e5, 0.3, 1100.0));
+  EXPECT_NEAR(fem.lumped_mass().sum() / 3.0, 1100.0 * 0.02 * 0.03 * 0.04, 1e-12);
+}
+
+TEST(TetFem, RigidRotationGivesNoElasticForceExceptForTheLinearLaw) {
+  const mesh::TetMesh m = mesh::box_volume(Vec3(0.02, 0.02, 0.02), 2, 2, 2);
+  const double force_scale = 1e6 * 0.02 * 0.02;  // E times a face area [N]
+  for (FemLaw law : fem_test::all_laws()) {
+    const TetFem fem(m, material(law));
+    double previous = 0.0;
+    for (double angle : {0.1, 0.5, 1.5, 3.0}) {
+      const VecX x = fem_test::deformed(fem.rest_positions(), fem_test::rotation(angle, Vec3(1, 2, 3)), Vec3(0.1, 0, 0));
+      const double f = forces_at(fem, x, VecX::Zero(x.size())).norm();
+      if (law == FemLaw::linear) {
+        // Linear strain of a rotation is (cos(angle) - 1)(I - a a^T): it grows with the angle.
+        EXPECT_GT(f, 1e-3 * force_scale) << angle;
+        EXPECT_GT(f, previous) << angle;
+        previous = f;
+      } else {
+        EXPECT_LT(f, 1e-10 * force_scale) << to_string(law) << " angle " << angle;  // round-off
+      }
+    }
+  }
+}
+
+TEST(TetFem, StiffnessProductMatchesFiniteDifferencesOfForces) {
+  // Mild, strong and inverted deformations of a single element and of a 2x2x2 block. The
+  // hyperelastic laws use their exact tangent here (projection off); central differences
+  // with h = 1e-7 of the size agree with it to ~1e-8, so 1e-5 is the requirement.
+  Mat3 strong;
+  strong << 1.6, 0.3, -0.2, 0.1, 0.7, 0.25, -0.2, 0.15, 1.3;
+  for (FemLaw law : {FemLaw::linear, FemLaw::stvk, FemLaw::neo_hookean, FemLaw::mooney_rivlin}) {
+    FemMaterial mat = material(law, 1e5, 0.4);
+    mat.project_tangent = false;
+    if (law == FemLaw::mooney_rivlin) mat.c01 = 1e4;
+    for (const auto& m : {fem_test::single_tet(), mesh::box_volume(Vec3(0.02, 0.02, 0.02), 2, 2, 2)}) {
+      const TetFem fem(m, mat);
+      const VecX& X = fem.rest_positions();
+      const VecX noise = 1e-3 * random_vector(X.size(), 7);
+      const VecX dx = random_vector(X.size(), 11);
+      EXPECT_LT(stiffness_fd_error(fem, X + noise, dx), 1e-5) << to_string(law) << " mild";
+      EXPECT_LT(stiffness_fd_error(fem, fem_test::deformed(X, strong) + noise, dx), 1e-5) << to_string(law) << " strong";
+      // Inverted: the last node pushed through the opposite face (single tet), or the block
+      // mirrored through a plane (every element inverted).
+      VecX inv = fem_test::deformed(X, Vec3(1.0, 1.0, -0.6).asDiagonal()) + noise;
+      EXPECT_LT(stiffness_fd_error(fem, inv, dx), 1e-5) << to_string(law) << " inverted";
+    }
+  }
+}
+
+TEST(TetFem, CorotationalStiffnessIsExactAtRigidRotationsAndCloseUnderSmallStrain) {
+  // R K0 R^T omits dR/dx; the omitted term is proportional to the stress, so it vanishes at
+  // a rotated rest state (exact to FD accuracy) and stays of order the strain otherwise.
+  const mesh::TetMesh m = mesh::box_volume(Vec3(0.02, 0.02, 0.02), 2, 2, 2);
+  const TetFem fem(m, material(FemLaw::corotational, 1e5, 0.4));
+  const Mat3 R = fem_test::rotation(1.2, Vec3(1, 1, 0));
+  const VecX dx = random_vector(fem.rest_positions().size(), 3);
+  EXPECT_LT(stiffness_fd_error(fem, fem_test::deformed(fem.rest_positions(), R), dx), 1e-5);
+  const VecX strained = fem_test::deformed(fem.rest_positions(), R * Vec3(1.01, 0.995, 0.995).asDiagonal());
+  EXPECT_LT(stiffness_fd_error(fem, strained, dx), 0.05);  // strain 1%: a few percent at most
+}
+
+TEST(TetFem, DampingProductIsMinusTheVelocityDerivative) {
+  for (FemLaw law : fem_test::all_laws()) {
+    FemMaterial mat = material(law, 1e5, 0.35);
+    mat.rayleigh_mass = 2.0;
+    mat.rayleigh_stiffness = 0.01;
+    const TetFem fem(mesh::box_volume(Vec3(0.02, 0.02, 0.02), 2, 2, 2), mat);
+    const VecX x = fem_test::deformed(fem.rest_positions(), fem_test::rotation(0.7, Vec3(0, 1, 1)) * Vec3(1.1, 1, 0.9).asDiagonal());
+    const VecX v = random_vector(x.size(), 5), dv = random_vector(x.size(), 6);
+    auto s = fem.make_scratch();
+    fem.linearize(x, v, VecX(), *s);
+    VecX Ddv = VecX::Zero(x.size());
+    fem.add_damping_product(dv, Ddv, *s);
+    // f is affine in v, so one-sided differences are exact up to round-off.
+    const VecX fd = -(forces_at(fem, x, v + dv) - forces_at(fem, x, v));
+    EXPECT_LT((Ddv - fd).norm(), 1e-8 * Ddv.norm()) << to_string(law);
+  }
+}
+
+TEST(TetFem, TripletsAndDiagonalMatchTheProducts) {
+  for (FemLaw law : fem_test::all_laws()) {
+    FemMaterial mat = material(law, 1e5, 0.35);
+    mat.rayleigh_mass = 1.5;
+    mat.rayleigh_stiffness = 0.02;
+    const TetFem fem(mesh::box_volume(Vec3(0.02, 0.03, 0.02), 2, 3, 2), mat);
+    const VecX x = fem_test::deformed(fem.rest_positions(), fem_test::rotation(0.4, Vec3(1, 0, 1)) * Vec3(0.7, 1.2, 1.0).asDiagonal());
+    auto s = fem.make_scratch();
+    fem.linearize(x, VecX::Zero(x.size()), VecX(), *s);
+    const double a = 0.3, b = 1.7;
+    std::vector<Triplet> t;
+    fem.add_triplets(a, b, t, *s);
+    const auto n = x.size();
+    SparseMatrix A(n, n);
+    A.setFromTriplets(t.begin(), t.end());
+    const VecX dx = random_vector(n, 9);
+    VecX Kdx = VecX::Zero(n), Ddx = VecX::Zero(n);
+    fem.add_stiffness_product(dx, Kdx, *s);
+    fem.add_damping_product(dx, Ddx, *s);
+    const VecX expected = a * Kdx + b * Ddx;
+    // Same sums in another order: round-off only.
+    EXPECT_LT((A * dx - expected).norm(), 1e-10 * expected.norm()) << to_string(law);
+    VecX diag = VecX::Zero(n);
+    fem.add_diagonal(a, b, diag, *s);
+    EXPECT_LT((diag - VecX(A.diagonal())).norm(), 1e-10 * diag.norm()) << to_string(law);
+    const MatX dense = MatX(A);
+    EXPECT_LT((dense - dense.transpose()).norm(), 1e-10 * dense.norm()) << to_string(law) << ": K must be symmetric";
+  }
+}
+
+TEST(TetFem, ProjectedStiffnessOfAnInvertedBlockIsPositiveSemiDefinite) {
+  for (FemLaw law : {FemLaw::corotational, FemLaw::stvk, FemLaw::neo_hookean, FemLaw::mooney_rivlin}) {
+    const TetFem fem(mesh::box_volume(Vec3(0.02, 0.02, 0.02), 1, 1, 1), material(law, 1e5, 0.45));
+    const VecX x = fem_test::deformed(fem.rest_positions(), Vec3(1.2, 0.5, -0.3).asDiagonal());
+    auto s = fem.make_scratch();
+    fem.linearize(x, VecX::Zero(x.size()), VecX(), *s);
+    std::vector<Triplet> t;
+    fem.add_triplets(1.0, 0.0, t, *s);
+    SparseMatrix K(x.size(), x.size());
+    K.setFromTriplets(t.begin(), t.end());
+    Eigen::SelfAdjointEigenSolver<MatX> eig{MatX(K)};
+    EXPECT_GT(eig.eigenvalues().minCoeff(), -1e-9 * eig.eigenvalues().maxCoeff()) << to_string(law);
+  }
+}
+
+TEST(TetFem, ForcesOfInvertedAndFlatElementsAreFinite) {
+  for (FemLaw law : fem_test::all_laws()) {
+    const TetFem fem(mesh::box_volume(Vec3(0.02, 0.02, 0.02), 2, 2, 2), material(law));
+    for (const Vec3& scale : {Vec3(1, 1, 0), Vec3(1, 1, -1), Vec3(0, 0, 0)}) {
+      const VecX x = fem_test::deformed(fem.rest_positions(), scale.asDiagonal());
+      EXPECT_TRUE(forces_at(fem, x, VecX::Zero(x.size())).allFinite()) << to_string(law);
+      EXPECT_TRUE(std::isfinite(fem.elastic_energy(x, VecX())));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tactus::physics
