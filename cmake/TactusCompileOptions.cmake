@@ -17,6 +17,8 @@ if(TACTUS_BUILD_FUZZ)
   list(APPEND _san -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer)
 endif()
 if(_san)
+  # Tests use it to shrink or skip accuracy studies that take minutes under sanitizers.
+  target_compile_definitions(tactus_options INTERFACE TACTUS_SANITIZED=1)
   target_compile_options(tactus_options INTERFACE ${_san})
   target_link_options(tactus_options INTERFACE ${_san})
 endif()
