@@ -12,5 +12,6 @@ Action add_version(CLI::App& app);
 Action add_inspect(CLI::App& app);
 Action add_mesh(CLI::App& app);
 Action add_run(CLI::App& app);
+Action add_solve(CLI::App& app);
 
 }  // namespace tactus::app

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   add(tactus::app::add_inspect, "inspect", "Summarize and check a mesh or scene file");
   add(tactus::app::add_mesh, "mesh", "Convert, generate or tetrahedralize meshes");
   add(tactus::app::add_run, "run", "Load a scene (the built-in default without one) and run it");
+  add(tactus::app::add_solve, "solve", "Solve a scene's bodies to equilibrium or a time; probes and reactions");
 
   try {
     cli.parse(argc, argv);

@@ -426,6 +426,7 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
                                        MassMatrix::lumped);
 
   if (b.kind == BodyKind::surface_mass_spring) {
+    b.thickness = r.number("thickness", 0.001, Range::open_closed(0.0, 1.0));
     const auto springs = r.string_list("springs", {"longitudinal"});
     if (springs.empty()) r.fail("springs", "give at least one spring type");
     const std::vector<std::pair<std::string, SpringType>> known{{"longitudinal", SpringType::longitudinal},

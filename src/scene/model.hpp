@@ -149,6 +149,9 @@ struct Body {
   int solver_max_iterations = 200;
   MassMatrix mass_matrix = MassMatrix::lumped;
   std::vector<SpringType> springs;  ///< surface_mass_spring only
+  /// surface_mass_spring only: sheet thickness [m]; with the material it sets the spring
+  /// stiffnesses and the areal density (docs/scene-format.md gives the rules).
+  double thickness = 0.001;
 
   [[nodiscard]] bool volumetric() const {
     return kind == BodyKind::tet_mass_spring || kind == BodyKind::fem;

@@ -1,0 +1,173 @@
+#include "runtime/bodies.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "core/error.hpp"
+#include "physics/fem/tet_fem.hpp"
+#include "physics/mass_spring/surface_builder.hpp"
+#include "physics/mass_spring/tet_builder.hpp"
+
+namespace tactus::runtime {
+namespace {
+
+physics::FemLaw fem_law(scene::ConstitutiveModel m) {
+  switch (m) {
+    case scene::ConstitutiveModel::linear: return physics::FemLaw::linear;
+    case scene::ConstitutiveModel::corotational: return physics::FemLaw::corotational;
+    case scene::ConstitutiveModel::stvk: return physics::FemLaw::stvk;
+    case scene::ConstitutiveModel::neo_hookean: return physics::FemLaw::neo_hookean;
+    case scene::ConstitutiveModel::mooney_rivlin: return physics::FemLaw::mooney_rivlin;
+    case scene::ConstitutiveModel::mass_spring: break;
+  }
+  throw InputError("a mass_spring material cannot drive a FEM body");
+}
+
+std::shared_ptr<const physics::ForceModel> fem_model(const scene::Body& b, const scene::Material& m) {
+  physics::FemMaterial fm;
+  fm.law = fem_law(m.model);
+  fm.young_modulus = m.young_modulus;
+  fm.poisson_ratio = m.poisson_ratio;
+  fm.density = m.density;
+  if (m.model == scene::ConstitutiveModel::mooney_rivlin) {
+    fm.c10 = m.c10;
+    fm.c01 = m.c01;
+    fm.bulk_modulus = m.bulk_modulus;
+  }
+  fm.rayleigh_mass = m.damping.rayleigh_alpha;
+  fm.rayleigh_stiffness = m.damping.rayleigh_beta;
+  const auto& ve = m.viscoelastic;
+  switch (ve.model) {
+    case scene::ViscoelasticModel::none: break;
+    // σ = E (ε + τ ε̇) is stiffness-proportional damping with β = τ.
+    case scene::ViscoelasticModel::kelvin_voigt: fm.rayleigh_stiffness += ve.tau; break;
+    case scene::ViscoelasticModel::standard_linear_solid:
+      fm.prony.push_back({1.0 - ve.long_term_fraction, ve.tau});
+      fm.prony_relaxes_bulk = true;
+      break;
+    case scene::ViscoelasticModel::prony:
+      for (const auto& t : ve.prony) fm.prony.push_back({t.g, t.tau});
+      fm.prony_relaxes_bulk = true;
+      break;
+  }
+  return std::make_shared<physics::TetFem>(*b.volume, fm);
+}
+
+/// Maxwell arms relative to the long-term stiffness from a scene's viscoelastic table (whose
+/// Young's modulus is the instantaneous one). Returns E∞ / E₀.
+double spring_viscoelasticity(const scene::Viscoelasticity& ve, physics::ViscoelasticParams& out) {
+  switch (ve.model) {
+    case scene::ViscoelasticModel::none: return 1.0;
+    case scene::ViscoelasticModel::kelvin_voigt: out = physics::ViscoelasticParams::kelvin_voigt(ve.tau); return 1.0;
+    case scene::ViscoelasticModel::standard_linear_solid: {
+      const double f = ve.long_term_fraction;
+      out = physics::ViscoelasticParams::standard_linear_solid(f, 1.0 - f, ve.tau);
+      return f;
+    }
+    case scene::ViscoelasticModel::prony: {
+      std::vector<physics::ViscoelasticParams::PronyTerm> terms;
+      double g_inf = 1.0;
+      for (const auto& t : ve.prony) {
+        terms.push_back({t.g, t.tau});
+        g_inf -= t.g;
+      }
+      out = physics::ViscoelasticParams::prony(terms);
+      return g_inf;
+    }
+  }
+  return 1.0;
+}
+
+std::shared_ptr<const physics::ForceModel> tet_spring_model(const scene::Body& b, const scene::Material& m) {
+  physics::TetSpringParams p;
+  const double long_term = spring_viscoelasticity(m.viscoelastic, p.viscoelastic);
+  p.youngs_modulus = m.young_modulus * long_term;
+  p.density = m.density;
+  // The scene's nodal damping d is per node [N·s/m]; the builder takes d_i = α m_i. Use the
+  // mean node mass to convert, and add the Rayleigh mass term.
+  const double total_mass = m.density * b.volume->volume();
+  const double mean_mass = total_mass / static_cast<double>(b.volume->vertices.size());
+  p.damping_per_mass = m.damping.rayleigh_alpha + (mean_mass > 0.0 ? m.damping.nodal / mean_mass : 0.0);
+  return physics::tet_mass_spring(*b.volume, p);
+}
+
+double mean_edge_length(const mesh::TriMesh& s) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& t : s.triangles)
+    for (int k = 0; k < 3; ++k) {
+      sum += (s.vertices[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])] -
+              s.vertices[static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)])])
+                 .norm();
+      ++n;
+    }
+  return n ? sum / static_cast<double>(n) : 0.0;
+}
+
+std::shared_ptr<const physics::ForceModel> surface_spring_model(const scene::Body& b, const scene::Material& m) {
+  physics::SurfaceSpringParams p;
+  const double long_term = spring_viscoelasticity(m.viscoelastic, p.viscoelastic);
+  const double e = m.young_modulus * long_term, t = b.thickness;
+  const double a = mean_edge_length(b.surface);
+  auto has = [&](scene::SpringType s) { return std::find(b.springs.begin(), b.springs.end(), s) != b.springs.end(); };
+  p.longitudinal = has(scene::SpringType::longitudinal);
+  p.longitudinal_stiffness = e * t;
+  p.diagonal = has(scene::SpringType::diagonal);
+  p.diagonal_stiffness = 0.5 * e * t;
+  p.torsional = has(scene::SpringType::torsional);
+  p.torsional_stiffness = m.shear_modulus * long_term * t * a * a;
+  p.bending = has(scene::SpringType::bending);
+  p.bending_stiffness = e * t * t * t / (12.0 * a * a);
+  p.areal_density = m.density * t;
+  p.nodal_damping = m.damping.nodal;
+  if (b.quads) return physics::surface_mass_spring(*b.quads, p);
+  if (p.diagonal)
+    throw InputError(fmt::format("body '{}': diagonal springs need a quad sheet (grid_plate with quads = true)", b.name));
+  return physics::surface_mass_spring(b.surface, p);
+}
+
+physics::Integrator integrator(scene::Integrator i) {
+  switch (i) {
+    case scene::Integrator::explicit_euler: return physics::Integrator::explicit_euler;
+    case scene::Integrator::symplectic_euler: return physics::Integrator::symplectic_euler;
+    case scene::Integrator::rk4: return physics::Integrator::rk4;
+    case scene::Integrator::implicit_euler:
+    case scene::Integrator::static_solve: return physics::Integrator::implicit_euler;
+  }
+  return physics::Integrator::implicit_euler;
+}
+
+}  // namespace
+
+physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
+  const scene::Body& b = model.bodies.at(index);
+  if (b.kind == scene::BodyKind::rigid) throw InputError(fmt::format("body '{}' is rigid: it has no dynamics", b.name));
+  const scene::Material& m = model.materials.at(*b.material);
+  if (b.mass_matrix == scene::MassMatrix::consistent)
+    throw InputError(fmt::format("body '{}': mass_matrix = \"consistent\" is not available yet; use \"lumped\"", b.name));
+
+  physics::Body body;
+  try {
+    switch (b.kind) {
+      case scene::BodyKind::fem: body.model = fem_model(b, m); break;
+      case scene::BodyKind::tet_mass_spring: body.model = tet_spring_model(b, m); break;
+      case scene::BodyKind::surface_mass_spring: body.model = surface_spring_model(b, m); break;
+      case scene::BodyKind::rigid: break;
+    }
+  } catch (const InputError& e) {
+    throw InputError(SourceLocation{model.source, {}, {}, {}}, fmt::format("body '{}': {}", b.name, e.what()));
+  }
+  body.gravity = model.gravity;
+  body.fixed_dofs.assign(3 * body.model->node_count(), 0);
+  for (const auto& f : b.fixed) body.fix_nodes(f.nodes);
+  for (const auto& p : b.prescribed) body.fix_nodes(p.nodes);
+  body.settings.integrator = integrator(b.integrator);
+  body.settings.solver =
+      b.solver == scene::LinearSolver::cholesky ? physics::LinearSolver::cholesky : physics::LinearSolver::conjugate_gradient;
+  body.settings.cg_tolerance = b.solver_tolerance;
+  body.settings.cg_max_iterations = b.solver_max_iterations;
+  return body;
+}
+
+}  // namespace tactus::runtime
