@@ -1,6 +1,7 @@
 // Implicit Euler step time of tetrahedral FEM bodies against element count: box meshes
 // near the seed 003 series (158 ... 14540 tets) and a liver-sized ~10k-tet block, soft
-// tissue (E = 10 kPa, nu = 0.45), base clamped, gravity sideways, single thread.
+// tissue (E = 10 kPa, nu = 0.45), base clamped, gravity sideways; element loops on 1 or 2
+// threads (the fifth argument).
 // Counters: median and p99 step time [ms], median per tet [ns], mean CG iterations.
 #include <benchmark/benchmark.h>
 
@@ -9,6 +10,7 @@
 #include <chrono>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "mesh/generators.hpp"
 #include "physics/body.hpp"
 #include "physics/fem/tet_fem.hpp"
@@ -32,6 +34,8 @@ void BM_ImplicitStep(benchmark::State& state) {
   const auto& c = kCells[static_cast<std::size_t>(state.range(1))];
   const double dt = 1e-3 * static_cast<double>(state.range(2));
   const auto solver = static_cast<LinearSolver>(state.range(3));
+  const auto threads = static_cast<unsigned>(state.range(4));
+  tactus::set_thread_limit(threads);
   const double h = 0.005;  // 5 mm cubes
   const mesh::TetMesh m = mesh::box_volume(Vec3(c[0] * h, c[1] * h, c[2] * h), c[0], c[1], c[2]);
   FemMaterial mat;
@@ -68,16 +72,23 @@ void BM_ImplicitStep(benchmark::State& state) {
   state.counters["p99_ms"] = 1e3 * p99;
   state.counters["ns_per_tet"] = 1e9 * median / tets;
   state.counters["cg_iters"] = iterations / static_cast<double>(times.size());
+  state.counters["threads"] = static_cast<double>(tactus::thread_count());
   state.SetLabel(std::string(to_string(law)) + (solver == LinearSolver::cholesky ? " cholmod" : " cg"));
+  tactus::set_thread_limit(0);
 }
 
 void series(benchmark::internal::Benchmark* b) {
   const int cg = static_cast<int>(LinearSolver::conjugate_gradient), chol = static_cast<int>(LinearSolver::cholesky);
-  for (auto law : {FemLaw::linear, FemLaw::corotational, FemLaw::stvk, FemLaw::neo_hookean, FemLaw::mooney_rivlin})
-    for (int mesh = 0; mesh < 7; ++mesh) b->Args({static_cast<int>(law), mesh, 1, cg});
-  // The liver-sized block at 1 ms and 10 ms, and the direct solver on a few sizes.
-  for (int dt : {1, 10}) b->Args({static_cast<int>(FemLaw::corotational), 7, dt, cg});
-  for (int mesh : {0, 2, 7}) b->Args({static_cast<int>(FemLaw::corotational), mesh, 1, chol});
+  const int corot = static_cast<int>(FemLaw::corotational);
+  for (int threads : {1, 2}) {
+    for (int mesh = 0; mesh < 7; ++mesh) b->Args({corot, mesh, 1, cg, threads});
+    // The liver-sized block at 1 ms and 10 ms.
+    for (int dt : {1, 10}) b->Args({corot, 7, dt, cg, threads});
+  }
+  for (auto law : {FemLaw::linear, FemLaw::stvk, FemLaw::neo_hookean, FemLaw::mooney_rivlin})
+    for (int mesh = 0; mesh < 7; ++mesh) b->Args({static_cast<int>(law), mesh, 1, cg, 2});
+  // The direct solver on a few sizes.
+  for (int mesh : {0, 2, 7}) b->Args({corot, mesh, 1, chol, 2});
 }
 
 BENCHMARK(BM_ImplicitStep)->Apply(series)->Unit(benchmark::kMillisecond)->MinTime(0.5);

@@ -44,6 +44,11 @@ class ForceModel {
   virtual void add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const = 0;
   /// out += D dv (after linearize). Default: no velocity dependence.
   virtual void add_damping_product(const VecX& dv, VecX& out, const Scratch& s) const;
+  /// out += (a·M + b·D + c·K) in (after linearize), M the lumped mass: the system product of
+  /// implicit steps and static solves, once per CG iteration. Default: the mass term plus
+  /// the two products above; models override it to make one pass over their elements.
+  virtual void add_system_product(double a_mass, double b_damping, double c_stiffness, const VecX& in, VecX& out,
+                                  const Scratch& s) const;
   /// out += diag(K) and diag(D) scaled: out += a·diag(K) + b·diag(D); for preconditioning.
   virtual void add_diagonal(double a, double b, VecX& out, const Scratch& s) const = 0;
   /// Appends a·K + b·D as triplets (after linearize), for direct solvers.

@@ -10,6 +10,19 @@ namespace tactus::physics {
 void ForceModel::add_damping_product(const VecX&, VecX&, const Scratch&) const {}
 void ForceModel::update_internal(const VecX&, double, VecX&, Scratch&) const {}
 
+void ForceModel::add_system_product(double a, double b, double c, const VecX& in, VecX& out, const Scratch& s) const {
+  // The products take unscaled inputs: scale a copy, kept per thread so that repeated calls
+  // allocate nothing once it is sized.
+  thread_local VecX scaled;
+  out += a * lumped_mass().cwiseProduct(in);
+  if (b != 0.0) {
+    scaled = b * in;
+    add_damping_product(scaled, out, s);
+  }
+  scaled = c * in;
+  add_stiffness_product(scaled, out, s);
+}
+
 void Body::fix_nodes(const std::vector<std::int32_t>& nodes) {
   fixed_dofs.resize(3 * model->node_count(), 0);
   for (auto n : nodes) {
@@ -89,13 +102,8 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
 
   // Jacobi-preconditioned conjugate gradients on the free dofs.
   auto apply = [&](const VecX& in, VecX& out) {
-    out = a * m.cwiseProduct(in);
-    if (b != 0.0) {
-      w.z = b * in;
-      model.add_damping_product(w.z, out, ms);
-    }
-    w.z = c * in;
-    model.add_stiffness_product(w.z, out, ms);
+    out.setZero();
+    model.add_system_product(a, b, c, in, out, ms);
     out.array() *= w.free_mask.array();
   };
   w.diag = a * m;

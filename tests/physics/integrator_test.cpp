@@ -197,6 +197,21 @@ TEST(StaticSolve, ChainUnderTipLoadStretchesBySumOfCompliances) {
   }
 }
 
+TEST(ForceModel, DefaultSystemProductIsMassPlusDampingPlusStiffness) {
+  // out += (a M + b D + c K) in, accumulated onto what out holds.
+  SpringChain chain(4, 0.1, 0.5, 200.0, 3.0);
+  auto scratch = chain.make_scratch();
+  VecX in(12), out = VecX::Constant(12, 1.0), expected = VecX::Constant(12, 1.0), k = VecX::Zero(12),
+               d = VecX::Zero(12);
+  for (Eigen::Index i = 0; i < in.size(); ++i) in[i] = std::sin(1.0 + static_cast<double>(i));
+  chain.add_stiffness_product(in, k, *scratch);
+  chain.add_damping_product(in, d, *scratch);
+  const double a = 2.0, b = 0.3, c = 1e-2;
+  expected += a * chain.lumped_mass().cwiseProduct(in) + b * d + c * k;
+  chain.add_system_product(a, b, c, in, out, *scratch);
+  EXPECT_LT((out - expected).norm(), 1e-12 * expected.norm());
+}
+
 TEST(Step, RejectsNonPositiveTimeStep) {
   Body b = oscillator(Integrator::implicit_euler);
   BodyState s = make_state(b);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "physics/fem/polar.hpp"
 #include "physics/fem/prony.hpp"
 
@@ -20,11 +21,17 @@ struct TetFem::Cache final : Scratch {
   VecX rotation_x;
   bool rotations_valid = false;
   std::vector<Mat9> tangent;  ///< hyperelastic: dP/dF per element (projected if asked)
+  /// Each element's contribution to its four nodes (12 values per element), written by the
+  /// element pass and summed per node by gather(); scratch space of const products.
+  mutable std::vector<Vec3> columns;
 };
 
 namespace {
 
 using Mat12 = Eigen::Matrix<double, 12, 12>;
+
+// Below these sizes a loop runs on the caller: a dispatch costs a few microseconds.
+constexpr std::size_t kElementGrain = 256, kNodeGrain = 1024;
 
 /// Small-strain stress of a displacement gradient M: lambda tr(M) I + mu (M + M^T).
 inline Mat3 hooke_of_gradient(double lambda, double mu, const Mat3& M) {
@@ -86,6 +93,16 @@ TetFem::TetFem(const mesh::TetMesh& mesh, const FemMaterial& material)
   for (Eigen::Index i = 0; i < mass_.size(); ++i)
     if (!(mass_[i] > 0.0)) mass_[i] = mean > 0.0 ? mean : 1.0;
   q_stride_ = prony_size(material_.prony.size());
+  node_start_.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (const auto& el : elements_)
+    for (auto v : el.nodes) ++node_start_[static_cast<std::size_t>(v) + 1];
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) node_start_[i + 1] += node_start_[i];
+  node_slot_.resize(4 * elements_.size());
+  std::vector<std::int32_t> fill(node_start_.begin(), node_start_.end() - 1);
+  for (std::size_t e = 0; e < elements_.size(); ++e)
+    for (std::size_t a = 0; a < 4; ++a)
+      node_slot_[static_cast<std::size_t>(fill[static_cast<std::size_t>(elements_[e].nodes[a])]++)] =
+          static_cast<std::int32_t>(4 * e + a);
 }
 
 std::unique_ptr<Scratch> TetFem::make_scratch() const {
@@ -96,6 +113,7 @@ std::unique_ptr<Scratch> TetFem::make_scratch() const {
     for (const auto& el : elements_) c->rotated_grad.push_back(el.sgrad);
   }
   if (law_.law != FemLaw::linear && law_.law != FemLaw::corotational) c->tangent.assign(elements_.size(), Mat9::Zero());
+  c->columns.assign(4 * elements_.size(), Vec3::Zero());
   return c;
 }
 
@@ -110,12 +128,26 @@ void TetFem::ensure_rotations(const VecX& x, Cache& c) const {
     return;
   c.rotation.resize(elements_.size());
   c.rotated_grad.resize(elements_.size());
-  for (std::size_t e = 0; e < elements_.size(); ++e) {
-    c.rotation[e] = polar_rotation(gradient_of(x, elements_[e]));
-    c.rotated_grad[e].noalias() = c.rotation[e] * elements_[e].sgrad;
-  }
+  parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) {
+      c.rotation[e] = polar_rotation(gradient_of(x, elements_[e]));
+      c.rotated_grad[e].noalias() = c.rotation[e] * elements_[e].sgrad;
+    }
+  }, kElementGrain);
   c.rotation_x = x;
   c.rotations_valid = true;
+}
+
+void TetFem::gather(const Cache& c, double mass_scale, const VecX& in, VecX& out) const {
+  parallel_for(0, node_count(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      auto o = out.segment<3>(3 * static_cast<Eigen::Index>(i));
+      if (mass_scale != 0.0)
+        o += mass_scale * mass_.segment<3>(3 * static_cast<Eigen::Index>(i)).cwiseProduct(
+                              in.segment<3>(3 * static_cast<Eigen::Index>(i)));
+      for (auto k = node_start_[i]; k < node_start_[i + 1]; ++k) o += c.columns[static_cast<std::size_t>(node_slot_[static_cast<std::size_t>(k)])];
+    }
+  }, kNodeGrain);
 }
 
 void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratch& s) const {
@@ -127,12 +159,13 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
   const bool damped = beta > 0.0 && v.size() == x.size();
   if (corot || (hyper && damped)) ensure_rotations(x, c);
   const bool viscous = q_stride_ > 0 && static_cast<std::size_t>(q.size()) == internal_size();
-  for (std::size_t e = 0; e < elements_.size(); ++e) {
+  auto element = [&](std::size_t e) {
     const TetElement& el = elements_[e];
     const auto node = [&](int a) { return 3 * el.nodes[static_cast<std::size_t>(a)]; };
+    Vec3* out = &c.columns[4 * e];
     if (corot) {
       // With g^R = sqrt(V) R g: V R hooke(R^T F - I) g_a = hooke(D) g^R_a with
-      // D = sum_b x_b (g^R_b)^T - sqrt(V) I (see rest_stiffness_product).
+      // D = sum_b x_b (g^R_b)^T - sqrt(V) I (see rest_stiffness_columns).
       const Eigen::Matrix<double, 3, 4>& g = c.rotated_grad[e];
       Mat3 D = -std::sqrt(el.volume) * Mat3::Identity();
       for (int a = 0; a < 4; ++a) D.noalias() += x.segment<3>(node(a)) * g.col(a).transpose();
@@ -148,8 +181,8 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
         const Mat3 offset = prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
         S += std::sqrt(el.volume) * (R * offset * R.transpose());
       }
-      for (int a = 0; a < 4; ++a) f.segment<3>(node(a)) -= S * g.col(a);
-      continue;
+      for (int a = 0; a < 4; ++a) out[a] = -(S * g.col(a));
+      return;
     }
     const Mat3 F = gradient_of(x, el);
     Mat3 P;
@@ -168,8 +201,12 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
       if (viscous) P += prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
     }
     P *= el.volume;
-    for (int a = 0; a < 4; ++a) f.segment<3>(node(a)) -= P * el.grad.col(a);
-  }
+    for (int a = 0; a < 4; ++a) out[a] = -(P * el.grad.col(a));
+  };
+  parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) element(e);
+  }, kElementGrain);
+  gather(c, 0.0, x, f);
   if (material_.rayleigh_mass > 0.0 && v.size() == x.size()) f -= material_.rayleigh_mass * mass_.cwiseProduct(v);
 }
 
@@ -179,21 +216,24 @@ void TetFem::linearize(const VecX& x, const VecX&, const VecX&, Scratch& s) cons
   if (law_.law == FemLaw::corotational || material_.rayleigh_stiffness > 0.0) ensure_rotations(x, c);
   if (law_.law == FemLaw::corotational) return;
   c.tangent.resize(elements_.size());
-  Mat3 P;
-  for (std::size_t e = 0; e < elements_.size(); ++e) {
-    Mat9& A = c.tangent[e];
-    hyperelastic_stress_tangent(law_, gradient_of(x, elements_[e]), P, &A);
-    if (material_.project_tangent) project_psd(A);
-  }
+  parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
+    Mat3 P;
+    for (std::size_t e = begin; e < end; ++e) {
+      Mat9& A = c.tangent[e];
+      hyperelastic_stress_tangent(law_, gradient_of(x, elements_[e]), P, &A);
+      if (material_.project_tangent) project_psd(A);
+    }
+  }, kElementGrain);
 }
 
 template <bool Rotated>
-void TetFem::rest_stiffness_product(const VecX& dx, double scale, VecX& out, const Cache& c) const {
+void TetFem::rest_stiffness_columns(const VecX& dx, double scale, std::size_t begin, std::size_t end,
+                                    const Cache& c) const {
   // (R K0 R^T dx)_a = V R hooke(R^T dF) g_a with dF = sum_b dx_b g_b^T. Since
   // R hooke(R^T dF) g_a = hooke(D) R g_a with D = sum_b dx_b (R g_b)^T, the rotated element
   // is the linear kernel on rotated gradients: about 90 flops per element, no 12x12 block.
   const double lambda = scale * law_.lambda, mu = scale * law_.mu;
-  for (std::size_t e = 0; e < elements_.size(); ++e) {
+  for (std::size_t e = begin; e < end; ++e) {
     const TetElement& el = elements_[e];
     const Eigen::Matrix<double, 3, 4>& g = Rotated ? c.rotated_grad[e] : el.sgrad;
     const auto n0 = 3 * el.nodes[0], n1 = 3 * el.nodes[1], n2 = 3 * el.nodes[2], n3 = 3 * el.nodes[3];
@@ -205,40 +245,60 @@ void TetFem::rest_stiffness_product(const VecX& dx, double scale, VecX& out, con
     D.noalias() += (dx.segment<3>(n3) - d0) * g.col(3).transpose();
     Mat3 S = mu * (D + D.transpose());
     S.diagonal().array() += lambda * D.trace();
-    const Vec3 f1 = S * g.col(1), f2 = S * g.col(2), f3 = S * g.col(3);
-    out.segment<3>(n0) -= f1 + f2 + f3;
-    out.segment<3>(n1) += f1;
-    out.segment<3>(n2) += f2;
-    out.segment<3>(n3) += f3;
+    Vec3* out = &c.columns[4 * e];
+    out[1] = S * g.col(1);
+    out[2] = S * g.col(2);
+    out[3] = S * g.col(3);
+    out[0] = -(out[1] + out[2] + out[3]);
   }
 }
 
-void TetFem::tangent_product(const VecX& dx, VecX& out, const Cache& c) const {
-  for (std::size_t e = 0; e < elements_.size(); ++e) {
+void TetFem::tangent_columns(const VecX& dx, double c_tangent, double b_rest, std::size_t begin, std::size_t end,
+                             const Cache& c) const {
+  // c·(tangent) dx plus, when b_rest != 0, b_rest·(rotated rest stiffness) dx.
+  if (b_rest != 0.0) rest_stiffness_columns<true>(dx, b_rest, begin, end, c);
+  if (c_tangent == 0.0) return;
+  for (std::size_t e = begin; e < end; ++e) {
     const TetElement& el = elements_[e];
     const Vec9 dP = c.tangent[e] * vec9(gradient_of(dx, el));
-    const Mat3 S = el.volume * Eigen::Map<const Mat3>(dP.data());
-    for (int a = 0; a < 4; ++a) out.segment<3>(3 * el.nodes[static_cast<std::size_t>(a)]).noalias() += S * el.grad.col(a);
+    const Mat3 S = (c_tangent * el.volume) * Eigen::Map<const Mat3>(dP.data());
+    Vec3* out = &c.columns[4 * e];
+    for (int a = 0; a < 4; ++a) {
+      if (b_rest != 0.0)
+        out[a] += S * el.grad.col(a);
+      else
+        out[a] = S * el.grad.col(a);
+    }
+  }
+}
+
+void TetFem::add_system_product(double a, double b, double c_stiff, const VecX& in, VecX& out,
+                                const Scratch& s) const {
+  const Cache& c = cache(s);
+  const double rest_scale = b * material_.rayleigh_stiffness;
+  const double mass_scale = a + b * material_.rayleigh_mass;
+  const bool hyper = law_.law != FemLaw::linear && law_.law != FemLaw::corotational;
+  const bool elements = hyper ? (rest_scale != 0.0 || c_stiff != 0.0) : rest_scale + c_stiff != 0.0;
+  if (elements) {
+    parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
+      switch (law_.law) {
+        case FemLaw::linear: rest_stiffness_columns<false>(in, rest_scale + c_stiff, begin, end, c); break;
+        case FemLaw::corotational: rest_stiffness_columns<true>(in, rest_scale + c_stiff, begin, end, c); break;
+        default: tangent_columns(in, c_stiff, rest_scale, begin, end, c); break;
+      }
+    }, kElementGrain);
+    gather(c, mass_scale, in, out);
+  } else if (mass_scale != 0.0) {
+    out += mass_scale * mass_.cwiseProduct(in);
   }
 }
 
 void TetFem::add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const {
-  const Cache& c = cache(s);
-  switch (law_.law) {
-    case FemLaw::linear: rest_stiffness_product<false>(dx, 1.0, out, c); break;
-    case FemLaw::corotational: rest_stiffness_product<true>(dx, 1.0, out, c); break;
-    default: tangent_product(dx, out, c); break;
-  }
+  add_system_product(0.0, 0.0, 1.0, dx, out, s);
 }
 
 void TetFem::add_damping_product(const VecX& dv, VecX& out, const Scratch& s) const {
-  if (material_.rayleigh_mass > 0.0) out += material_.rayleigh_mass * mass_.cwiseProduct(dv);
-  if (material_.rayleigh_stiffness > 0.0) {
-    if (rotated())
-      rest_stiffness_product<true>(dv, material_.rayleigh_stiffness, out, cache(s));
-    else
-      rest_stiffness_product<false>(dv, material_.rayleigh_stiffness, out, cache(s));
-  }
+  add_system_product(0.0, 1.0, 0.0, dv, out, s);
 }
 
 void TetFem::add_diagonal(double a, double b, VecX& out, const Scratch& s) const {
@@ -319,14 +379,17 @@ void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) cons
   Cache& c = cache(s);
   const bool corot = law_.law == FemLaw::corotational;
   if (corot) ensure_rotations(x, c);
-  for (std::size_t e = 0; e < elements_.size(); ++e) {
-    const Mat3 F = gradient_of(x, elements_[e]);
-    Mat3 grad = corot ? Mat3(c.rotation[e].transpose() * F) : F;
-    grad.diagonal().array() -= 1.0;
-    const Mat3 eps = 0.5 * (grad + grad.transpose());
-    const Mat3 sbar = material_.prony_relaxes_bulk ? hooke(law_.lambda, law_.mu, eps) : Mat3(2.0 * law_.mu * deviator(eps));
-    prony_update(material_.prony, sbar, dt, std::span<double>(q.data() + e * q_stride_, q_stride_));
-  }
+  parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) {
+      const Mat3 F = gradient_of(x, elements_[e]);
+      Mat3 grad = corot ? Mat3(c.rotation[e].transpose() * F) : F;
+      grad.diagonal().array() -= 1.0;
+      const Mat3 eps = 0.5 * (grad + grad.transpose());
+      const Mat3 sbar =
+          material_.prony_relaxes_bulk ? hooke(law_.lambda, law_.mu, eps) : Mat3(2.0 * law_.mu * deviator(eps));
+      prony_update(material_.prony, sbar, dt, std::span<double>(q.data() + e * q_stride_, q_stride_));
+    }
+  }, kElementGrain);
 }
 
 double TetFem::elastic_energy(const VecX& x, const VecX&) const {

@@ -40,6 +40,9 @@ class TetFem final : public ForceModel {
   /// D = alpha M + beta R K0 R^T (R = I for the linear law): Rayleigh damping on the rotated
   /// rest stiffness, positive semi-definite for every law and state.
   void add_damping_product(const VecX& dv, VecX& out, const Scratch& s) const override;
+  /// One element pass: with D = alpha M + beta K_rest, a·M + b·D + c·K is
+  /// (a + b alpha) M + (b beta + c) K_rest for the linear and corotational laws.
+  void add_system_product(double a, double b, double c, const VecX& in, VecX& out, const Scratch& s) const override;
   void add_diagonal(double a, double b, VecX& out, const Scratch& s) const override;
   void add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const override;
   void update_internal(const VecX& x, double dt, VecX& q, Scratch& s) const override;
@@ -59,8 +62,12 @@ class TetFem final : public ForceModel {
   const Cache& cache(const Scratch& s) const;
   void ensure_rotations(const VecX& x, Cache& c) const;
   template <bool Rotated>
-  void rest_stiffness_product(const VecX& dx, double scale, VecX& out, const Cache& c) const;
-  void tangent_product(const VecX& dx, VecX& out, const Cache& c) const;
+  void rest_stiffness_columns(const VecX& dx, double scale, std::size_t begin, std::size_t end, const Cache& c) const;
+  void tangent_columns(const VecX& dx, double c_tangent, double b_rest, std::size_t begin, std::size_t end,
+                       const Cache& c) const;
+  /// Adds every element's nodal columns (Cache::columns) to out, node by node in element
+  /// order, plus mass_scale·M·in: the same sums whatever the thread count.
+  void gather(const Cache& c, double mass_scale, const VecX& in, VecX& out) const;
   void element_matrix(std::size_t e, double a, double b, const Cache& c, Eigen::Matrix<double, 12, 12>& k) const;
   [[nodiscard]] bool rotated() const { return law_.law != FemLaw::linear; }
 
@@ -69,6 +76,9 @@ class TetFem final : public ForceModel {
   std::vector<TetElement> elements_;
   VecX rest_, mass_;
   std::size_t q_stride_ = 0;
+  /// Node -> element columns (4 e + local index), in element order: node_slot_ from
+  /// node_start_[i] to node_start_[i + 1].
+  std::vector<std::int32_t> node_start_, node_slot_;
 };
 
 }  // namespace tactus::physics

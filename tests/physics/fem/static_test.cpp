@@ -2,7 +2,9 @@
 // (Euler-Bernoulli with Timoshenko's shear term) and a block in uniaxial tension.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "fem_test_util.hpp"
@@ -28,10 +30,12 @@ struct BeamResult {
   bool converged = false;
 };
 
+using Cells = std::array<int, 3>;
+
 /// Beam along x from 0 to L, clamped at x = 0 (all dofs), a downward load spread equally
 /// over the nodes of the x = L face; deflection = mean z displacement of those nodes.
-BeamResult solve_beam(FemLaw law, int cross_cells, double load) {
-  mesh::TetMesh m = mesh::box_volume(Vec3(kLength, kSide, kSide), 10 * cross_cells, cross_cells, cross_cells);
+BeamResult solve_beam(FemLaw law, const Cells& cells, double load) {
+  mesh::TetMesh m = mesh::box_volume(Vec3(kLength, kSide, kSide), cells[0], cells[1], cells[2]);
   for (auto& v : m.vertices) v.x() += kLength / 2;
   Body body;
   body.model = std::make_shared<TetFem>(m, material(law, kE, kNu));
@@ -41,53 +45,82 @@ BeamResult solve_beam(FemLaw law, int cross_cells, double load) {
   VecX f = VecX::Zero(static_cast<Eigen::Index>(3 * m.vertices.size()));
   for (auto n : tip) f[3 * n + 2] = -load / static_cast<double>(tip.size());
   BodyState s = make_state(body);
-  // 1e-6: the slender beam's stiffness has a condition number near 1e8, so the residual of
-  // a backward-stable Cholesky solve floors at 1e-9..1e-7 of the load, growing with refinement.
-  const auto r = solve_static(body, s, f, 50, 1e-6);
+  // The slender beam's stiffness has a condition number near 1e8, so the residual of a
+  // backward-stable Cholesky solve floors at 1e-8..1e-7 of the load: the solve stops there
+  // as stagnated, which counts as converged below kStagnationTolerance.
+  const auto r = solve_static(body, s, f, 50, 1e-8);
   double w = 0.0;
   for (auto n : tip) w += s.x[3 * n + 2] - m.vertices[static_cast<std::size_t>(n)].z();
   if (!r.converged) std::printf("static solve: residual %.3e after %d iterations\n", r.residual, r.iterations);
   return {m.tets.size(), -w / static_cast<double>(tip.size()), r.converged};
 }
 
-TEST(FemStatic, CantileverConvergesToTimoshenkoDeflection) {
-  // A load giving a deflection of L/1000: geometrically linear, so the corotational answer
-  // must equal the linear one. Linear tets lock in bending: the error falls roughly as
-  // h^1.5..h^2 and reaches 3% only near 14 elements through the thickness (~165k tets,
-  // docs/validation-fem.md), beyond a unit test's budget. Here: every refinement must cut
-  // the error at an order above 0.65 (the pre-asymptotic range the study shows),
-  // and 6 elements through the thickness must be within 12% (measured: 11.3%).
-  const double load = 1e-3 * kLength / beam_deflection(1.0);
-  const double expected = beam_deflection(load);
+/// A load giving a deflection of L/1000: geometrically linear, so the corotational answer
+/// must equal the linear one. At L/1000 the geometric nonlinearity is ~1e-6 relative; 1e-4
+/// leaves room for the Newton tolerance of the corotational solve.
+double beam_load() { return 1e-3 * kLength / beam_deflection(1.0); }
+constexpr double kLawAgreement = 1e-4;
+
+double report(FemLaw law, const Cells& c, const BeamResult& r, double expected) {
+  const double error = (r.deflection - expected) / expected;
+  std::printf("%-13s %3d x %2d x %2d  %6zu tets  deflection %.6e m  error %6.2f%%\n",
+              std::string(to_string(law)).c_str(), c[0], c[1], c[2], r.tets, r.deflection, 100 * error);
+  return std::abs(error);
+}
+
+TEST(FemStatic, CantileverRefinementConvergesTowardTimoshenko) {
+  // Linear tets lock in bending: on cubes (10n x n x n cells) the error falls roughly as
+  // h^1.5..h^2 (docs/validation-fem.md). Every refinement must cut the error at an order
+  // above 0.65 (the pre-asymptotic range the study shows), and n = 6 must be within 12%
+  // (measured: 11.3%). The finest mesh, within 3%, is the next test.
+  const double expected = beam_deflection(beam_load());
   std::vector<double> linear;
   for (FemLaw law : {FemLaw::linear, FemLaw::corotational}) {
     double previous_error = 1.0;
     std::size_t level = 0;
-    // The corotational solve repeats the coarser levels only: its agreement with the
-    // linear law is what is checked, and the finest level dominates the test time.
-    for (int cells : {2, 4, 6}) {
-      if (law == FemLaw::corotational && cells == 6) break;
-      const BeamResult r = solve_beam(law, cells, load);
-      ASSERT_TRUE(r.converged) << to_string(law) << " cells " << cells;
-      const double error = std::abs(r.deflection - expected) / expected;
-      std::printf("%-13s %2d x %2d x %3d  %6zu tets  deflection %.6e m  error %6.2f%%\n",
-                  std::string(to_string(law)).c_str(), cells, cells, 10 * cells, r.tets, r.deflection, 100 * error);
+    for (int n : {2, 4, 6}) {
+      const Cells cells{10 * n, n, n};
+      const BeamResult r = solve_beam(law, cells, beam_load());
+      ASSERT_TRUE(r.converged) << to_string(law) << " n " << n;
+      const double error = report(law, cells, r, expected);
       EXPECT_LT(r.deflection, expected) << "P1 elements are too stiff, never too soft";
-      const double min_reduction = cells == 6 ? 1.3 : 1.6;  // h ratio 1.5 or 2, order > 0.65
-      EXPECT_LT(error * min_reduction, previous_error) << to_string(law) << " cells " << cells;
+      const double min_reduction = n == 6 ? 1.3 : 1.6;  // h ratio 1.5 or 2, order > 0.65
+      EXPECT_LT(error * min_reduction, previous_error) << to_string(law) << " n " << n;
       previous_error = error;
-      // At L/1000 the geometric nonlinearity is ~1e-6 relative; 1e-4 leaves room for the
-      // Newton tolerance of the corotational solve.
       if (law == FemLaw::linear)
         linear.push_back(r.deflection);
       else
-        EXPECT_NEAR(r.deflection, linear[level], 1e-4 * linear[level]);
+        EXPECT_NEAR(r.deflection, linear[level], kLawAgreement * linear[level]);
       ++level;
     }
-    if (law == FemLaw::linear) {
-      EXPECT_LT(previous_error, 0.12);
-    }
+    EXPECT_LT(previous_error, 0.12) << to_string(law);
   }
+}
+
+TEST(FemStatic, CantileverFinestMeshIsWithin3PercentOfTimoshenko) {
+#ifdef TACTUS_SANITIZED
+  GTEST_SKIP() << "57,600-tet accuracy study, minutes under sanitizers; the refinement test "
+                  "covers the same code on the coarser meshes";
+#else
+  // Bending locking depends mostly on the resolution along the beam and through the
+  // thickness in the load direction (z); the width (y) needs far fewer cells. 120 x 4 x 20
+  // is the cheapest box mesh found within 3% (measured -2.86%; isotropic cubes need
+  // 140 x 14 x 14, 165k tets, for -2.89%).
+  const Cells cells{120, 4, 20};
+  const double expected = beam_deflection(beam_load());
+  double linear = 0.0;
+  for (FemLaw law : {FemLaw::linear, FemLaw::corotational}) {
+    const BeamResult r = solve_beam(law, cells, beam_load());
+    ASSERT_TRUE(r.converged) << to_string(law);
+    const double error = report(law, cells, r, expected);
+    EXPECT_LT(r.deflection, expected) << "P1 elements are too stiff, never too soft";
+    EXPECT_LT(error, 0.03) << to_string(law);
+    if (law == FemLaw::linear)
+      linear = r.deflection;
+    else
+      EXPECT_NEAR(r.deflection, linear, kLawAgreement * linear);
+  }
+#endif
 }
 
 TEST(FemStatic, BlockInUniaxialTensionMatchesEachLawsStress) {
