@@ -229,6 +229,18 @@ void implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext) 
   s.x += h * s.v;
 }
 
+/// Total potential energy of a static configuration: elastic energy minus the work of the
+/// external forces and of gravity (the fixed dofs' terms are constant and harmless).
+double static_potential(const Body& body, const BodyState& s, const VecX& f_ext) {
+  double e = body.model->elastic_energy(s.x, s.q);
+  if (f_ext.size() == s.x.size()) e -= f_ext.dot(s.x);
+  if (!body.gravity.isZero()) {
+    const VecX& m = body.model->lumped_mass();
+    for (Eigen::Index i = 0; i < s.x.size(); ++i) e -= m[i] * body.gravity[i % 3] * s.x[i];
+  }
+  return e;
+}
+
 }  // namespace
 
 BodyState make_state(const Body& body) {
@@ -288,14 +300,29 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int
     w.delta.setZero();
     solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
     if (!w.delta.allFinite()) break;
-    // Backtracking on the residual norm keeps Newton from overshooting on stiffening laws.
+    // Backtracking line search. The merit is the total potential energy (elastic minus the
+    // work of the loads and weight) with an Armijo condition: along a Newton direction from a
+    // positive definite (or projected) tangent it always descends, so slender bodies take full
+    // steps where the residual norm would reject them. A step that lowers the residual norm is
+    // accepted too, for models whose energy omits part of the force (viscous branches).
+    const double slope = -w.force.dot(w.delta);  // dΠ/dα at α = 0 (force = −∇Π on free dofs)
+    const double energy = static_potential(body, s, f_ext);
     double alpha = 1.0;
     bool decreased = false;
-    for (int ls = 0; ls < 12; ++ls, alpha *= 0.5) {
+    for (int ls = 0; ls < 20; ++ls, alpha *= 0.5) {
       w.x_trial = s.x + alpha * w.delta;
       total_force(body, w.x_trial, s.v, s.q, f_ext, s, w.rhs);
       w.rhs.array() *= w.free_mask.array();
-      if (w.rhs.allFinite() && w.rhs.norm() < r) {
+      if (!w.rhs.allFinite()) continue;
+      const bool residual_down = w.rhs.norm() < r;
+      bool energy_down = false;
+      if (slope < 0.0) {
+        std::swap(s.x, w.x_trial);
+        const double e_trial = static_potential(body, s, f_ext);
+        std::swap(s.x, w.x_trial);
+        energy_down = std::isfinite(e_trial) && e_trial <= energy + 1e-4 * alpha * slope;
+      }
+      if (residual_down || energy_down) {
         decreased = true;
         break;
       }
