@@ -1,0 +1,18 @@
+# Script mode: install, configure, build, run. Any failing step fails the test with its output.
+file(REMOVE_RECURSE ${WORK_DIR})
+function(step what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
+  endif()
+  set(step_output "${out}" PARENT_SCOPE)
+endfunction()
+step("install" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix)
+step("configure consumer" ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/build -G ${GENERATOR}
+     -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
+step("build consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+step("run consumer" ${WORK_DIR}/build/consumer)
+if(NOT step_output MATCHES "sphere with 320 triangles")
+  message(FATAL_ERROR "unexpected consumer output: ${step_output}")
+endif()
+message(STATUS "${step_output}")
