@@ -30,8 +30,10 @@ namespace {
 
 using Mat12 = Eigen::Matrix<double, 12, 12>;
 
-// Below these sizes a loop runs on the caller: a dispatch costs a few microseconds.
-constexpr std::size_t kElementGrain = 256, kNodeGrain = 1024;
+// Loops shorter than two grains run on the calling thread: waking the pool's workers costs
+// more than the work they share below about 8,000 tetrahedra on the 2-core machine
+// (docs/BENCHMARKS.md).
+constexpr std::size_t kElementGrain = 4096, kNodeGrain = 1024;
 
 /// Small-strain stress of a displacement gradient M: lambda tr(M) I + mu (M + M^T).
 inline Mat3 hooke_of_gradient(double lambda, double mu, const Mat3& M) {

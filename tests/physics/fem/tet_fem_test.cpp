@@ -225,8 +225,8 @@ TEST(TetFem, SystemProductEqualsMassDampingAndStiffnessProducts) {
 /// Positions after a few implicit steps of a sagging block, on `threads` threads.
 VecX run_block(FemLaw law, unsigned threads) {
   set_thread_limit(threads);
-  // 750 tets: above the size at which element loops split across threads.
-  const mesh::TetMesh m = mesh::box_volume(Vec3(0.05, 0.05, 0.05), 5, 5, 5);
+  // 8,640 tets: above the size at which element and node loops split across threads.
+  const mesh::TetMesh m = mesh::box_volume(Vec3(0.06, 0.06, 0.05), 12, 12, 10);
   FemMaterial mat = material(law, 1e4, 0.45, 1050.0);
   mat.rayleigh_mass = 1.0;
   mat.rayleigh_stiffness = 0.005;
