@@ -315,26 +315,27 @@ FixedRegion read_fixed(Reader& f, const Body& b, std::size_t index) {
   return region;
 }
 
-NodeLoad read_load(Reader& f, const Body& b, std::size_t index) {
-  NodeLoad load;
-  load.name = f.string("name", fmt::format("load{}", index));
-  load.nodes = select_nodes(f, b, load.selector);
-  load.force = f.required_vec3("force");
-  load.ramp_time = f.number("ramp_time", 0.0, Range::non_negative());
+/// Loads and prescribed motions: a named node set with one vector and a ramp time.
+template <class T>
+T read_ramped_nodes(Reader& f, const Body& b, std::string default_name, const char* vector_key, Vec3 T::*vector,
+                    const char* what) {
+  T t;
+  t.name = f.string("name", std::move(default_name));
+  t.nodes = select_nodes(f, b, t.selector);
+  t.*vector = f.required_vec3(vector_key);
+  t.ramp_time = f.number("ramp_time", 0.0, Range::non_negative());
   f.finish();
-  if (load.nodes.empty()) f.fail_here("load '" + load.name + "' (" + load.selector + ") selects no node");
-  return load;
+  if (t.nodes.empty()) f.fail_here(fmt::format("{} '{}' ({}) selects no node", what, t.name, t.selector));
+  return t;
+}
+
+NodeLoad read_load(Reader& f, const Body& b, std::size_t index) {
+  return read_ramped_nodes(f, b, fmt::format("load{}", index), "force", &NodeLoad::force, "load");
 }
 
 PrescribedMotion read_prescribed(Reader& f, const Body& b, std::size_t index) {
-  PrescribedMotion p;
-  p.name = f.string("name", fmt::format("prescribed{}", index));
-  p.nodes = select_nodes(f, b, p.selector);
-  p.displacement = f.required_vec3("displacement");
-  p.ramp_time = f.number("ramp_time", 0.0, Range::non_negative());
-  f.finish();
-  if (p.nodes.empty()) f.fail_here("prescribed motion '" + p.name + "' (" + p.selector + ") selects no node");
-  return p;
+  return read_ramped_nodes(f, b, fmt::format("prescribed{}", index), "displacement", &PrescribedMotion::displacement,
+                           "prescribed motion");
 }
 
 Probe read_probe(Reader& f, std::size_t index) {
