@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/math.hpp"
+#include "haptics/trajectory.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "mesh/tri_mesh.hpp"
@@ -209,49 +210,15 @@ struct Tool {
 // ---------------------------------------------------------------------------------------
 // Devices
 
-struct Waypoint {
-  double time = 0.0;  ///< [s]
-  Vec3 position = Vec3::Zero();
-};
-struct WaypointsPath {
-  std::vector<Waypoint> points;  ///< times strictly increasing
-  bool loop = false;
-};
-/// Boustrophedon scan of the rectangle [min, max] in x–y at height z (palpation).
-struct RasterPath {
-  Vec2 min = Vec2::Zero();
-  Vec2 max = Vec2::Zero();
-  double z = 0.0;
-  double spacing = 0.005;  ///< between scan lines [m]
-  double speed = 0.02;     ///< [m/s]
-};
-/// Move from `position` along `direction` by `depth`, hold, return; `repeat` times.
-struct PressPath {
-  Vec3 position = Vec3::Zero();
-  Vec3 direction = Vec3(0, 0, -1);  ///< unit
-  double depth = 0.005;
-  double speed = 0.01;
-  double hold = 1.0;  ///< [s]
-  int repeat = 1;
-};
-struct CirclePath {
-  Vec3 center = Vec3::Zero();
-  Vec3 normal = Vec3(0, 0, 1);  ///< unit
-  double radius = 0.01;
-  double period = 2.0;  ///< [s]
-};
-/// Straight insertion from entry towards target at constant speed.
-struct NeedleLinePath {
-  Vec3 entry = Vec3::Zero();
-  Vec3 target = Vec3::Zero();
-  double speed = 0.005;
-};
-using Trajectory = std::variant<WaypointsPath, RasterPath, PressPath, CirclePath, NeedleLinePath>;
-
-struct Tremor {
-  double amplitude = 0.0;   ///< [m]; 0 = none
-  double frequency = 8.0;   ///< [Hz]
-};
+// Trajectories and tremor are haptics:: types (the scripted devices evaluate them).
+using haptics::CirclePath;
+using haptics::NeedleLinePath;
+using haptics::PressPath;
+using haptics::RasterPath;
+using haptics::Trajectory;
+using haptics::Tremor;
+using haptics::Waypoint;
+using haptics::WaypointsPath;
 
 struct ScriptedDevice {
   Trajectory trajectory;
