@@ -1,0 +1,37 @@
+#pragma once
+// Real-time scheduling for the calling thread: SCHED_FIFO priority, CPU pinning, locked
+// memory and a thread name for tools like top and perf. Each call reports what it obtained
+// and falls back to the normal scheduler when the process is not allowed more (no
+// CAP_SYS_NICE, no rtprio limit): a loop then runs, only with more jitter.
+#include <string>
+
+namespace tactus {
+
+struct RealtimeRequest {
+  int priority = 0;  ///< SCHED_FIFO priority 1–99; 0 = normal scheduler
+  int cpu = -1;      ///< CPU to pin to; -1 = no pinning
+};
+
+struct RealtimeResult {
+  bool fifo = false;    ///< the thread now runs under SCHED_FIFO at the requested priority
+  bool pinned = false;  ///< the thread now runs on the requested CPU only
+  std::string message;  ///< what was obtained, and why not when something was refused
+};
+
+/// Applies `request` to the calling thread. Never throws; what was refused stays as it was
+/// (priority 0 returns a real-time thread to the normal scheduler).
+RealtimeResult make_current_thread_realtime(const RealtimeRequest& request);
+
+/// Locks the process's current and future pages in RAM (mlockall), so a loop never waits on
+/// a page fault to disk. False when not permitted (RLIMIT_MEMLOCK, no CAP_IPC_LOCK).
+bool lock_memory();
+
+/// Lets the kernel wake the calling thread's timed sleeps on time: sets its timer slack to
+/// 1 ns instead of the default 50 µs that Linux may add to batch wake-ups (SCHED_FIFO
+/// threads have no slack anyway). Allowed without privileges; false if the kernel refused.
+bool minimize_timer_slack();
+
+/// Names the calling thread; Linux keeps the first 15 characters.
+void name_current_thread(const char* name);
+
+}  // namespace tactus

@@ -1,0 +1,138 @@
+// Real-time requests must never throw and must say what they obtained. The test machine may
+// or may not grant SCHED_FIFO, so the checks hold either way; each request runs on its own
+// thread so the test process keeps its normal scheduling.
+#include <gtest/gtest.h>
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+#include <sys/prctl.h>
+
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "core/realtime.hpp"
+
+namespace tactus {
+namespace {
+
+template <class Fn>
+void on_new_thread(Fn fn) {
+  std::thread t(fn);
+  t.join();
+}
+
+TEST(Realtime, FifoRequestReportsWhatItGot) {
+  on_new_thread([] {
+    const RealtimeResult r = make_current_thread_realtime(RealtimeRequest{10, -1});
+    EXPECT_FALSE(r.message.empty());
+    EXPECT_FALSE(r.pinned);
+    int policy = -1;
+    sched_param param{};
+    ASSERT_EQ(pthread_getschedparam(pthread_self(), &policy, &param), 0);
+    if (r.fifo) {
+      EXPECT_EQ(policy, SCHED_FIFO);
+      EXPECT_EQ(param.sched_priority, 10);
+      // Priority 0 returns the thread to the normal scheduler.
+      const RealtimeResult normal = make_current_thread_realtime(RealtimeRequest{});
+      EXPECT_FALSE(normal.fifo);
+      ASSERT_EQ(pthread_getschedparam(pthread_self(), &policy, &param), 0);
+      EXPECT_EQ(policy, SCHED_OTHER);
+    } else {
+      EXPECT_NE(policy, SCHED_FIFO);
+      EXPECT_NE(r.message.find("SCHED_FIFO"), std::string::npos) << r.message;
+    }
+  });
+}
+
+TEST(Realtime, NormalRequestChangesNothing) {
+  on_new_thread([] {
+    const RealtimeResult r = make_current_thread_realtime(RealtimeRequest{});
+    EXPECT_FALSE(r.fifo);
+    EXPECT_FALSE(r.pinned);
+    EXPECT_FALSE(r.message.empty());
+  });
+}
+
+TEST(Realtime, PinningToAnAllowedCpuHoldsItThere) {
+  cpu_set_t allowed;
+  ASSERT_EQ(sched_getaffinity(0, sizeof(allowed), &allowed), 0);
+  int cpu = 0;
+  while (cpu < CPU_SETSIZE && !CPU_ISSET(cpu, &allowed)) ++cpu;
+  ASSERT_LT(cpu, CPU_SETSIZE);
+  on_new_thread([cpu] {
+    const RealtimeResult r = make_current_thread_realtime(RealtimeRequest{0, cpu});
+    EXPECT_FALSE(r.message.empty());
+    if (r.pinned) {
+      for (int i = 0; i < 100; ++i) ASSERT_EQ(sched_getcpu(), cpu);
+    }
+  });
+}
+
+TEST(Realtime, InvalidRequestsAreRefusedWithAReason) {
+  on_new_thread([] {
+    for (const RealtimeRequest request : {RealtimeRequest{-3, -1}, RealtimeRequest{1000, -1}}) {
+      const RealtimeResult r = make_current_thread_realtime(request);
+      EXPECT_FALSE(r.fifo);
+      EXPECT_NE(r.message.find("outside"), std::string::npos) << r.message;
+    }
+    for (const int cpu : {-2, CPU_SETSIZE, CPU_SETSIZE - 1}) {
+      const RealtimeResult r = make_current_thread_realtime(RealtimeRequest{0, cpu});
+      EXPECT_FALSE(r.pinned) << cpu;
+      EXPECT_NE(r.message.find("not pinned"), std::string::npos) << r.message;
+    }
+  });
+}
+
+TEST(Realtime, ThreadNameIsTruncatedTo15Characters) {
+  on_new_thread([] {
+    name_current_thread("tactus-haptic-loop-1");
+    char name[32] = {};
+    ASSERT_EQ(pthread_getname_np(pthread_self(), name, sizeof(name)), 0);
+    EXPECT_STREQ(name, "tactus-haptic-l");
+    name_current_thread("sim");
+    ASSERT_EQ(pthread_getname_np(pthread_self(), name, sizeof(name)), 0);
+    EXPECT_STREQ(name, "sim");
+    name_current_thread(nullptr);  // ignored
+    ASSERT_EQ(pthread_getname_np(pthread_self(), name, sizeof(name)), 0);
+    EXPECT_STREQ(name, "sim");
+  });
+}
+
+TEST(Realtime, TimerSlackIsMinimizedForThisThreadOnly) {
+  const int before = prctl(PR_GET_TIMERSLACK, 0, 0, 0, 0);
+  on_new_thread([] {
+    ASSERT_TRUE(minimize_timer_slack());
+    EXPECT_EQ(prctl(PR_GET_TIMERSLACK, 0, 0, 0, 0), 1);
+  });
+  EXPECT_EQ(prctl(PR_GET_TIMERSLACK, 0, 0, 0, 0), before);
+}
+
+/// Kibibytes of locked memory of this process (VmLck in /proc/self/status); -1 if unknown.
+long locked_kib() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmLck:", 0) == 0) return std::stol(line.substr(6));
+  return -1;
+}
+
+TEST(Realtime, LockMemoryReportsWhetherPagesAreLocked) {
+  // Granted or refused are both fine, but the answer must be true. Sanitizers intercept
+  // mlockall (locking their shadow memory would take terabytes) and lock nothing.
+  const bool locked = lock_memory();
+  const long kib = locked_kib();
+  if (locked) {
+#ifndef TACTUS_SANITIZED
+    if (kib >= 0) {
+      EXPECT_GT(kib, 0);
+    }
+#endif
+    EXPECT_EQ(munlockall(), 0);  // the rest of the test process runs unlocked
+  } else if (kib >= 0) {
+    EXPECT_EQ(kib, 0);
+  }
+}
+
+}  // namespace
+}  // namespace tactus
