@@ -1,21 +1,204 @@
+// `tactus run`, `tactus bench`, `tactus replay` and `tactus export`: running scenes through
+// the loops, and the recordings they leave.
+#include <atomic>
+#include <csignal>
 #include <cstdio>
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <memory>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "app/commands.hpp"
+#include "core/error.hpp"
 #include "core/log.hpp"
+#include "runtime/devices.hpp"
+#include "runtime/recording_csv.hpp"
+#include "runtime/recording_reader.hpp"
+#include "runtime/report.hpp"
+#include "runtime/session.hpp"
 #include "scene/scene.hpp"
 
 namespace tactus::app {
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void on_interrupt(int) { g_interrupted.store(true); }
+
+/// Ctrl-C and SIGTERM end a run cleanly (the recording is closed) instead of killing it.
+void install_interrupt_handlers() {
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+}
+
+struct LoadedScene {
+  scene::Model model;
+  std::string text;
+  std::string source;
+};
+
+LoadedScene load(const std::string& path) {
+  if (path.empty()) return {scene::default_scene(), std::string(scene::default_scene_text()), "built-in:default"};
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(SourceLocation{path, {}, {}, {}}, "cannot open the scene file");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return {scene::parse_scene(text, path), text, path};
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw InputError(SourceLocation{path, {}, {}, {}}, "cannot create the file");
+  out << text;
+  if (!out) throw InputError(SourceLocation{path, {}, {}, {}}, "could not write the file");
+}
+
+/// Options shared by run and bench.
+struct RunFlags {
+  std::string scene;
+  double duration = 0.0;
+  bool lockstep = false;
+  std::string record;
+  std::string device;  ///< "replay:FILE"
+  std::string json;
+  int priority = 80;
+  int cpu = -1;
+  double spin_us = 50.0;
+};
+
+void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
+  app.add_option("scene", f.scene, "Scene file (TOML); the built-in default scene without one")->check(CLI::ExistingFile);
+  app.add_option("-d,--duration", f.duration,
+                 bench ? "Seconds to run (default 10)" : "Seconds to run; default: until every device has finished, at most 30")
+      ->check(CLI::Range(0.0, 86400.0));
+  app.add_flag("--lockstep", f.lockstep, "One thread, virtual time: reproducible bit for bit");
+  app.add_option("--record", f.record, "Write every haptic frame, step and event to this recording");
+  app.add_option("--device", f.device, "replay:FILE drives the scene's devices with a recording's motion");
+  app.add_option("--json", f.json, "Also write the timing table as JSON to this file");
+  app.add_option("--priority", f.priority, "SCHED_FIFO priority of the haptic threads (0 = normal scheduler)")
+      ->check(CLI::Range(0, 99));
+  app.add_option("--cpu", f.cpu, "Pin the haptic threads to this CPU (-1 = no pinning)");
+  app.add_option("--spin-us", f.spin_us, "Spin this long before each haptic deadline instead of sleeping [µs]")
+      ->check(CLI::Range(0.0, 1000.0));
+}
+
+int run_with(const RunFlags& f, bool bench) {
+  const LoadedScene scene = load(f.scene);
+  runtime::SessionOptions o;
+  o.scheduling = f.lockstep ? runtime::Scheduling::lockstep : runtime::Scheduling::real_time;
+  o.duration = bench && f.duration <= 0.0 ? 10.0 : f.duration;
+  if (!f.record.empty()) o.record = f.record;
+  else if (!scene.model.recording.path.empty()) o.record = scene.model.recording.path;
+  o.scene_text = scene.text;
+  o.scene_source = scene.source;
+  o.realtime_priority = f.priority;
+  o.haptic_cpu = f.cpu;
+  o.spin_window = static_cast<Nanos>(f.spin_us * 1e3);
+  o.interrupt = &g_interrupted;
+  if (!f.device.empty()) {
+    constexpr std::string_view prefix = "replay:";
+    if (f.device.rfind(prefix, 0) != 0)
+      throw InputError(fmt::format("--device '{}': expected replay:FILE", f.device));
+    const std::string file = f.device.substr(prefix.size());
+    o.replay = runtime::recorded_motion(runtime::read_recording(file), file);
+  }
+  if (!bench) std::fputs(scene::summarize(scene.model).c_str(), stdout);
+  install_interrupt_handlers();
+  const runtime::SessionReport report = runtime::run_session(scene.model, o);
+  std::fputs(runtime::format_report(report).c_str(), stdout);
+  if (o.record) log::info("recording written to {}", o.record->string());
+  if (!f.json.empty()) write_text(f.json, runtime::report_json(report));
+  return 0;
+}
+
+}  // namespace
 
 Action add_run(CLI::App& app) {
-  auto scene_path = std::make_shared<std::string>();
-  app.add_option("scene", *scene_path, "Scene file (TOML); the built-in default scene without one")
-      ->check(CLI::ExistingFile);
-  return [scene_path] {
-    const scene::Model model =
-        scene_path->empty() ? scene::default_scene() : scene::load_scene(*scene_path);
-    std::fputs(scene::summarize(model).c_str(), stdout);
-    log::info("scene loaded and validated; the simulation loops are not part of this build yet");
+  auto f = std::make_shared<RunFlags>();
+  add_run_flags(app, *f, false);
+  return [f] { return run_with(*f, false); };
+}
+
+Action add_bench(CLI::App& app) {
+  auto f = std::make_shared<RunFlags>();
+  add_run_flags(app, *f, true);
+  return [f] { return run_with(*f, true); };
+}
+
+Action add_replay(CLI::App& app) {
+  auto file = std::make_shared<std::string>();
+  auto realtime = std::make_shared<bool>(false);
+  auto record = std::make_shared<std::string>();
+  app.add_option("recording", *file, "A recording written by tactus run --record")->required()->check(CLI::ExistingFile);
+  app.add_flag("--realtime", *realtime, "Replay on the wall clock instead of in lockstep");
+  app.add_option("--record", *record, "Record the replay too");
+  return [file, realtime, record] {
+    const runtime::Recording rec = runtime::read_recording(*file);
+    if (!rec.truncation.empty()) log::warn("{}: {}; replaying what was kept", *file, rec.truncation);
+    if (rec.frames.empty()) throw InputError(SourceLocation{*file, {}, {}, {}}, "the recording holds no haptic frame");
+    // The scene is the recorded text; relative paths in it resolve against its original folder.
+    const scene::Model model = scene::parse_scene(rec.header.scene_text, rec.header.scene_source);
+    runtime::SessionOptions o;
+    o.scheduling = *realtime ? runtime::Scheduling::real_time : runtime::Scheduling::lockstep;
+    o.replay = runtime::recorded_motion(rec, *file);
+    o.duration = rec.frames.back().t;
+    o.keep_frames = true;
+    o.scene_text = rec.header.scene_text;
+    o.scene_source = rec.header.scene_source;
+    if (!record->empty()) o.record = *record;
+    o.interrupt = &g_interrupted;
+    install_interrupt_handlers();
+    const runtime::SessionReport report = runtime::run_session(model, o);
+    std::fputs(runtime::format_report(report).c_str(), stdout);
+
+    // Frame by frame against the recording: same device, same frame index.
+    std::size_t compared = 0, identical = 0;
+    double worst = 0.0;
+    std::map<std::pair<std::uint16_t, std::uint64_t>, const runtime::HapticFrame*> replayed;
+    for (const auto& fr : report.frames) replayed[{fr.device, fr.frame}] = &fr;
+    for (const auto& fr : rec.frames) {
+      const auto it = replayed.find({fr.device, fr.frame});
+      if (it == replayed.end()) continue;
+      ++compared;
+      if (it->second->force == fr.force && it->second->torque == fr.torque) ++identical;
+      worst = std::max(worst, (it->second->force - fr.force).norm());
+    }
+    std::printf("\nreplay of %s (%s recording): %zu of %zu frames compared, %zu forces identical bit for bit, "
+                "largest force difference %.3g N\n",
+                file->c_str(), rec.header.mode.c_str(), compared, rec.frames.size(), identical, worst);
+    const bool expect_exact = rec.header.mode == "lockstep" && !*realtime;
+    if (expect_exact && identical != compared) {
+      std::fprintf(stderr, "tactus: the lockstep replay differs from the recording\n");
+      return 3;
+    }
+    return 0;
+  };
+}
+
+Action add_export(CLI::App& app) {
+  auto file = std::make_shared<std::string>();
+  auto csv = std::make_shared<std::string>();
+  auto steps = std::make_shared<std::string>();
+  auto events = std::make_shared<std::string>();
+  app.add_option("recording", *file, "A recording written by tactus run --record")->required()->check(CLI::ExistingFile);
+  app.add_option("--csv", *csv, "Haptic frames as CSV (one row per frame)")->required();
+  app.add_option("--steps", *steps, "Simulation steps as CSV");
+  app.add_option("--events", *events, "Events as CSV");
+  return [file, csv, steps, events] {
+    const runtime::Recording rec = runtime::read_recording(*file);
+    if (!rec.truncation.empty()) log::warn("{}: {}; exporting what was kept", *file, rec.truncation);
+    auto write = [](const std::string& path, auto&& writer) {
+      std::ofstream out(path, std::ios::binary);
+      if (!out) throw InputError(SourceLocation{path, {}, {}, {}}, "cannot create the file");
+      writer(out);
+      if (!out) throw InputError(SourceLocation{path, {}, {}, {}}, "could not write the file");
+    };
+    write(*csv, [&](std::ostream& out) { runtime::write_frames_csv(rec, out); });
+    if (!steps->empty()) write(*steps, [&](std::ostream& out) { runtime::write_steps_csv(rec, out); });
+    if (!events->empty()) write(*events, [&](std::ostream& out) { runtime::write_events_csv(rec, out); });
+    log::info("{} frames, {} steps, {} events exported", rec.frames.size(), rec.steps.size(), rec.events.size());
     return 0;
   };
 }

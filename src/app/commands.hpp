@@ -13,5 +13,8 @@ Action add_inspect(CLI::App& app);
 Action add_mesh(CLI::App& app);
 Action add_run(CLI::App& app);
 Action add_solve(CLI::App& app);
+Action add_bench(CLI::App& app);
+Action add_replay(CLI::App& app);
+Action add_export(CLI::App& app);
 
 }  // namespace tactus::app

@@ -34,7 +34,10 @@ int main(int argc, char** argv) {
   add(tactus::app::add_version, "version", "Print the version and build information");
   add(tactus::app::add_inspect, "inspect", "Summarize and check a mesh or scene file");
   add(tactus::app::add_mesh, "mesh", "Convert, generate or tetrahedralize meshes");
-  add(tactus::app::add_run, "run", "Load a scene (the built-in default without one) and run it");
+  add(tactus::app::add_run, "run", "Run a scene (the built-in default without one) through the haptic loops");
+  add(tactus::app::add_bench, "bench", "Run a scene for a fixed time and print the loop timing table");
+  add(tactus::app::add_replay, "replay", "Re-run a recording's scene with its device motion and compare the forces");
+  add(tactus::app::add_export, "export", "Write a recording's frames, steps and events as CSV");
   add(tactus::app::add_solve, "solve", "Solve a scene's bodies to equilibrium or a time; probes and reactions");
 
   try {

@@ -1,5 +1,6 @@
 #pragma once
 // Simulation bodies built from a scene's Model: the bridge from scene keys to physics models.
+#include <algorithm>
 #include <memory>
 
 #include "physics/body.hpp"
@@ -12,5 +13,28 @@ namespace tactus::runtime {
 /// dofs, gravity and step settings. Throws InputError for a rigid body or a combination the
 /// physics cannot run (named in the message).
 physics::Body make_physics_body(const scene::Model& model, std::size_t index);
+
+/// Linear ramp from 0 at t = 0 to 1 at ramp_time (a step when ramp_time is 0).
+inline double ramp(double t, double ramp_time) { return ramp_time > 0.0 ? std::min(1.0, t / ramp_time) : 1.0; }
+
+/// External forces of the body's loads into f (3N, zeroed first); `fraction(ramp_time)` is
+/// how much of each load applies (a ramp in time, or a load step of a static solve).
+template <class Fraction>
+void assemble_loads(const scene::Body& b, Fraction fraction, VecX& f) {
+  f.setZero();
+  for (const auto& load : b.loads) {
+    const Vec3 per_node = fraction(load.ramp_time) * load.force / static_cast<double>(load.nodes.size());
+    for (auto n : load.nodes) f.segment<3>(3 * n) += per_node;
+  }
+}
+
+/// Places the prescribed nodes at rest + fraction · displacement.
+template <class Fraction>
+void place_prescribed(const scene::Body& b, const VecX& rest, Fraction fraction, VecX& x) {
+  for (const auto& p : b.prescribed) {
+    const Vec3 d = fraction(p.ramp_time) * p.displacement;
+    for (auto n : p.nodes) x.segment<3>(3 * n) = rest.segment<3>(3 * n) + d;
+  }
+}
 
 }  // namespace tactus::runtime

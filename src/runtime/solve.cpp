@@ -58,26 +58,6 @@ class ProbeReader {
   std::vector<Vec3> rest_;
 };
 
-double ramp(double t, double ramp_time) { return ramp_time > 0.0 ? std::min(1.0, t / ramp_time) : 1.0; }
-
-/// External forces of the body's loads at load fraction `s` (a per-load function).
-template <class Fraction>
-void assemble_loads(const scene::Body& b, Fraction fraction, VecX& f) {
-  f.setZero();
-  for (const auto& load : b.loads) {
-    const Vec3 per_node = fraction(load.ramp_time) * load.force / static_cast<double>(load.nodes.size());
-    for (auto n : load.nodes) f.segment<3>(3 * n) += per_node;
-  }
-}
-
-template <class Fraction>
-void place_prescribed(const scene::Body& b, const VecX& rest, Fraction fraction, VecX& x) {
-  for (const auto& p : b.prescribed) {
-    const Vec3 d = fraction(p.ramp_time) * p.displacement;
-    for (auto n : p.nodes) x.segment<3>(3 * n) = rest.segment<3>(3 * n) + d;
-  }
-}
-
 /// Reaction on each fixed region and prescribed motion: what the supports must push so that
 /// the held nodes stay where they are, −(internal + external + weight) summed over the region.
 void reactions(const scene::Body& b, const physics::Body& pb, physics::BodyState& s, const VecX& f_ext,

@@ -65,7 +65,7 @@ TEST_F(Cli, VersionSucceeds) {
 TEST_F(Cli, HelpListsSubcommands) {
   const auto r = run("--help");
   EXPECT_EQ(r.exit_code, 0);
-  for (const char* sub : {"version", "inspect", "mesh", "run"})
+  for (const char* sub : {"version", "inspect", "mesh", "run", "bench", "replay", "export"})
     EXPECT_NE(r.out.find(sub), std::string::npos) << sub;
   EXPECT_EQ(run("mesh --help").exit_code, 0);
 }
@@ -156,9 +156,41 @@ TEST_F(Cli, TetrahedralizingAnOpenSurfaceIsAUserError) {
 }
 
 TEST_F(Cli, RunsTheDefaultScene) {
-  const auto r = run("run");
+  const auto r = run("run --duration 1 --json " + (dir_ / "t.json").string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_FALSE(r.out.empty());
+  EXPECT_NE(r.out.find("haptic[hand]"), std::string::npos) << r.out;  // the timing table
+  EXPECT_NE(r.out.find("p99.9"), std::string::npos) << r.out;
+  std::ifstream json(dir_ / "t.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"loops\""), std::string::npos) << text;
+}
+
+TEST_F(Cli, RecordsReplaysAndExportsALockstepRun) {
+  const std::string rec = (dir_ / "press.tacrec").string();
+  ASSERT_EQ(run("run --lockstep --duration 1.5 --record " + rec).exit_code, 0);
+  const auto replay = run("replay " + rec);
+  EXPECT_EQ(replay.exit_code, 0) << replay.err;
+  EXPECT_NE(replay.out.find("1501 of 1501 frames compared, 1501 forces identical"), std::string::npos) << replay.out;
+  const auto exported = run("export " + rec + " --csv " + (dir_ / "f.csv").string());
+  EXPECT_EQ(exported.exit_code, 0) << exported.err;
+  std::ifstream csv(dir_ / "f.csv");
+  std::string line;
+  std::size_t lines = 0;
+  while (std::getline(csv, line)) ++lines;
+  EXPECT_EQ(lines, 1502u);  // header + frames
+}
+
+TEST_F(Cli, RunAndReplayRejectBadInputOnOneLine) {
+  std::ofstream(dir_ / "junk.tacrec") << "not a recording at all";
+  for (const std::string& args : std::vector<std::string>{"replay " + (dir_ / "junk.tacrec").string(),
+                                 "run --device nonsense",
+                                 "run --device replay:" + (dir_ / "junk.tacrec").string(),
+                                 "export " + (dir_ / "junk.tacrec").string() + " --csv " + (dir_ / "x.csv").string(),
+                                 "run " + std::string(TACTUS_SOURCE_DIR) + "/scenes/needle_block.toml"}) {
+    const auto r = run(args);
+    EXPECT_EQ(r.exit_code, 1) << args << ": " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
+  }
 }
 
 TEST_F(Cli, RunRejectsABadSceneWithItsLocation) {

@@ -1,0 +1,70 @@
+#include "runtime/devices.hpp"
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "haptics/devices/network_device.hpp"
+#include "haptics/devices/scripted_device.hpp"
+#include "haptics/devices/simulated_operator.hpp"
+#include "runtime/recording_reader.hpp"
+
+namespace tactus::runtime {
+
+haptics::DeviceLimits device_limits(const scene::Device& device) {
+  haptics::DeviceLimits limits;
+  limits.max_force = device.max_force;
+  limits.max_stiffness = device.max_stiffness;
+  limits.workspace = device.workspace;
+  return limits;
+}
+
+haptics::WorkspaceMap workspace_map(const scene::Device& device) {
+  haptics::WorkspaceMap map;
+  map.scale = device.scale;
+  map.offset = device.offset;
+  return map;
+}
+
+std::map<std::string, RecordedMotion> recorded_motion(const Recording& recording, const std::string& source) {
+  std::map<std::string, RecordedMotion> out;
+  for (const auto& name : recording.header.devices) out[name].source = source;
+  for (const HapticFrame& f : recording.frames) {
+    if (f.device >= recording.header.devices.size()) continue;  // the reader rejects these
+    haptics::TimedPose p;
+    p.t = f.t;
+    p.pose.position = f.position;
+    p.pose.orientation = f.orientation;
+    p.pose.buttons = f.buttons;
+    out[recording.header.devices[f.device]].poses.push_back(p);
+  }
+  return out;
+}
+
+std::unique_ptr<haptics::Device> make_device(const scene::Model& model, std::size_t index, unsigned seed) {
+  const scene::Device& d = model.devices.at(index);
+  const haptics::DeviceLimits limits = device_limits(d);
+  if (const auto* s = std::get_if<scene::ScriptedDevice>(&d.source))
+    return std::make_unique<haptics::ScriptedDevice>(s->trajectory, s->tremor, limits, seed);
+  if (const auto* s = std::get_if<scene::SimulatedOperatorDevice>(&d.source))
+    return std::make_unique<haptics::SimulatedOperator>(s->target, s->tremor, s->hand_mass, s->hand_stiffness,
+                                                        s->hand_damping, limits, seed);
+  if (const auto* s = std::get_if<scene::ReplayDevice>(&d.source)) {
+    const Recording rec = read_recording(s->file);
+    auto motion = recorded_motion(rec, s->file.string());
+    const auto it = motion.find(d.name);
+    if (it == motion.end() || it->second.poses.empty())
+      throw InputError(SourceLocation{s->file.string(), {}, {}, {}},
+                       fmt::format("the recording has no frames of a device named '{}'", d.name));
+    return std::make_unique<haptics::ReplayDevice>(std::move(it->second.poses), limits, s->file.string());
+  }
+  if (const auto* s = std::get_if<scene::NetworkDevice>(&d.source)) {
+    haptics::NetworkConfig config;
+    config.address = s->address;
+    config.port = s->port;
+    config.timeout = s->timeout;
+    return std::make_unique<haptics::NetworkDevice>(config, limits);
+  }
+  throw InputError(fmt::format("device '{}': unknown device type", d.name));
+}
+
+}  // namespace tactus::runtime

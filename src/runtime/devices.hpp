@@ -1,0 +1,32 @@
+#pragma once
+// Haptic devices built from a scene's device entries, or replaced by recorded motion.
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "haptics/device.hpp"
+#include "haptics/devices/replay_device.hpp"
+#include "runtime/recording.hpp"
+#include "scene/model.hpp"
+
+namespace tactus::runtime {
+
+/// Device limits (force, stiffness, workspace) from the scene.
+haptics::DeviceLimits device_limits(const scene::Device& device);
+/// Device → scene mapping from the scene's scale and offset.
+haptics::WorkspaceMap workspace_map(const scene::Device& device);
+
+/// The device scene entry `index` describes. A replay device reads its recording; a
+/// network device binds its socket (InputError when it cannot). `seed` varies tremor.
+std::unique_ptr<haptics::Device> make_device(const scene::Model& model, std::size_t index, unsigned seed = 0);
+
+/// Recorded poses of one device, for a replay.
+struct RecordedMotion {
+  std::vector<haptics::TimedPose> poses;
+  std::string source;  ///< the recording, for messages
+};
+/// Poses of every device of a recording, by device name.
+std::map<std::string, RecordedMotion> recorded_motion(const Recording& recording, const std::string& source);
+
+}  // namespace tactus::runtime

@@ -1,0 +1,53 @@
+#pragma once
+// What the loops hand each other, each through its own single-writer single-reader triple
+// buffer. All are fixed-size or pre-sized once (surface snapshots), so the haptic loop
+// never allocates.
+//
+//   haptic ──ToolState──▶ interaction ──LocalContact──▶ haptic
+//   haptic ──ContactLoad──▶ simulation ──SurfaceSnapshot──▶ interaction, visual
+#include <cstdint>
+#include <vector>
+
+#include "core/math.hpp"
+
+namespace tactus::runtime {
+
+/// A device's tool in scene coordinates, as the haptic loop last saw it.
+struct ToolState {
+  double t = 0.0;
+  Vec3 position = Vec3::Zero();  ///< tool frame origin (sphere centre for a fingertip)
+  Quat orientation = Quat::Identity();
+  bool valid = false;
+};
+
+/// The local model of one device's contact region (seed 003 §3.5: a constraint plane
+/// through the closest surface point), rebuilt by the interaction loop.
+struct LocalContact {
+  bool valid = false;             ///< a surface is within reach of the tool
+  std::int32_t body = -1;         ///< index into Model::bodies
+  std::int32_t triangle = -1;     ///< surface triangle of `point`
+  Vec3 point = Vec3::Zero();      ///< plane point on the surface [m]
+  Vec3 normal = Vec3::UnitZ();    ///< plane normal, pointing out of the tissue
+  Vec3 barycentric = Vec3::Zero();
+  double built_at = 0.0;          ///< interaction time that built it [s]
+  double surface_time = 0.0;      ///< simulation time of the surface it was built from [s]
+};
+
+/// The reaction of one device's contact on the tissue, applied by the next simulation step.
+struct ContactLoad {
+  bool active = false;
+  std::int32_t body = -1;
+  std::int32_t triangle = -1;
+  Vec3 barycentric = Vec3::Zero();
+  Vec3 force = Vec3::Zero();  ///< on the tissue, scene coordinates [N]
+  double t = 0.0;
+};
+
+/// Deformed surfaces of every body, published after each simulation step.
+struct SurfaceSnapshot {
+  double t = 0.0;
+  std::uint64_t step = 0;
+  std::vector<std::vector<Vec3>> positions;  ///< per body, per surface vertex
+};
+
+}  // namespace tactus::runtime

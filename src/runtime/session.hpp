@@ -1,0 +1,82 @@
+#pragma once
+// A run of a scene: the haptic loops (one per device), the simulation and interaction
+// loops and the recorder, wired through lock-free channels and driven by one of two
+// schedulers over the same step functions:
+//  - real time: a thread per loop on the wall clock (SCHED_FIFO and pinning when the
+//    system permits, sleep-then-spin waits);
+//  - lockstep: one thread, virtual time, bit-for-bit reproducible.
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/clock.hpp"
+#include "haptics/safety.hpp"
+#include "runtime/devices.hpp"
+#include "runtime/loop_stats.hpp"
+#include "runtime/recording.hpp"
+#include "scene/model.hpp"
+
+namespace tactus::runtime {
+
+enum class Scheduling { real_time, lockstep };
+
+struct SessionOptions {
+  Scheduling scheduling = Scheduling::real_time;
+  /// Run length [s]; 0 = until every device has finished its input, at most max_duration.
+  double duration = 0.0;
+  double max_duration = 30.0;
+  std::optional<std::filesystem::path> record;
+  /// The scene's text and origin, stored in a recording so that it replays by itself.
+  std::string scene_text;
+  std::string scene_source;
+  /// Devices whose poses come from a recording instead of the scene's device (by name).
+  std::map<std::string, RecordedMotion> replay;
+  /// Real time: SCHED_FIFO priority of the haptic threads (0 = normal scheduler) and the
+  /// CPU to pin them to (−1 = none); the other loops get priority − 10.
+  int realtime_priority = 80;
+  int haptic_cpu = -1;
+  /// Real time: the last part of every wait spins instead of sleeping.
+  Nanos spin_window = 50'000;
+  /// Keep every haptic frame in the report (tests, replay comparison).
+  bool keep_frames = false;
+  /// Emergency stop of every device at this time [s] (tests; the viewer has a key).
+  std::optional<double> emergency_stop_at;
+  /// When set and it becomes true (a signal handler, another thread), the run ends
+  /// cleanly: loops stop, the recording is closed.
+  const std::atomic<bool>* interrupt = nullptr;
+};
+
+struct DeviceReport {
+  std::string name;
+  std::string kind;
+  haptics::SafetyCounters safety;
+  std::uint64_t dropped_frames = 0;
+  double max_force_sent = 0.0;  ///< [N]
+  std::uint64_t contact_frames = 0;
+};
+
+struct SessionReport {
+  std::string scene;
+  Scheduling scheduling = Scheduling::real_time;
+  double simulated_time = 0.0;  ///< [s] time reached by the loops
+  double wall_time = 0.0;       ///< [s]
+  std::vector<LoopStats> loops;   ///< haptic loops first, then simulation, interaction
+  std::vector<PartStats> parts;   ///< simulation step parts, per-body query times
+  std::vector<DeviceReport> devices;
+  std::map<std::string, std::uint64_t> events;  ///< count per event kind
+  std::vector<std::string> realtime_notes;      ///< what the real-time requests obtained
+  std::uint64_t recorded_frames = 0;
+  std::uint64_t recording_bytes = 0;
+  std::uint64_t dropped_steps = 0;
+  std::vector<HapticFrame> frames;  ///< only with SessionOptions::keep_frames
+};
+
+/// Runs the scene. Throws InputError for a scene the runtime cannot run (named in the
+/// message), std::runtime_error when the simulation diverges.
+SessionReport run_session(const scene::Model& model, const SessionOptions& options);
+
+}  // namespace tactus::runtime

@@ -1,0 +1,137 @@
+#include "runtime/simulation_loop.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "runtime/bodies.hpp"
+
+namespace tactus::runtime {
+
+SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices)
+    : model_(model), devices_(std::move(devices)), steps_ring_(1 << 14) {
+  stats_.name = "simulation";
+  stats_.rate = model.rates.simulation;
+  parts_ = {{"contact loads", {}}, {"integrate", {}}, {"publish surfaces", {}}};
+  const double period = 1.0 / model.rates.simulation;
+  for (std::size_t i = 0; i < model.bodies.size(); ++i) {
+    const scene::Body& b = model.bodies[i];
+    SimBody sb;
+    sb.index = i;
+    const auto& nodes = b.simulation_vertices();
+    sb.rest.resize(static_cast<Eigen::Index>(3 * nodes.size()));
+    for (std::size_t n = 0; n < nodes.size(); ++n) sb.rest.segment<3>(static_cast<Eigen::Index>(3 * n)) = nodes[n];
+    if (b.kind != scene::BodyKind::rigid) {
+      sb.body = make_physics_body(model, i);
+      sb.state = physics::make_state(*sb.body);
+      // Substeps of at most the body's time step make one simulation period.
+      sb.substeps = std::max(1, static_cast<int>(std::ceil(period / b.time_step - 1e-9)));
+    } else {
+      sb.state.x = sb.rest;
+    }
+    sb.f_ext = VecX::Zero(sb.rest.size());
+    if (b.volumetric()) {
+      sb.surface_to_node = b.surface_to_volume;
+    } else {
+      sb.surface_to_node.resize(b.surface.vertices.size());
+      for (std::size_t n = 0; n < sb.surface_to_node.size(); ++n) sb.surface_to_node[n] = static_cast<mesh::Index>(n);
+    }
+    bodies_.push_back(std::move(sb));
+  }
+}
+
+SurfaceSnapshot SimulationLoop::initial_snapshot() const {
+  SurfaceSnapshot s;
+  for (const SimBody& sb : bodies_) {
+    std::vector<Vec3> p(sb.surface_to_node.size());
+    for (std::size_t v = 0; v < p.size(); ++v) p[v] = sb.rest.segment<3>(3 * static_cast<Eigen::Index>(sb.surface_to_node[v]));
+    s.positions.push_back(std::move(p));
+  }
+  return s;
+}
+
+const VecX* SimulationLoop::positions(std::size_t body) const {
+  for (const SimBody& sb : bodies_)
+    if (sb.index == body) return &sb.state.x;
+  return nullptr;
+}
+
+void SimulationLoop::publish(double t) {
+  for (auto* out : outputs_) {
+    SurfaceSnapshot& s = out->write_buffer();
+    s.t = t;
+    s.step = step_;
+    for (std::size_t b = 0; b < bodies_.size(); ++b) {
+      const SimBody& sb = bodies_[b];
+      auto& p = s.positions[b];
+      for (std::size_t v = 0; v < p.size(); ++v)
+        p[v] = sb.state.x.segment<3>(3 * static_cast<Eigen::Index>(sb.surface_to_node[v]));
+    }
+    out->publish();
+  }
+}
+
+void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
+  const double period = 1.0 / stats_.rate;
+  int iterations = 0;
+  if (step_ > 0) {
+    // Scene loads and prescribed motions at the end of the period, then the newest contact
+    // reaction of every device spread over its triangle by barycentric weights.
+    const double t_end = static_cast<double>(step_) / stats_.rate;  // simulated time reached
+    auto fraction = [t_end](double ramp_time) { return ramp(t_end, ramp_time); };
+    for (SimBody& sb : bodies_) {
+      if (!sb.body) continue;
+      const scene::Body& b = model_.bodies[sb.index];
+      assemble_loads(b, fraction, sb.f_ext);
+      place_prescribed(b, sb.rest, fraction, sb.state.x);
+    }
+    for (DeviceChannels* d : devices_) {
+      d->load.update();
+      const ContactLoad& load = d->load.read();
+      if (!load.active || load.body < 0 || static_cast<std::size_t>(load.body) >= bodies_.size()) continue;
+      SimBody& sb = bodies_[static_cast<std::size_t>(load.body)];
+      if (!sb.body) continue;
+      const auto& tri = model_.bodies[sb.index].surface.triangles[static_cast<std::size_t>(load.triangle)];
+      for (int k = 0; k < 3; ++k)
+        sb.f_ext.segment<3>(3 * static_cast<Eigen::Index>(sb.surface_to_node[static_cast<std::size_t>(tri[k])])) +=
+            load.barycentric[k] * load.force;
+    }
+    const Nanos loads_done = now_ns();
+    parts_[0].time.record(loads_done - start);
+
+    for (SimBody& sb : bodies_) {
+      if (!sb.body) continue;
+      const double dt = period / sb.substeps;
+      for (int k = 0; k < sb.substeps; ++k) {
+        physics::step(*sb.body, sb.state, dt, sb.f_ext);
+        iterations += sb.state.last_linear_iterations;
+      }
+      if (!sb.state.x.allFinite())
+        throw std::runtime_error(fmt::format("body '{}' diverged at t = {} s (NaN or infinite positions); reduce "
+                                             "its time_step, soften the contact or use implicit_euler",
+                                             model_.bodies[sb.index].name, t_end));
+    }
+    const Nanos integrated = now_ns();
+    parts_[1].time.record(integrated - loads_done);
+  }
+  const Nanos before_publish = now_ns();
+  publish(t);
+  const Nanos end = now_ns();
+  parts_[2].time.record(end - before_publish);
+  ++step_;
+
+  const Nanos compute = end - start;
+  stats_.record(deadline, start, compute, real_time);
+  SimulationStep rec;
+  rec.step = step_ - 1;
+  rec.t = t;
+  rec.compute_ns = static_cast<std::uint32_t>(std::clamp<Nanos>(compute, 0, std::numeric_limits<std::uint32_t>::max()));
+  rec.solver_iterations = static_cast<std::uint32_t>(iterations);
+  rec.late_ns = real_time ? static_cast<std::int32_t>(std::clamp<Nanos>(start - deadline, 0, std::numeric_limits<std::int32_t>::max())) : 0;
+  if (!steps_ring_.try_push(rec)) ++dropped_steps_;
+}
+
+}  // namespace tactus::runtime

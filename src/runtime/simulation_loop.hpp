@@ -1,0 +1,64 @@
+#pragma once
+// The simulation loop step: every deformable body advances one period under its scene
+// loads and the contact reactions the haptic loops handed over, then the deformed surfaces
+// are published for the interaction (and visual) loops.
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "core/spsc_ring.hpp"
+#include "core/triple_buffer.hpp"
+#include "physics/body.hpp"
+#include "runtime/haptic_loop.hpp"
+#include "runtime/loop_stats.hpp"
+#include "scene/model.hpp"
+
+namespace tactus::runtime {
+
+class SimulationLoop {
+ public:
+  /// `devices` are the haptic loops' channels (their contact loads are read here).
+  SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices);
+
+  /// The rest surfaces, sized as every snapshot will be: the initial value of an output.
+  [[nodiscard]] SurfaceSnapshot initial_snapshot() const;
+  /// Adds a buffer that receives a surface snapshot after each step (before the loop runs).
+  void add_output(TripleBuffer<SurfaceSnapshot>& output) { outputs_.push_back(&output); }
+
+  /// Advances every body by one period (1 / rate) and publishes; `t` is the time reached.
+  /// Throws std::runtime_error when a body diverges (NaN positions).
+  void step(double t, Nanos deadline, Nanos start, bool real_time);
+
+  [[nodiscard]] double rate() const { return stats_.rate; }
+  [[nodiscard]] const LoopStats& stats() const { return stats_; }
+  [[nodiscard]] const std::vector<PartStats>& parts() const { return parts_; }
+  /// Simulation steps for the recorder.
+  SpscRing<SimulationStep>& steps() { return steps_ring_; }
+  [[nodiscard]] std::uint64_t dropped_steps() const { return dropped_steps_; }
+  /// Current positions of body i's simulation nodes (for tests and reports).
+  [[nodiscard]] const VecX* positions(std::size_t body) const;
+
+ private:
+  struct SimBody {
+    std::size_t index = 0;  ///< into Model::bodies
+    std::optional<physics::Body> body;  ///< empty for rigid (static) bodies
+    physics::BodyState state;
+    VecX rest, f_ext;
+    int substeps = 1;
+    std::vector<mesh::Index> surface_to_node;
+  };
+
+  void publish(double t);
+
+  const scene::Model& model_;
+  std::vector<DeviceChannels*> devices_;
+  std::vector<TripleBuffer<SurfaceSnapshot>*> outputs_;
+  std::vector<SimBody> bodies_;
+  std::uint64_t step_ = 0;
+  LoopStats stats_;
+  std::vector<PartStats> parts_;  ///< loads, integrate, publish
+  SpscRing<SimulationStep> steps_ring_;
+  std::uint64_t dropped_steps_ = 0;
+};
+
+}  // namespace tactus::runtime

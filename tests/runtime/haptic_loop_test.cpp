@@ -1,0 +1,97 @@
+// One device's haptic loop driven by hand: the force it renders from a local contact plane,
+// that it allocates nothing per frame, and that it fades out when the simulation stalls.
+#include <gtest/gtest.h>
+
+#include "core/counting_allocator.hpp"  // tests/core
+#include "haptics/devices/scripted_device.hpp"
+#include "runtime/haptic_loop.hpp"
+
+namespace tactus::runtime {
+namespace {
+
+struct Rig {
+  DeviceChannels channels{1 << 12};
+  std::unique_ptr<HapticLoop> loop;
+
+  /// A device held still at height z over the plane z = 0 (normal +z).
+  explicit Rig(double z, double stiffness = 1000.0) {
+    haptics::WaypointsPath still;
+    still.points = {{0.0, Vec3(0, 0, z)}};
+    auto device = std::make_unique<haptics::ScriptedDevice>(still, haptics::Tremor{}, haptics::DeviceLimits{});
+    HapticConfig c;
+    c.spheres = {{Vec3::Zero(), 0.01}};
+    c.law.stiffness = stiffness;
+    c.safety.max_force = 10.0;
+    c.safety.watchdog_timeout = 0.1;
+    loop = std::make_unique<HapticLoop>(c, std::move(device), channels);
+  }
+  void publish_plane(double surface_time) {
+    LocalContact& lc = channels.contact.write_buffer();
+    lc.valid = true;
+    lc.body = 0;
+    lc.triangle = 0;
+    lc.point = Vec3::Zero();
+    lc.normal = Vec3::UnitZ();
+    lc.surface_time = surface_time;
+    channels.contact.publish();
+  }
+  HapticFrame step(double t) {
+    loop->step(t, 0, now_ns(), false);
+    HapticFrame f, last;
+    while (channels.frames.try_pop(f)) last = f;
+    return last;
+  }
+};
+
+TEST(HapticLoop, RendersThePenaltyForceOfTheContactPlane) {
+  Rig rig(0.008);  // a 10 mm sphere 2 mm into the plane
+  rig.publish_plane(0.0);
+  HapticFrame f;
+  for (int k = 0; k < 20; ++k) f = rig.step(k * 1e-3);  // past the 5 ms onset ramp
+  EXPECT_EQ(f.contact, 1);
+  EXPECT_NEAR(f.force.z(), 1000.0 * 0.002, 1e-9);
+  EXPECT_NEAR(f.force.x(), 0.0, 1e-12);
+  // The tissue gets the reaction of what was sent.
+  rig.channels.load.update();
+  EXPECT_TRUE(rig.channels.load.read().active);
+  EXPECT_EQ(rig.channels.load.read().force, -f.force);
+}
+
+TEST(HapticLoop, AFrameAllocatesNothing) {
+  Rig rig(0.008);
+  rig.publish_plane(0.0);
+  rig.step(0.0);  // first frame outside the count: lazily initialised state, if any
+  HapticFrame f;
+  testing::AllocationCounter counter;
+  for (int k = 1; k <= 2000; ++k) {
+    rig.loop->step(k * 1e-3, 0, now_ns(), false);
+    if (k % 100 == 0) {
+      rig.publish_plane(k * 1e-3);  // what the interaction loop does
+      while (rig.channels.frames.try_pop(f)) {}
+    }
+  }
+  EXPECT_EQ(counter.count(), 0u) << counter.bytes() << " bytes";
+}
+
+TEST(HapticLoop, AStalledSimulationFadesTheForceOut) {
+  Rig rig(0.008);
+  rig.publish_plane(0.0);  // and never again
+  HapticFrame f;
+  for (int k = 0; k <= 50; ++k) f = rig.step(k * 1e-3);
+  EXPECT_NEAR(f.force.z(), 2.0, 1e-9);  // fresh enough at 50 ms
+  bool fading_seen = false;
+  for (int k = 51; k <= 300; ++k) {
+    f = rig.step(k * 1e-3);
+    fading_seen |= (f.flags & frame_fading) != 0;
+  }
+  EXPECT_TRUE(fading_seen);
+  EXPECT_EQ(f.force, Vec3::Zero());  // 100 ms timeout + 50 ms fade, long gone by 300 ms
+  EXPECT_EQ(rig.loop->safety_counters().watchdog_trips, 1u);
+  LoopEvent e;
+  bool trip_event = false;
+  while (rig.channels.events.try_pop(e)) trip_event |= e.kind == EventKind::watchdog_trip;
+  EXPECT_TRUE(trip_event);
+}
+
+}  // namespace
+}  // namespace tactus::runtime
