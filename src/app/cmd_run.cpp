@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <memory>
 #include <string>
 
@@ -63,9 +64,9 @@ struct RunFlags {
   std::string record;
   std::string device;  ///< "replay:FILE"
   std::string json;
-  int priority = 80;
-  int cpu = -1;
-  double spin_us = 50.0;
+  std::optional<int> priority;
+  std::optional<int> cpu;
+  std::optional<double> spin_us;
 };
 
 void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
@@ -77,11 +78,13 @@ void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
   app.add_option("--record", f.record, "Write every haptic frame, step and event to this recording");
   app.add_option("--device", f.device, "replay:FILE drives the scene's devices with a recording's motion");
   app.add_option("--json", f.json, "Also write the timing table as JSON to this file");
-  app.add_option("--priority", f.priority, "SCHED_FIFO priority of the haptic threads (0 = normal scheduler)")
+  app.add_option("--priority", f.priority,
+                 "SCHED_FIFO priority of the haptic threads (0 = normal scheduler; default: the scene's, 80)")
       ->check(CLI::Range(0, 99));
-  app.add_option("--cpu", f.cpu, "Pin the haptic threads to this CPU (-1 = no pinning)");
+  app.add_option("--cpu", f.cpu, "Pin the haptic threads to this CPU (-1 = no pinning; default: the scene's)")
+      ->check(CLI::Range(-1, 1023));
   app.add_option("--spin-us", f.spin_us, "Spin this long before each haptic deadline instead of sleeping [µs]")
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(CLI::Range(0.0, 10000.0));
 }
 
 int run_with(const RunFlags& f, bool bench) {
@@ -95,7 +98,7 @@ int run_with(const RunFlags& f, bool bench) {
   o.scene_source = scene.source;
   o.realtime_priority = f.priority;
   o.haptic_cpu = f.cpu;
-  o.spin_window = static_cast<Nanos>(f.spin_us * 1e3);
+  if (f.spin_us) o.spin_window = static_cast<Nanos>(*f.spin_us * 1e3);
   o.interrupt = &g_interrupted;
   if (!f.device.empty()) {
     constexpr std::string_view prefix = "replay:";

@@ -6,6 +6,12 @@
 #include "haptics/devices/network_device.hpp"
 #include "haptics/devices/scripted_device.hpp"
 #include "haptics/devices/simulated_operator.hpp"
+#ifdef TACTUS_HAVE_OPENHAPTICS
+#include "haptics/devices/openhaptics_device.hpp"
+#endif
+#ifdef TACTUS_HAVE_DHD
+#include "haptics/devices/dhd_device.hpp"
+#endif
 #include "runtime/recording_reader.hpp"
 
 namespace tactus::runtime {
@@ -22,6 +28,7 @@ haptics::WorkspaceMap workspace_map(const scene::Device& device) {
   haptics::WorkspaceMap map;
   map.scale = device.scale;
   map.offset = device.offset;
+  map.rotation = device.rotation;
   return map;
 }
 
@@ -63,6 +70,26 @@ std::unique_ptr<haptics::Device> make_device(const scene::Model& model, std::siz
     config.port = s->port;
     config.timeout = s->timeout;
     return std::make_unique<haptics::NetworkDevice>(config, limits);
+  }
+  if (const auto* s = std::get_if<scene::OpenHapticsDevice>(&d.source)) {
+#ifdef TACTUS_HAVE_OPENHAPTICS
+    return std::make_unique<haptics::OpenHapticsDevice>(limits, s->device_name);
+#else
+    (void)s;
+    throw InputError(SourceLocation{model.source, {}, {}, {}},
+                     fmt::format("device '{}': this tactus was built without OpenHaptics (docs/devices.md says "
+                                 "how to build with it)", d.name));
+#endif
+  }
+  if (const auto* s = std::get_if<scene::DhdDevice>(&d.source)) {
+#ifdef TACTUS_HAVE_DHD
+    return std::make_unique<haptics::DhdDevice>(limits, s->index);
+#else
+    (void)s;
+    throw InputError(SourceLocation{model.source, {}, {}, {}},
+                     fmt::format("device '{}': this tactus was built without the Force Dimension SDK "
+                                 "(docs/devices.md says how to build with it)", d.name));
+#endif
   }
   throw InputError(fmt::format("device '{}': unknown device type", d.name));
 }

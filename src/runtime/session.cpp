@@ -23,6 +23,8 @@ namespace tactus::runtime {
 namespace {
 
 constexpr std::size_t kFrameRingCapacity = 1 << 15;
+/// The slower loops need no sub-millisecond timing: they spin only briefly.
+constexpr Nanos kOtherLoopSpin = 20'000;
 
 /// The tool a device drives, and which of its fingers when the tool has two.
 struct DrivenTool {
@@ -134,7 +136,8 @@ class Recorder {
  public:
   Recorder(const scene::Model& m, const SessionOptions& o, std::vector<DeviceChannels*> devices,
            SpscRing<SimulationStep>& steps, SessionReport& report)
-      : devices_(std::move(devices)), steps_(steps), report_(report), keep_(o.keep_frames) {
+      : devices_(std::move(devices)), steps_(steps), report_(report), keep_(o.keep_frames),
+        record_steps_(m.recording.timings), record_events_(m.recording.events) {
     if (!o.record) return;
     RecordingHeader h;
     h.scene_name = m.name;
@@ -169,13 +172,13 @@ class Recorder {
       while (d->events.try_pop(e)) {
         any = true;
         ++report_.events[std::string(event_kind_name(e.kind))];
-        if (writer_) writer_->append(Event{e.t, e.kind, e.device, e.value, {}});
+        if (writer_ && record_events_) writer_->append(Event{e.t, e.kind, e.device, e.value, {}});
       }
     }
     SimulationStep s;
     while (steps_.try_pop(s)) {
       any = true;
-      if (writer_) writer_->append(s);
+      if (writer_ && record_steps_) writer_->append(s);
     }
     return any;
   }
@@ -195,6 +198,8 @@ class Recorder {
   SpscRing<SimulationStep>& steps_;
   SessionReport& report_;
   bool keep_;
+  // Frames are always whole (pose, force and contact together: a replay needs them).
+  bool record_steps_, record_events_;
   std::optional<RecordingWriter> writer_;
 };
 
@@ -285,9 +290,16 @@ void run_real_time(const scene::Model& m, const SessionOptions& o, Loops& loops,
   std::exception_ptr failure;
   std::mutex mutex;  // guards failure and the notes; never taken inside a loop's steady state
   const Nanos t0 = now_ns() + 20'000'000;  // every loop starts on the same first deadline
-  const int low_priority = o.realtime_priority > 10 ? o.realtime_priority - 10 : 0;
+  const int priority = o.realtime_priority.value_or(m.realtime.priority);
+  const int low_priority = priority > 10 ? priority - 10 : 0;
+  const int haptic_cpu = o.haptic_cpu.value_or(m.realtime.haptic_cpu);
+  const auto haptic_period = static_cast<Nanos>(std::llround(1e9 / m.rates.haptic));
+  // A dedicated core spins through the whole period: the wait never sleeps.
+  const Nanos haptic_spin = m.realtime.dedicated_core && !o.spin_window
+                                ? haptic_period
+                                : o.spin_window.value_or(static_cast<Nanos>(std::llround(m.realtime.spin * 1e9)));
 
-  auto run_loop = [&](const std::string& name, double rate, RealtimeRequest request, auto&& step) {
+  auto run_loop = [&](const std::string& name, double rate, RealtimeRequest request, Nanos spin, auto&& step) {
     name_current_thread(name.c_str());
     minimize_timer_slack();  // else timed wake-ups may come up to 50 µs late
     const RealtimeResult rt = make_current_thread_realtime(request);
@@ -299,7 +311,7 @@ void run_real_time(const scene::Model& m, const SessionOptions& o, Loops& loops,
     try {
       while (!stop.load(std::memory_order_relaxed)) {
         const Nanos deadline = timer.deadline();
-        timer.wait(o.spin_window);
+        timer.wait(spin);
         const Nanos start = now_ns();
         step(static_cast<double>(deadline - t0) * 1e-9, deadline, start);
       }
@@ -315,7 +327,7 @@ void run_real_time(const scene::Model& m, const SessionOptions& o, Loops& loops,
     threads.emplace_back([&, i] {
       HapticLoop& h = *loops.haptic[i];
       bool done = false;
-      run_loop(fmt::format("haptic{}", i), m.rates.haptic, RealtimeRequest{o.realtime_priority, o.haptic_cpu},
+      run_loop(fmt::format("haptic{}", i), m.rates.haptic, RealtimeRequest{priority, haptic_cpu}, haptic_spin,
                [&](double t, Nanos deadline, Nanos start) {
                  h.step(t, deadline, start, true);
                  if (!done && h.finished(t)) {
@@ -326,11 +338,11 @@ void run_real_time(const scene::Model& m, const SessionOptions& o, Loops& loops,
     });
   }
   threads.emplace_back([&] {
-    run_loop("simulation", m.rates.simulation, RealtimeRequest{low_priority, -1},
+    run_loop("simulation", m.rates.simulation, RealtimeRequest{low_priority, -1}, kOtherLoopSpin,
              [&](double t, Nanos deadline, Nanos start) { loops.simulation->step(t, deadline, start, true); });
   });
   threads.emplace_back([&] {
-    run_loop("interaction", m.rates.interaction, RealtimeRequest{low_priority, -1},
+    run_loop("interaction", m.rates.interaction, RealtimeRequest{low_priority, -1}, kOtherLoopSpin,
              [&](double t, Nanos deadline, Nanos start) { loops.interaction->step(t, deadline, start, true); });
   });
   // The recorder runs on this thread: it drains the rings and decides when to stop.

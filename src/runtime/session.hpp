@@ -35,12 +35,12 @@ struct SessionOptions {
   std::string scene_source;
   /// Devices whose poses come from a recording instead of the scene's device (by name).
   std::map<std::string, RecordedMotion> replay;
-  /// Real time: SCHED_FIFO priority of the haptic threads (0 = normal scheduler) and the
-  /// CPU to pin them to (−1 = none); the other loops get priority − 10.
-  int realtime_priority = 80;
-  int haptic_cpu = -1;
-  /// Real time: the last part of every wait spins instead of sleeping.
-  Nanos spin_window = 50'000;
+  /// Real time, overriding the scene's [realtime] table: SCHED_FIFO priority of the haptic
+  /// threads (0 = normal scheduler; the other loops get 10 less), the CPU to pin them to
+  /// (−1 = none), and how long before each haptic deadline the wait spins.
+  std::optional<int> realtime_priority;
+  std::optional<int> haptic_cpu;
+  std::optional<Nanos> spin_window;
   /// Keep every haptic frame in the report (tests, replay comparison).
   bool keep_frames = false;
   /// Emergency stop of every device at this time [s] (tests; the viewer has a key).

@@ -1,5 +1,6 @@
 // devices.<name>: what moves a tool (scripted paths, a simulated hand, a recording, a
 // network bridge), its limits and its workspace.
+#include <numbers>
 #include <fmt/format.h>
 
 #include "scene/loader.hpp"
@@ -116,10 +117,11 @@ bool is_ipv4(const std::string& s) {
 Device read_device(Reader& r, const std::string& name) {
   Device d;
   d.name = name;
-  enum Type { scripted, simulated_operator, replay, network };
+  enum Type { scripted, simulated_operator, replay, network, openhaptics, dhd };
   const Type type = r.choice<Type>("type",
                                    {{"scripted", scripted}, {"simulated_operator", simulated_operator},
-                                    {"replay", replay}, {"network", network}},
+                                    {"replay", replay}, {"network", network}, {"openhaptics", openhaptics},
+                                    {"dhd", dhd}},
                                    std::nullopt);
   switch (type) {
     case scripted: {
@@ -154,6 +156,18 @@ Device read_device(Reader& r, const std::string& name) {
       d.source = s;
       break;
     }
+    case openhaptics: {
+      OpenHapticsDevice s;
+      s.device_name = r.string("device_name", "");
+      d.source = s;
+      break;
+    }
+    case dhd: {
+      DhdDevice s;
+      s.index = r.integer("index", s.index, -1, 255);
+      d.source = s;
+      break;
+    }
   }
   d.max_force = r.number("max_force", d.max_force, Range::open_closed(0.0, 1000.0));
   d.max_stiffness = r.number("max_stiffness", d.max_stiffness, Range::positive());
@@ -168,6 +182,13 @@ Device read_device(Reader& r, const std::string& name) {
   }
   d.scale = r.number("scale", d.scale, Range::positive());
   d.offset = r.vec3("offset", d.offset);
+  if (auto rot = r.table("rotation")) {
+    const Vec3 axis = rot->required_vec3("axis");
+    const double degrees = rot->number("degrees", 0.0, Range::closed(-360.0, 360.0));
+    rot->finish();
+    if (!(axis.norm() > 0.0)) r.fail("rotation", "the rotation axis must not be zero");
+    d.rotation = Quat(Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.normalized()));
+  }
   r.finish();
   return d;
 }

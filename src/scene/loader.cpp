@@ -40,6 +40,18 @@ LoopRates read_rates(Reader& root) {
   return rates;
 }
 
+RealtimeSettings read_realtime(Reader& root, const LoopRates& rates) {
+  RealtimeSettings rt;
+  if (auto r = root.table("realtime")) {
+    rt.priority = r->integer("priority", rt.priority, 0, 99);
+    rt.haptic_cpu = r->integer("haptic_cpu", rt.haptic_cpu, -1, 1023);
+    rt.spin = r->number("spin", rt.spin, Range::closed(0.0, 1.0 / rates.haptic));
+    rt.dedicated_core = r->boolean("dedicated_core", rt.dedicated_core);
+    r->finish();
+  }
+  return rt;
+}
+
 Recording read_recording(Reader& root) {
   Recording rec;
   auto r = root.table("recording");
@@ -77,6 +89,7 @@ Model read_model(Reader& root, const std::string& source_name) {
     s->finish();
   }
   m.rates = read_rates(root);
+  m.realtime = read_realtime(root, m.rates);
 
   // Sections in dependency order: each may refer to the ones before it.
   if (auto t = root.table("materials"))

@@ -95,7 +95,9 @@ const char* device_type_name(const DeviceSource& s) {
   return std::visit(Overload{[](const ScriptedDevice&) { return "scripted"; },
                              [](const SimulatedOperatorDevice&) { return "simulated_operator"; },
                              [](const ReplayDevice&) { return "replay"; },
-                             [](const NetworkDevice&) { return "network"; }},
+                             [](const NetworkDevice&) { return "network"; },
+                             [](const OpenHapticsDevice&) { return "openhaptics"; },
+                             [](const DhdDevice&) { return "dhd"; }},
                     s);
 }
 

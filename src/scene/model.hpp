@@ -29,6 +29,16 @@ struct LoopRates {
   double visual = 60.0;        ///< [1, 240]
 };
 
+/// How the real-time scheduler asks the operating system for timing (docs/realtime.md);
+/// lockstep runs ignore it. Command-line flags override it.
+struct RealtimeSettings {
+  int priority = 80;       ///< SCHED_FIFO priority of the haptic threads; 0 = normal scheduler
+  int haptic_cpu = -1;     ///< pin the haptic threads to this CPU; −1 = no pinning
+  double spin = 50e-6;     ///< [s] the last part of each haptic wait spins instead of sleeping
+  /// The haptic threads never sleep: they spin through the whole period (give them a core).
+  bool dedicated_core = false;
+};
+
 // ---------------------------------------------------------------------------------------
 // Materials
 
@@ -240,7 +250,15 @@ struct NetworkDevice {
   int port = 47600;
   double timeout = 0.05;  ///< force fades to zero after this long without packets [s]
 };
-using DeviceSource = std::variant<ScriptedDevice, SimulatedOperatorDevice, ReplayDevice, NetworkDevice>;
+/// A physical device through its vendor's SDK (built only where the SDK was found).
+struct OpenHapticsDevice {
+  std::string device_name;  ///< as configured in Geomagic Touch Setup; empty = the default device
+};
+struct DhdDevice {
+  int index = -1;  ///< Force Dimension device index; −1 = the first one found
+};
+using DeviceSource = std::variant<ScriptedDevice, SimulatedOperatorDevice, ReplayDevice, NetworkDevice,
+                                  OpenHapticsDevice, DhdDevice>;
 
 struct Device {
   std::string name;
@@ -250,6 +268,7 @@ struct Device {
   Aabb workspace;                 ///< in device coordinates [m]
   double scale = 1.0;             ///< device → scene: p_scene = scale · p_device + offset
   Vec3 offset = Vec3::Zero();
+  Quat rotation = Quat::Identity();  ///< device axes → scene axes, applied before scale
 };
 
 // ---------------------------------------------------------------------------------------
@@ -323,6 +342,7 @@ struct Model {
   std::string source;  ///< the file (or built-in name) it was loaded from
   Vec3 gravity = Vec3(0, 0, -9.81);  ///< [m/s²]
   LoopRates rates;
+  RealtimeSettings realtime;
   std::vector<Material> materials;
   std::vector<Body> bodies;      ///< in file order
   std::vector<Device> devices;

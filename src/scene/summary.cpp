@@ -1,4 +1,5 @@
 // The human-readable summary printed by `tactus inspect` and `tactus run`.
+#include <cmath>
 #include <map>
 #include <string>
 
@@ -114,9 +115,13 @@ std::string device_line(const Device& d) {
     s += " (" + rp->file.generic_string() + ")";
   else if (const auto* nw = std::get_if<NetworkDevice>(&d.source))
     s += fmt::format(" (udp {}:{})", nw->address, nw->port);
-  s += fmt::format(", max force {} N, max stiffness {} N/m, workspace {} .. {} m\n", g(d.max_force),
+  s += fmt::format(", max force {} N, max stiffness {} N/m, workspace {} .. {} m", g(d.max_force),
                    g(d.max_stiffness), vec(d.workspace.min), vec(d.workspace.max));
-  return s;
+  if (d.scale != 1.0 || d.offset != Vec3::Zero() || !d.rotation.isApprox(Quat::Identity()))
+    s += fmt::format(", to scene: scale {}, rotation {} deg, offset {} m", g(d.scale),
+                     g(2.0 * std::acos(std::min(1.0, std::abs(d.rotation.w()))) * 180.0 / 3.141592653589793),
+                     vec(d.offset));
+  return s + "\n";
 }
 
 std::string algorithm_line(const Model& model, const Algorithm& a) {
@@ -138,6 +143,10 @@ std::string summarize(const Model& m) {
   if (!m.description.empty()) s += "  " + m.description + "\n";
   s += fmt::format("  rates: haptic {} Hz, simulation {} Hz, interaction {} Hz, visual {} Hz\n", g(m.rates.haptic),
                    g(m.rates.simulation), g(m.rates.interaction), g(m.rates.visual));
+  s += fmt::format("  real time: SCHED_FIFO priority {}, haptic CPU {}, {}\n", m.realtime.priority,
+                   m.realtime.haptic_cpu < 0 ? std::string("any") : std::to_string(m.realtime.haptic_cpu),
+                   m.realtime.dedicated_core ? std::string("spinning through every period")
+                                             : fmt::format("spin {} us before each deadline", g(m.realtime.spin * 1e6)));
   s += fmt::format("  gravity: {} m/s^2\n", vec(m.gravity));
   s += fmt::format("materials: {}\n", m.materials.size());
   for (const auto& x : m.materials) s += material_line(x);

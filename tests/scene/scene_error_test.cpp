@@ -225,3 +225,22 @@ TEST(SceneErrors, BadWaypoints) {
 
 }  // namespace
 }  // namespace tactus::scene
+
+namespace tactus::scene {
+namespace {
+
+TEST(SceneErrors, RealtimeAndWorkspaceRotation) {
+  EXPECT_NE(error_of(kBase + "[realtime]\npriority = 120\n").find("realtime.priority: 120 is out of range"),
+            std::string::npos);
+  // Spinning longer than a haptic period (1 ms here) makes no sense.
+  EXPECT_NE(error_of(kBase + "[realtime]\nspin = 0.002\n").find("realtime.spin"), std::string::npos);
+  EXPECT_NE(error_of(kBase + "[realtime]\ndedicated = true\n").find("realtime.dedicated: unknown key"),
+            std::string::npos);
+  EXPECT_NE(error_of(kBase + "[devices.other]\ntype = \"scripted\"\ntrajectory = { type = \"circle\", center = [0, 0, 0], radius = 0.01 }\n"
+                             "rotation = { axis = [0, 0, 0], degrees = 90 }\n")
+                .find("rotation axis must not be zero"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace tactus::scene

@@ -308,3 +308,36 @@ count = 1
 
 }  // namespace
 }  // namespace tactus::scene
+
+namespace tactus::scene {
+namespace {
+
+TEST(SceneLoad, RealtimeSettingsAndWorkspaceRotation) {
+  const Model m = parse_scene(std::string(kMinimal) + R"(
+[realtime]
+priority = 0
+haptic_cpu = 1
+spin = 0.0002
+dedicated_core = true
+
+[devices.left]
+type = "dhd"
+index = 2
+scale = 2.0
+offset = [0.1, 0, 0]
+rotation = { axis = [0, 0, 2], degrees = 90 }
+)", "scenes/rt.toml");
+  EXPECT_EQ(m.realtime.priority, 0);
+  EXPECT_EQ(m.realtime.haptic_cpu, 1);
+  EXPECT_EQ(m.realtime.spin, 0.0002);
+  EXPECT_TRUE(m.realtime.dedicated_core);
+  const Device* d = m.find_device("left");
+  ASSERT_NE(d, nullptr);
+  EXPECT_EQ(std::get<DhdDevice>(d->source).index, 2);
+  // 90° about z takes the device's x axis to the scene's y axis.
+  EXPECT_LT((d->rotation * Vec3::UnitX() - Vec3::UnitY()).norm(), 1e-15);
+  EXPECT_EQ(parse_scene(kMinimal, "m.toml").realtime.priority, 80);  // the default
+}
+
+}  // namespace
+}  // namespace tactus::scene
