@@ -192,6 +192,48 @@ TEST(Session, KilledRunLeavesAReadableRecording) {
   for (std::size_t i = 1; i < rec.frames.size(); ++i) ASSERT_EQ(rec.frames[i].frame, rec.frames[i - 1].frame + 1);
 }
 
+TEST(Session, TwoDevicesPinchTheTissueEachWithItsOwnLoop) {
+  // A two-finger tool: each finger on its own device, pressing the block's top from two
+  // places; a third device drives nothing and is only read and recorded.
+  std::string text(scene::default_scene_text());
+  const auto devices = text.find("[devices.hand]");
+  text = text.substr(0, devices) + R"(
+[devices.thumb]
+type = "scripted"
+trajectory = { type = "press", position = [-0.02, 0.0, 0.03], depth = 0.01, speed = 0.01, hold = 0.5 }
+
+[devices.index]
+type = "scripted"
+trajectory = { type = "press", position = [0.02, 0.0, 0.03], depth = 0.006, speed = 0.01, hold = 0.5 }
+
+[devices.idle]
+type = "scripted"
+trajectory = { type = "waypoints", points = [{ time = 0.0, position = [0, 0, 0.1] }, { time = 1.0, position = [0, 0, 0.1] }] }
+
+[tools.pinch]
+type = "two_fingers"
+devices = ["thumb", "index"]
+
+[algorithms.touch]
+type = "proxy"
+tool = "pinch"
+stiffness = 800.0
+)";
+  const SessionReport r = run_session(scene::parse_scene(text, "pinch.toml"), lockstep(0.0));
+  ASSERT_EQ(r.devices.size(), 3u);
+  ASSERT_EQ(r.loops.size(), 5u);  // three haptic loops, simulation, interaction
+  EXPECT_GT(r.devices[0].contact_frames, 500u);
+  EXPECT_GT(r.devices[1].contact_frames, 300u);
+  EXPECT_EQ(r.devices[2].contact_frames, 0u);
+  // The deeper press of the thumb is felt as the larger force.
+  EXPECT_GT(r.devices[0].max_force_sent, r.devices[1].max_force_sent);
+  EXPECT_GT(r.devices[1].max_force_sent, 0.5);
+  std::size_t per_device[3] = {0, 0, 0};
+  for (const HapticFrame& f : r.frames) ++per_device[f.device];
+  EXPECT_EQ(per_device[0], per_device[1]);
+  EXPECT_EQ(per_device[0], per_device[2]);
+}
+
 TEST(Session, AlgorithmsNotYetRenderableAreClearErrors) {
   try {
     run_session(scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "scenes/needle_block.toml"), lockstep(0.1));
