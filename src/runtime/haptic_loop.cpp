@@ -19,6 +19,7 @@ void HapticLoop::emit(double t, EventKind kind, double value) {
 
 void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   const haptics::DevicePose pose = device_->read(t);
+  const Nanos pose_read = now_ns();
   const Vec3 position = config_.map.to_scene(pose.position);
   const Quat orientation = config_.map.to_scene(pose.orientation);
 
@@ -60,6 +61,7 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   in.emergency_stop = emergency_stop_.load(std::memory_order_relaxed);
   const haptics::SafetyOutput out = safety_.apply(in, t);
   device_->write(out.force, out.torque);
+  device_to_force_.record(now_ns() - pose_read);
 
   // The tissue feels what the hand feels: the reaction of the force actually sent.
   ContactLoad& load = channels_.load.write_buffer();

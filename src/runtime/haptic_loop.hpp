@@ -67,6 +67,8 @@ class HapticLoop {
   void request_emergency_stop() { emergency_stop_.store(true, std::memory_order_relaxed); }
   [[nodiscard]] bool finished(double t) const { return device_->finished(t); }
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
+  /// Time from the pose read returning to the force written: the loop's own latency.
+  [[nodiscard]] const LatencyHistogram& device_to_force() const { return device_to_force_; }
   [[nodiscard]] haptics::SafetyCounters safety_counters() const { return safety_.counters(); }
   [[nodiscard]] std::uint64_t dropped_frames() const { return dropped_frames_; }
   [[nodiscard]] const haptics::Device& device() const { return *device_; }
@@ -79,6 +81,7 @@ class HapticLoop {
   DeviceChannels& channels_;
   haptics::ForceSafety safety_;
   LoopStats stats_;
+  LatencyHistogram device_to_force_;
   std::uint64_t frame_ = 0;
   std::uint64_t dropped_frames_ = 0;
   bool in_contact_ = false;

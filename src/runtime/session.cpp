@@ -405,6 +405,9 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
   }
   report.loops.push_back(loops.simulation->stats());
   report.loops.push_back(loops.interaction->stats());
+  for (std::size_t i = 0; i < loops.haptic.size(); ++i)
+    report.parts.push_back({"haptic[" + model.devices[i].name + "]: device read -> force written",
+                            loops.haptic[i]->device_to_force()});
   for (const auto& p : loops.simulation->parts()) report.parts.push_back({"simulation: " + p.name, p.time});
   for (const auto& p : loops.interaction->parts())
     if (p.time.count() > 0) report.parts.push_back({"interaction: " + p.name, p.time});
