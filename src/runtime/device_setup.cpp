@@ -1,0 +1,115 @@
+#include "runtime/device_setup.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "core/error.hpp"
+#include "haptics/normal_force.hpp"
+#include "runtime/devices.hpp"
+
+namespace tactus::runtime {
+namespace {
+
+/// The tool a device drives, and which of its fingers when the tool has two.
+struct DrivenTool {
+  const scene::Tool* tool = nullptr;
+  std::size_t finger = 0;
+};
+
+DrivenTool tool_of(const scene::Model& m, std::size_t device) {
+  for (const scene::Tool& tool : m.tools)
+    for (std::size_t k = 0; k < tool.devices.size(); ++k)
+      if (tool.devices[k] == device) return {&tool, k};
+  return {};
+}
+
+const scene::Algorithm* algorithm_of(const scene::Model& m, const scene::Tool& tool) {
+  for (const scene::Algorithm& a : m.algorithms)
+    if (a.enabled && &m.tools[a.tool] == &tool) return &a;
+  return nullptr;
+}
+
+std::vector<std::size_t> bodies_of(const scene::Model& m, const scene::Algorithm& a) {
+  if (!a.bodies.empty()) return a.bodies;
+  std::vector<std::size_t> all(m.bodies.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  return all;
+}
+
+/// The contact modulus of the finger against the stiffest tissue it may touch.
+double tissue_contact_modulus(const scene::Model& m, const std::vector<std::size_t>& bodies,
+                              const scene::FingerProperties& finger) {
+  double e_star = 0.0;
+  for (std::size_t b : bodies) {
+    const auto& mat = m.bodies[b].material;
+    const double e = mat ? m.materials[*mat].young_modulus : 1e12;  // a rigid body
+    const double nu = mat ? m.materials[*mat].poisson_ratio : 0.3;
+    e_star = std::max(e_star, haptics::contact_modulus(finger.young_modulus, finger.poisson_ratio, e, nu));
+  }
+  return e_star;
+}
+
+}  // namespace
+
+DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
+  const scene::Device& d = m.devices[index];
+  DeviceSetup s;
+  s.config.device = static_cast<std::uint16_t>(index);
+  s.config.rate = m.rates.haptic;
+  s.config.map = workspace_map(d);
+  s.config.safety.max_force = d.max_force;
+  // The watchdog must not trip on a healthy simulation: allow a few of its periods.
+  s.config.safety.watchdog_timeout =
+      std::max(0.1, 3.0 / m.rates.simulation + 3.0 / m.rates.interaction);
+
+  const DrivenTool driven = tool_of(m, index);
+  if (!driven.tool) return s;  // a device with no tool is read and recorded, and feels nothing
+  const scene::Tool& tool = *driven.tool;
+  const scene::FingerProperties* finger = nullptr;
+  if (const auto* one = std::get_if<scene::SphereTool>(&tool.shape)) {
+    s.config.spheres.push_back({Vec3::Zero(), one->radius});
+    finger = &one->finger;
+  } else if (const auto* set = std::get_if<scene::SphereSetTool>(&tool.shape)) {
+    for (const auto& sp : set->spheres) s.config.spheres.push_back({sp.center, sp.radius});
+    finger = &set->finger;
+  } else if (const auto* two = std::get_if<scene::TwoFingersTool>(&tool.shape)) {
+    s.config.spheres.push_back({Vec3::Zero(), two->radius});
+    finger = &two->finger;
+  } else {
+    throw InputError(SourceLocation{m.source, {}, {}, {}},
+                     fmt::format("tool '{}': a {} tool cannot be rendered by this version yet", tool.name,
+                                 scene::tool_type_name(tool.shape)));
+  }
+
+  const scene::Algorithm* a = algorithm_of(m, tool);
+  if (!a) {
+    s.config.spheres.clear();
+    return s;
+  }
+  s.bodies = bodies_of(m, *a);
+  if (const auto* p = std::get_if<scene::ProxyParams>(&a->params)) {
+    s.config.law.law = haptics::NormalLaw::linear;
+    s.config.law.stiffness = std::min(p->stiffness, d.max_stiffness);
+    s.config.damping = p->damping;
+  } else if (std::get_if<scene::HertzFingerParams>(&a->params)) {
+    // Flat-tissue Hertz (curvature from the tissue surface is part of the contact layer).
+    s.config.law.law = haptics::NormalLaw::hertz;
+    const double radius = s.config.spheres.front().radius;
+    s.config.law.hertz_factor = haptics::hertz_factor(tissue_contact_modulus(m, s.bodies, *finger), radius);
+  } else if (const auto* pad = std::get_if<scene::FingerpadParams>(&a->params)) {
+    s.config.law.law = haptics::NormalLaw::fingerpad;
+    s.config.law.b = pad->b;
+    s.config.law.m = pad->m;
+  } else {
+    throw InputError(SourceLocation{m.source, {}, {}, {}},
+                     fmt::format("algorithm '{}': type '{}' cannot be rendered by this version yet", a->name,
+                                 scene::algorithm_type_name(a->params)));
+  }
+  double extent = 0.0;
+  for (const auto& sp : s.config.spheres) extent = std::max(extent, sp.offset.norm() + sp.radius);
+  s.reach = 2.0 * extent + 0.01;
+  return s;
+}
+
+}  // namespace tactus::runtime

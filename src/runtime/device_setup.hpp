@@ -1,0 +1,21 @@
+#pragma once
+// What a device's haptic loop renders: the tool it drives (its contact spheres), the force
+// law its algorithm asks for, the bodies it touches and the safety limits, from the scene.
+#include <cstddef>
+#include <vector>
+
+#include "runtime/haptic_loop.hpp"
+#include "scene/model.hpp"
+
+namespace tactus::runtime {
+
+struct DeviceSetup {
+  HapticConfig config;
+  std::vector<std::size_t> bodies;  ///< bodies the device's algorithm touches
+  double reach = 0.0;               ///< surfaces farther than this from the tool give no contact [m]
+};
+
+/// Throws InputError for a tool or algorithm the runtime cannot render yet.
+DeviceSetup setup_device(const scene::Model& model, std::size_t device);
+
+}  // namespace tactus::runtime

@@ -1,0 +1,36 @@
+#include "runtime/loop_set.hpp"
+
+#include "runtime/device_setup.hpp"
+#include "runtime/devices.hpp"
+
+namespace tactus::runtime {
+namespace {
+
+constexpr std::size_t kFrameRingCapacity = 1 << 15;
+
+}  // namespace
+
+Loops build_loops(const scene::Model& m, const SessionOptions& o) {
+  Loops loops;
+  std::vector<InteractionTarget> targets;
+  for (std::size_t i = 0; i < m.devices.size(); ++i) {
+    DeviceSetup setup = setup_device(m, i);
+    std::unique_ptr<haptics::Device> device;
+    if (const auto it = o.replay.find(m.devices[i].name); it != o.replay.end())
+      device = std::make_unique<haptics::ReplayDevice>(it->second.poses, device_limits(m.devices[i]), it->second.source);
+    else
+      device = make_device(m, i, static_cast<unsigned>(i));
+    loops.channels.push_back(std::make_unique<DeviceChannels>(kFrameRingCapacity));
+    DeviceChannels& ch = *loops.channels.back();
+    if (!setup.config.spheres.empty()) targets.push_back({&ch, setup.bodies, setup.reach});
+    loops.haptic.push_back(std::make_unique<HapticLoop>(std::move(setup.config), std::move(device), ch));
+  }
+  // The simulation publishes into a buffer pre-sized with the rest surfaces.
+  loops.simulation = std::make_unique<SimulationLoop>(m, loops.channel_ptrs());
+  loops.surfaces = std::make_unique<TripleBuffer<SurfaceSnapshot>>(loops.simulation->initial_snapshot());
+  loops.simulation->add_output(*loops.surfaces);
+  loops.interaction = std::make_unique<InteractionLoop>(m, std::move(targets), *loops.surfaces);
+  return loops;
+}
+
+}  // namespace tactus::runtime

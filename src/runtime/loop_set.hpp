@@ -1,0 +1,46 @@
+#pragma once
+// Every loop of a run and the channels between them, built before any loop starts, and
+// the two schedulers that drive them.
+#include <algorithm>
+#include <memory>
+#include <vector>
+
+#include "core/triple_buffer.hpp"
+#include "runtime/haptic_loop.hpp"
+#include "runtime/interaction_loop.hpp"
+#include "runtime/recorder.hpp"
+#include "runtime/session.hpp"
+#include "runtime/simulation_loop.hpp"
+
+namespace tactus::runtime {
+
+/// Everything a run owns, built before any loop starts.
+struct Loops {
+  std::vector<std::unique_ptr<DeviceChannels>> channels;
+  std::vector<std::unique_ptr<HapticLoop>> haptic;
+  std::unique_ptr<TripleBuffer<SurfaceSnapshot>> surfaces;
+  std::unique_ptr<SimulationLoop> simulation;
+  std::unique_ptr<InteractionLoop> interaction;
+
+  [[nodiscard]] std::vector<DeviceChannels*> channel_ptrs() const {
+    std::vector<DeviceChannels*> out;
+    for (const auto& c : channels) out.push_back(c.get());
+    return out;
+  }
+  [[nodiscard]] bool all_finished(double t) const {
+    return std::all_of(haptic.begin(), haptic.end(), [t](const auto& h) { return h->finished(t); });
+  }
+};
+
+/// Builds the devices (or their replays), the haptic loops and the channels, the
+/// simulation and interaction loops.
+Loops build_loops(const scene::Model& model, const SessionOptions& options);
+
+/// One thread, virtual time: reproducible bit for bit.
+void run_lockstep(const scene::Model& model, const SessionOptions& options, Loops& loops, Recorder& recorder,
+                  SessionReport& report);
+/// A thread per loop on the wall clock; this thread records and decides when to stop.
+void run_real_time(const scene::Model& model, const SessionOptions& options, Loops& loops, Recorder& recorder,
+                   SessionReport& report);
+
+}  // namespace tactus::runtime

@@ -1,0 +1,66 @@
+#include "runtime/recorder.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "core/version.hpp"
+
+namespace tactus::runtime {
+
+Recorder::Recorder(const scene::Model& m, const SessionOptions& o, std::vector<DeviceChannels*> devices,
+                   SpscRing<SimulationStep>& steps, SessionReport& report)
+    : devices_(std::move(devices)), steps_(steps), report_(report), keep_(o.keep_frames),
+      record_steps_(m.recording.timings), record_events_(m.recording.events) {
+  if (!o.record) return;
+  RecordingHeader h;
+  h.scene_name = m.name;
+  h.scene_source = o.scene_source.empty() ? m.source : o.scene_source;
+  h.scene_text = o.scene_text;
+  h.mode = o.scheduling == Scheduling::lockstep ? "lockstep" : "realtime";
+  h.haptic_rate = m.rates.haptic;
+  h.simulation_rate = m.rates.simulation;
+  for (const auto& d : m.devices) h.devices.push_back(d.name);
+  h.start_unix_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                        std::chrono::system_clock::now().time_since_epoch())
+                        .count();
+  h.tactus_version = kVersion;
+  writer_.emplace(*o.record, h);
+}
+
+bool Recorder::drain() {
+  bool any = false;
+  HapticFrame f;
+  LoopEvent e;
+  for (DeviceChannels* d : devices_) {
+    while (d->frames.try_pop(f)) {
+      any = true;
+      ++report_.recorded_frames;
+      if (writer_) writer_->append(f);
+      if (keep_) report_.frames.push_back(f);
+      auto& dev = report_.devices[f.device];
+      dev.max_force_sent = std::max(dev.max_force_sent, f.force.norm());
+      dev.contact_frames += f.contact;
+    }
+    while (d->events.try_pop(e)) {
+      any = true;
+      ++report_.events[std::string(event_kind_name(e.kind))];
+      if (writer_ && record_events_) writer_->append(Event{e.t, e.kind, e.device, e.value, {}});
+    }
+  }
+  SimulationStep s;
+  while (steps_.try_pop(s)) {
+    any = true;
+    if (writer_ && record_steps_) writer_->append(s);
+  }
+  return any;
+}
+
+void Recorder::close() {
+  drain();
+  if (writer_) {
+    writer_->close();
+    report_.recording_bytes = writer_->bytes_written();
+  }
+}
+
+}  // namespace tactus::runtime
