@@ -1,0 +1,237 @@
+#include "contact/hertz.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace tactus::contact {
+namespace {
+
+bool positive_finite(double x) { return std::isfinite(x) && x > 0.0; }
+
+}  // namespace
+
+void validate(const ElasticMaterial& material, const char* who) {
+  if (!positive_finite(material.youngs_modulus))
+    throw InputError(fmt::format("{}: Young's modulus must be positive and finite, got {} Pa", who,
+                                 material.youngs_modulus));
+  // ν ≤ 0.5 keeps the bulk modulus non-negative; ν → −1 makes 1 − ν² vanish.
+  if (!(material.poisson_ratio > -1.0 && material.poisson_ratio <= 0.5))
+    throw InputError(fmt::format("{}: Poisson's ratio must be in (-1, 0.5], got {}", who, material.poisson_ratio));
+}
+
+double effective_modulus(const ElasticMaterial& a, const ElasticMaterial& b) noexcept {
+  const double compliance = (1.0 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
+                            (1.0 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus;
+  return 1.0 / compliance;
+}
+
+double hertz_force(double effective_modulus, double effective_radius, double depth) noexcept {
+  if (!(depth > 0.0)) return 0.0;
+  return 4.0 / 3.0 * effective_modulus * std::sqrt(effective_radius) * depth * std::sqrt(depth);
+}
+
+// ---------------------------------------------------------------------------------------
+// Hertz contact
+
+double HertzContactState::pressure_at(double r) const noexcept {
+  if (!(contact_radius > 0.0)) return 0.0;
+  const double x = std::abs(r) / contact_radius;
+  if (!(x < 1.0)) return 0.0;
+  return peak_pressure * std::sqrt((1.0 - x) * (1.0 + x));
+}
+
+HertzContact::HertzContact(const HertzParameters& parameters) : parameters_(parameters) {
+  if (!positive_finite(parameters.finger_radius))
+    throw InputError(fmt::format("hertz contact: finger radius must be positive and finite, got {} m",
+                                 parameters.finger_radius));
+  validate(parameters.finger, "hertz contact: finger");
+  validate(parameters.tissue, "hertz contact: tissue");
+  effective_modulus_ = contact::effective_modulus(parameters.finger, parameters.tissue);
+}
+
+double HertzContact::max_contact_radius(double tissue_mean_curvature) const noexcept {
+  const double kp = std::isfinite(tissue_mean_curvature)
+                        ? std::clamp(tissue_mean_curvature, -kMaxContactCurvature, kMaxContactCurvature)
+                        : 0.0;
+  const double finger_curvature = 1.0 / parameters_.finger_radius;
+  const double curvature = finger_curvature + kp;
+  // Convex tissue (R < R_f): Hertz holds while d ≤ R, i.e. a ≤ R. Flat or concave tissue:
+  // the contact disc cannot outgrow the finger.
+  return curvature > finger_curvature ? 1.0 / curvature : parameters_.finger_radius;
+}
+
+HertzContactState HertzContact::evaluate(double depth, double tissue_mean_curvature) const noexcept {
+  HertzContactState s;
+  const double kp = std::isfinite(tissue_mean_curvature)
+                        ? std::clamp(tissue_mean_curvature, -kMaxContactCurvature, kMaxContactCurvature)
+                        : 0.0;
+  const double curvature = 1.0 / parameters_.finger_radius + kp;  // 1/R (eq. 2: R1R2/(R1+R2))
+  s.effective_curvature = std::max(curvature, 0.0);
+  if (!(depth > 0.0) || !std::isfinite(depth)) return s;
+  s.depth = depth;
+
+  const double e = effective_modulus_;
+  const double a_max = max_contact_radius(kp);
+  // Depth at which a = √(R·d) reaches a_max; zero when conformal (R = ∞).
+  const double saturation_depth = a_max * a_max * s.effective_curvature;
+  if (curvature > 0.0 && depth <= saturation_depth) {
+    s.regime = HertzRegime::hertz;
+    s.contact_radius = std::sqrt(depth / curvature);
+    // F = (4/3)·E*·√R·d^{3/2} = (4/3)·E*·a³/R; stiffness 2·E*·a; p0 = 2·E*·a/(π·R) = 3F/(2πa²).
+    const double a = s.contact_radius;
+    s.force = 4.0 / 3.0 * e * a * a * a * curvature;
+    s.stiffness = 2.0 * e * a;
+    s.peak_pressure = 2.0 * e * a * curvature / std::numbers::pi;
+    return s;
+  }
+  // Past saturation the disc keeps radius a_max and the force grows along the Hertz
+  // tangent 2·E*·a_max, which is also the stiffness of a flat punch of that radius, so
+  // the conformal limit (saturation depth → 0) joins continuously.
+  s.regime = curvature > 0.0 ? HertzRegime::saturated : HertzRegime::conformal;
+  s.contact_radius = a_max;
+  const double saturation_force = 4.0 / 3.0 * e * a_max * a_max * a_max * s.effective_curvature;
+  s.stiffness = 2.0 * e * a_max;
+  s.force = saturation_force + s.stiffness * (depth - saturation_depth);
+  // The Hertz profile carried at radius a_max (the punch's edge singularity is not rendered),
+  // scaled so that it still integrates to F.
+  s.peak_pressure = 3.0 * s.force / (2.0 * std::numbers::pi * a_max * a_max);
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------
+// Friction
+
+CoulombFriction::CoulombFriction(const FrictionParameters& parameters) : parameters_(parameters) {
+  if (!(std::isfinite(parameters.coefficient) && parameters.coefficient >= 0.0))
+    throw InputError(fmt::format("friction: coefficient must be finite and non-negative, got {}",
+                                 parameters.coefficient));
+  if (!positive_finite(parameters.regularization_speed))
+    throw InputError(fmt::format("friction: regularization speed must be positive and finite, got {} m/s",
+                                 parameters.regularization_speed));
+}
+
+Vec3 CoulombFriction::force(const Vec3& slip_velocity, const Vec3& normal, double normal_load) const noexcept {
+  if (!positive_finite(normal_load) || !slip_velocity.allFinite()) return Vec3::Zero();
+  Vec3 tangential = slip_velocity;
+  const double normal_length = normal.norm();
+  if (std::isfinite(normal_length) && normal_length > 0.0) {
+    const Vec3 n = normal / normal_length;
+    tangential -= tangential.dot(n) * n;
+  }
+  const double speed = tangential.stableNorm();
+  if (!(speed > 0.0)) return Vec3::Zero();
+  // μN·v/√(v² + v_ε²): the limit μN for fast slip, a viscous μN/v_ε near rest.
+  const double magnitude =
+      parameters_.coefficient * normal_load * (speed / std::hypot(speed, parameters_.regularization_speed));
+  return -magnitude * (tangential / speed);
+}
+
+SphereContactForce sphere_contact_force(const HertzContact& contact, const CoulombFriction& friction,
+                                        const SphereContactInput& input) noexcept {
+  SphereContactForce out;
+  if (input.ambient_force.allFinite()) out.ambient = input.ambient_force;
+  const double normal_length = input.normal.norm();
+  if (std::isfinite(normal_length) && normal_length > 0.0) {
+    const Vec3 n = input.normal / normal_length;
+    out.hertz = contact.evaluate(input.depth, input.tissue_mean_curvature);
+    if (out.hertz.force > 0.0) {
+      out.contact = out.hertz.force * n;
+      // Eq. 4: μ·∫p dA = μ·F_c from the contact pressure, plus μ·m·g from the sphere's weight.
+      const double weight = positive_finite(input.weight_load) ? input.weight_load : 0.0;
+      out.friction = friction.force(input.slip_velocity, n, out.hertz.force + weight);
+    }
+  }
+  out.total = out.contact + out.friction + out.ambient;
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------
+// Fingerpad law and quasilinear viscoelasticity
+
+FingerpadLaw::FingerpadLaw(const FingerpadParameters& parameters) : parameters_(parameters) {
+  if (!positive_finite(parameters.b))
+    throw InputError(fmt::format("fingerpad law: b must be positive and finite, got {} N/m", parameters.b));
+  if (!positive_finite(parameters.m))
+    throw InputError(fmt::format("fingerpad law: m must be positive and finite, got {} 1/m", parameters.m));
+  if (!positive_finite(parameters.max_exponential_depth) || parameters.m * parameters.max_exponential_depth > 700.0)
+    throw InputError(fmt::format("fingerpad law: max exponential depth must be positive with m·depth ≤ 700, got {} m",
+                                 parameters.max_exponential_depth));
+}
+
+double FingerpadLaw::force(double depth) const noexcept {
+  if (!(depth > 0.0) || !std::isfinite(depth)) return 0.0;
+  const double b = parameters_.b, m = parameters_.m, d_max = parameters_.max_exponential_depth;
+  if (depth <= d_max) return b / m * std::expm1(m * depth);  // expm1: exact near d = 0
+  return b / m * std::expm1(m * d_max) + b * std::exp(m * d_max) * (depth - d_max);
+}
+
+double FingerpadLaw::stiffness(double depth) const noexcept {
+  if (!(depth >= 0.0)) return 0.0;  // also NaN
+  return parameters_.b * std::exp(parameters_.m * std::min(depth, parameters_.max_exponential_depth));
+}
+
+double ReducedRelaxation::at(double t) const noexcept {
+  double g = steady_state;
+  for (const auto& term : terms) g += term.weight * std::exp(-std::max(t, 0.0) / term.time_constant);
+  return g;
+}
+
+ReducedRelaxation fingerpad_relaxation() {
+  return {0.45, {{0.25, 0.004}, {0.15, 0.070}, {0.15, 1.4}}};
+}
+
+QuasiLinearViscoelastic::QuasiLinearViscoelastic(const ReducedRelaxation& relaxation)
+    : steady_state_(relaxation.steady_state), count_(relaxation.terms.size()) {
+  if (!(std::isfinite(relaxation.steady_state) && relaxation.steady_state >= 0.0))
+    throw InputError(fmt::format("relaxation: steady-state weight g∞ must be finite and non-negative, got {}",
+                                 relaxation.steady_state));
+  if (relaxation.terms.size() > kMaxTerms)
+    throw InputError(fmt::format("relaxation: at most {} exponential terms, got {}", kMaxTerms,
+                                 relaxation.terms.size()));
+  double sum = relaxation.steady_state;
+  for (std::size_t i = 0; i < count_; ++i) {
+    const RelaxationTerm& term = relaxation.terms[i];
+    if (!(std::isfinite(term.weight) && term.weight >= 0.0))
+      throw InputError(fmt::format("relaxation: term {} weight must be finite and non-negative, got {}", i + 1,
+                                   term.weight));
+    if (!positive_finite(term.time_constant))
+      throw InputError(fmt::format("relaxation: term {} time constant must be positive and finite, got {} s", i + 1,
+                                   term.time_constant));
+    terms_[i] = term;
+    sum += term.weight;
+  }
+  if (!(std::abs(sum - 1.0) <= 1e-6))
+    throw InputError(fmt::format("relaxation: weights must sum to 1 (G(0) = 1), got {}", sum));
+}
+
+double QuasiLinearViscoelastic::step(double elastic_force, double dt) noexcept {
+  if (!std::isfinite(elastic_force)) return force_;
+  if (!(dt > 0.0) || !std::isfinite(dt)) dt = 0.0;
+  const double change = elastic_force - elastic_force_;
+  double force = steady_state_ * elastic_force;
+  for (std::size_t i = 0; i < count_; ++i) {
+    const double x = dt / terms_[i].time_constant;
+    const double decay = std::exp(-x);
+    // ∫ over the step of e^{−(t−τ)/τ_i} for a uniform rate: (τ_i/Δt)(1 − e^{−Δt/τ_i}), → 1 as Δt → 0.
+    const double ramp = x > 0.0 ? -std::expm1(-x) / x : 1.0;
+    history_[i] = decay * history_[i] + terms_[i].weight * change * ramp;
+    force += history_[i];
+  }
+  elastic_force_ = elastic_force;
+  force_ = force;
+  return force_;
+}
+
+void QuasiLinearViscoelastic::reset(double elastic_force) noexcept {
+  if (!std::isfinite(elastic_force)) elastic_force = 0.0;
+  history_.fill(0.0);
+  elastic_force_ = elastic_force;
+  force_ = steady_state_ * elastic_force;
+}
+
+}  // namespace tactus::contact
