@@ -12,11 +12,24 @@ InteractionLoop::InteractionLoop(const scene::Model& model, std::vector<Interact
   stats_.name = "interaction";
   stats_.rate = model.rates.interaction;
   for (const auto& b : model.bodies) parts_.push_back({"query " + b.name, {}});
+  parts_.push_back({"refit trees", {}});
+  trees_.resize(model.bodies.size());
 }
 
 void InteractionLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   surfaces_.update();
   const SurfaceSnapshot& surfaces = surfaces_.read();
+  if (surfaces.step != tree_step_) {
+    const Nanos r0 = now_ns();
+    for (std::size_t b = 0; b < trees_.size(); ++b) {
+      if (trees_[b].empty() || trees_[b].needs_rebuild())
+        trees_[b].build(surfaces.positions[b], model_.bodies[b].surface.triangles);
+      else
+        trees_[b].refit(surfaces.positions[b]);
+    }
+    tree_step_ = surfaces.step;
+    parts_.back().time.record(now_ns() - r0);
+  }
   for (InteractionTarget& target : targets_) {
     target.channels->tool.update();
     const ToolState& tool = target.channels->tool.read();
@@ -28,8 +41,7 @@ void InteractionLoop::step(double t, Nanos deadline, Nanos start, bool real_time
       double best = std::numeric_limits<double>::infinity();
       for (std::size_t b : target.bodies) {
         const Nanos q0 = now_ns();
-        const contact::SurfacePoint p =
-            contact::closest_point_on_surface(tool.position, surfaces.positions[b], model_.bodies[b].surface.triangles);
+        const contact::SurfacePoint p = trees_[b].closest_point(tool.position);
         parts_[b].time.record(now_ns() - q0);
         if (p.triangle < 0 || p.distance >= best) continue;
         best = p.distance;

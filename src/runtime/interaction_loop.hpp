@@ -4,6 +4,7 @@
 // through the closest point), which the haptic loop renders until the next one.
 #include <vector>
 
+#include "contact/bvh.hpp"
 #include "core/triple_buffer.hpp"
 #include "runtime/haptic_loop.hpp"
 #include "runtime/loop_stats.hpp"
@@ -32,6 +33,10 @@ class InteractionLoop {
   const scene::Model& model_;
   std::vector<InteractionTarget> targets_;
   TripleBuffer<SurfaceSnapshot>& surfaces_;
+  /// One tree per body, refitted to every new simulation step (rebuilt when refits have
+  /// degraded it), so a query costs about a microsecond instead of a pass over the surface.
+  std::vector<contact::TriangleBvh> trees_;
+  std::uint64_t tree_step_ = ~std::uint64_t{0};
   LoopStats stats_;
   std::vector<PartStats> parts_;
 };
