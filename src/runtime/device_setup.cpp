@@ -37,17 +37,17 @@ std::vector<std::size_t> bodies_of(const scene::Model& m, const scene::Algorithm
   return all;
 }
 
-/// The contact modulus of the finger against the stiffest tissue it may touch.
-double tissue_contact_modulus(const scene::Model& m, const std::vector<std::size_t>& bodies,
-                              const scene::FingerProperties& finger) {
-  double e_star = 0.0;
+/// The stiffest tissue among the bodies (a body without material counts as rigid).
+contact::ElasticMaterial stiffest_tissue(const scene::Model& m, const std::vector<std::size_t>& bodies) {
+  contact::ElasticMaterial stiffest{0.0, 0.3};
   for (std::size_t b : bodies) {
     const auto& mat = m.bodies[b].material;
-    const double e = mat ? m.materials[*mat].young_modulus : 1e12;  // a rigid body
-    const double nu = mat ? m.materials[*mat].poisson_ratio : 0.3;
-    e_star = std::max(e_star, haptics::contact_modulus(finger.young_modulus, finger.poisson_ratio, e, nu));
+    const contact::ElasticMaterial t = mat ? contact::ElasticMaterial{m.materials[*mat].young_modulus,
+                                                                      m.materials[*mat].poisson_ratio}
+                                           : contact::ElasticMaterial{1e12, 0.3};
+    if (t.youngs_modulus > stiffest.youngs_modulus) stiffest = t;
   }
-  return e_star;
+  return stiffest;
 }
 
 }  // namespace
@@ -92,11 +92,15 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
     s.config.law.law = haptics::NormalLaw::linear;
     s.config.law.stiffness = std::min(p->stiffness, d.max_stiffness);
     s.config.damping = p->damping;
-  } else if (std::get_if<scene::HertzFingerParams>(&a->params)) {
-    // Flat-tissue Hertz (curvature from the tissue surface is part of the contact layer).
-    s.config.law.law = haptics::NormalLaw::hertz;
-    const double radius = s.config.spheres.front().radius;
-    s.config.law.hertz_factor = haptics::hertz_factor(tissue_contact_modulus(m, s.bodies, *finger), radius);
+  } else if (const auto* hz = std::get_if<scene::HertzFingerParams>(&a->params)) {
+    // Hertz per sphere with the tissue's local mean curvature (seed 000 §3.1–3.2), against
+    // the stiffest tissue the algorithm may touch.
+    contact::HertzParameters hp;
+    hp.finger_radius = s.config.spheres.front().radius;
+    hp.finger = {finger->young_modulus, finger->poisson_ratio};
+    hp.tissue = stiffest_tissue(m, s.bodies);
+    s.config.hertz.emplace(hp);
+    s.curvature_rings = hz->curvature_rings;
   } else if (const auto* pad = std::get_if<scene::FingerpadParams>(&a->params)) {
     s.config.law.law = haptics::NormalLaw::fingerpad;
     s.config.law.b = pad->b;

@@ -13,6 +13,7 @@ struct DeviceSetup {
   HapticConfig config;
   std::vector<std::size_t> bodies;  ///< bodies the device's algorithm touches
   double reach = 0.0;               ///< surfaces farther than this from the tool give no contact [m]
+  int curvature_rings = 0;          ///< q-ring of the curvature vote; 0 = none needed
 };
 
 /// Throws InputError for a tool or algorithm the runtime cannot render yet.

@@ -29,6 +29,9 @@ struct LocalContact {
   Vec3 point = Vec3::Zero();      ///< plane point on the surface [m]
   Vec3 normal = Vec3::UnitZ();    ///< plane normal, pointing out of the tissue
   Vec3 barycentric = Vec3::Zero();
+  /// Mean curvature of the tissue at `point` [1/m], positive where convex (seed 000 §3.2);
+  /// estimated only for algorithms that use it, else 0.
+  double mean_curvature = 0.0;
   double built_at = 0.0;          ///< interaction time that built it [s]
   double surface_time = 0.0;      ///< simulation time of the surface it was built from [s]
 };

@@ -5,8 +5,10 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include "contact/hertz.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/triple_buffer.hpp"
 #include "haptics/device.hpp"
@@ -49,6 +51,8 @@ struct HapticConfig {
   };
   std::vector<Sphere> spheres;
   haptics::NormalForceLaw law;
+  /// Hertz contact with the tissue's curvature (hertz_finger); replaces `law` when set.
+  std::optional<contact::HertzContact> hertz;
   double damping = 0.0;      ///< normal damping [N·s/m]
   /// Low-pass time constant of the tool velocity estimate used by the damping [s].
   double velocity_filter = 0.002;

@@ -3,6 +3,9 @@
 #include <limits>
 
 #include "contact/closest_point.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "mesh/half_edge.hpp"
 
 namespace tactus::runtime {
 
@@ -14,6 +17,19 @@ InteractionLoop::InteractionLoop(const scene::Model& model, std::vector<Interact
   for (const auto& b : model.bodies) parts_.push_back({"query " + b.name, {}});
   parts_.push_back({"refit trees", {}});
   trees_.resize(model.bodies.size());
+  for (const InteractionTarget& target : targets_) {
+    auto& per_body = curvature_.emplace_back(model.bodies.size());
+    if (target.curvature_rings <= 0) continue;
+    for (std::size_t b : target.bodies) {
+      try {
+        const mesh::HalfEdgeMesh topology(model.bodies[b].surface);
+        per_body[b] = std::make_unique<mesh::CurvatureEstimator>(topology, target.curvature_rings);
+      } catch (const InputError& e) {
+        log::warn("body '{}': no curvature estimate on its surface ({}); contact treats it as flat",
+                  model.bodies[b].name, e.reason());
+      }
+    }
+  }
 }
 
 void InteractionLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
@@ -30,7 +46,8 @@ void InteractionLoop::step(double t, Nanos deadline, Nanos start, bool real_time
     tree_step_ = surfaces.step;
     parts_.back().time.record(now_ns() - r0);
   }
-  for (InteractionTarget& target : targets_) {
+  for (std::size_t k = 0; k < targets_.size(); ++k) {
+    InteractionTarget& target = targets_[k];
     target.channels->tool.update();
     const ToolState& tool = target.channels->tool.read();
     LocalContact& out = target.channels->contact.write_buffer();
@@ -55,6 +72,11 @@ void InteractionLoop::step(double t, Nanos deadline, Nanos start, bool real_time
         out.point = p.point;
         out.normal = outside ? Vec3(to_tool / p.distance) : p.normal;
         out.barycentric = p.barycentric;
+        out.mean_curvature = 0.0;
+        if (const auto& estimator = curvature_[k][b]) {
+          const mesh::VertexCurvature c = estimator->estimate_at_point(surfaces.positions[b], p.triangle, p.barycentric);
+          if (c.valid) out.mean_curvature = c.kmean;
+        }
       }
     }
     target.channels->contact.publish();

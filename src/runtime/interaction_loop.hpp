@@ -2,9 +2,11 @@
 // The interaction loop step: for every device, find where its tool is closest to the
 // newest deformed surfaces and publish that as the device's local contact model (a plane
 // through the closest point), which the haptic loop renders until the next one.
+#include <memory>
 #include <vector>
 
 #include "contact/bvh.hpp"
+#include "mesh/curvature.hpp"
 #include "core/triple_buffer.hpp"
 #include "runtime/haptic_loop.hpp"
 #include "runtime/loop_stats.hpp"
@@ -16,6 +18,8 @@ struct InteractionTarget {
   DeviceChannels* channels = nullptr;
   std::vector<std::size_t> bodies;  ///< bodies this device's algorithm touches
   double reach = 0.0;  ///< a surface farther than this from the tool origin gives no contact [m]
+  /// q-ring size of the curvature vote at the contact point; 0 = no curvature needed.
+  int curvature_rings = 0;
 };
 
 class InteractionLoop {
@@ -37,6 +41,9 @@ class InteractionLoop {
   /// degraded it), so a query costs about a microsecond instead of a pass over the surface.
   std::vector<contact::TriangleBvh> trees_;
   std::uint64_t tree_step_ = ~std::uint64_t{0};
+  /// Per target and body: the curvature estimator, when the target's algorithm needs one
+  /// and the body's surface is a manifold.
+  std::vector<std::vector<std::unique_ptr<mesh::CurvatureEstimator>>> curvature_;
   LoopStats stats_;
   std::vector<PartStats> parts_;
 };

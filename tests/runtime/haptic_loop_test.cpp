@@ -2,6 +2,8 @@
 // that it allocates nothing per frame, and that it fades out when the simulation stalls.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/counting_allocator.hpp"  // tests/core
 #include "haptics/devices/scripted_device.hpp"
 #include "runtime/haptic_loop.hpp"
@@ -25,7 +27,7 @@ struct Rig {
     c.safety.watchdog_timeout = 0.1;
     loop = std::make_unique<HapticLoop>(c, std::move(device), channels);
   }
-  void publish_plane(double surface_time) {
+  void publish_plane(double surface_time, double mean_curvature = 0.0) {
     LocalContact& lc = channels.contact.write_buffer();
     lc.valid = true;
     lc.body = 0;
@@ -33,6 +35,7 @@ struct Rig {
     lc.point = Vec3::Zero();
     lc.normal = Vec3::UnitZ();
     lc.surface_time = surface_time;
+    lc.mean_curvature = mean_curvature;
     channels.contact.publish();
   }
   HapticFrame step(double t) {
@@ -55,6 +58,31 @@ TEST(HapticLoop, RendersThePenaltyForceOfTheContactPlane) {
   rig.channels.load.update();
   EXPECT_TRUE(rig.channels.load.read().active);
   EXPECT_EQ(rig.channels.load.read().force, -f.force);
+}
+
+TEST(HapticLoop, HertzFingerFeelsTheTissueCurvature) {
+  // Silicone finger (E 1 MPa, ν 0.48, R 10 mm) 1 mm into tissue (E 30 kPa, ν 0.45).
+  auto force_at = [](double curvature) {
+    Rig rig(0.009);
+    HapticConfig c;
+    c.spheres = {{Vec3::Zero(), 0.01}};
+    c.hertz.emplace(contact::HertzParameters{0.01, {1e6, 0.48}, {3e4, 0.45}});
+    haptics::WaypointsPath still;
+    still.points = {{0.0, Vec3(0, 0, 0.009)}};
+    rig.loop = std::make_unique<HapticLoop>(
+        c, std::make_unique<haptics::ScriptedDevice>(still, haptics::Tremor{}, haptics::DeviceLimits{}), rig.channels);
+    rig.publish_plane(0.0, curvature);
+    HapticFrame f;
+    for (int k = 0; k < 20; ++k) f = rig.step(k * 1e-3);
+    return f.force.z();
+  };
+  const double e_star = 1.0 / ((1 - 0.48 * 0.48) / 1e6 + (1 - 0.45 * 0.45) / 3e4);
+  const double flat = 4.0 / 3.0 * e_star * std::sqrt(0.01) * std::pow(1e-3, 1.5);
+  EXPECT_NEAR(force_at(0.0), flat, 1e-9 * flat);
+  // A convex bump as curved as the finger halves the effective radius: F/√2.
+  EXPECT_NEAR(force_at(100.0), flat / std::sqrt(2.0), 1e-9 * flat);
+  // A concave dip is felt harder.
+  EXPECT_GT(force_at(-50.0), flat);
 }
 
 TEST(HapticLoop, AFrameAllocatesNothing) {
