@@ -9,7 +9,7 @@ namespace tactus::runtime {
 HapticLoop::HapticLoop(HapticConfig config, std::unique_ptr<haptics::Device> device,
                        DeviceChannels& channels)
     : config_(std::move(config)), device_(std::move(device)), channels_(channels),
-      safety_(config_.safety) {
+      safety_(config_.safety), planes_(config_.plane_blend) {
   stats_.rate = config_.rate;
 }
 
@@ -25,21 +25,41 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
 
   // Tool velocity for the contact damping: a first-order low-pass of finite differences,
   // since device positions are quantized and the raw difference is noisy at 1 kHz.
+  const double dt = last_t_ >= 0.0 && t > last_t_ ? t - last_t_ : 1.0 / config_.rate;
   if (last_t_ >= 0.0 && t > last_t_) {
-    const double dt = t - last_t_;
     const Vec3 raw = (position - last_position_) / dt;
     velocity_ += dt / (config_.velocity_filter + dt) * (raw - velocity_);
   }
   last_position_ = position;
   last_t_ = t;
 
-  channels_.contact.update();
+  const bool fresh = channels_.contact.update();
   const LocalContact& contact = channels_.contact.read();
 
-  // Penetration of each contact sphere into the local contact plane.
   Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
   bool touching = false;
-  if (contact.valid) {
+  if (config_.proxy && !config_.spheres.empty()) {
+    // God-object: the proxy slides on the local contact plane, blended towards each new one.
+    const Vec3 arm = orientation * config_.spheres.front().offset;
+    const Vec3 goal = position + arm;
+    if (!proxy_started_) {
+      proxy_state_ = contact::make_proxy_state(goal);
+      proxy_started_ = true;
+    }
+    if (fresh && contact.valid) planes_.set_target({contact.normal, contact.normal.dot(contact.point)}, t);
+    contact::ProxyResult r;
+    if (contact.valid && planes_.has_plane()) {
+      const contact::ConstraintPlane plane = planes_.at(t);
+      r = contact::update_proxy(*config_.proxy, proxy_state_, goal, velocity_, dt,
+                                contact::HalfSpaceQuery(plane.normal, plane.offset));
+    } else {
+      r = contact::update_proxy(*config_.proxy, proxy_state_, goal, velocity_, dt, no_surface_);
+    }
+    touching = r.in_contact;
+    force = r.force;
+    torque = arm.cross(force);
+  } else if (contact.valid) {
+    // Penetration of each contact sphere into the local contact plane.
     const double normal_speed = contact.normal.dot(velocity_);
     for (const HapticConfig::Sphere& sphere : config_.spheres) {
       const Vec3 arm = orientation * sphere.offset;

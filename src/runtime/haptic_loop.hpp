@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "contact/hertz.hpp"
+#include "contact/proxy.hpp"
+#include "contact/surface_query.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/triple_buffer.hpp"
 #include "haptics/device.hpp"
@@ -53,6 +55,12 @@ struct HapticConfig {
   haptics::NormalForceLaw law;
   /// Hertz contact with the tissue's curvature (hertz_finger); replaces `law` when set.
   std::optional<contact::HertzContact> hertz;
+  /// God-object proxy with friction against the local contact plane (proxy); replaces
+  /// `law` when set, and renders the first sphere.
+  std::optional<contact::ProxyParams> proxy;
+  /// The proxy's plane moves to each new local model over this time, so a simulation update
+  /// is not felt as a force step (seed 003 §3.5) [s].
+  double plane_blend = 0.0;
   double damping = 0.0;      ///< normal damping [N·s/m]
   /// Low-pass time constant of the tool velocity estimate used by the damping [s].
   double velocity_filter = 0.002;
@@ -91,6 +99,10 @@ class HapticLoop {
   bool in_contact_ = false;
   std::atomic<bool> emergency_stop_{false};
   std::uint8_t last_flags_ = 0;
+  contact::ProxyState proxy_state_;
+  contact::PlaneInterpolator planes_;
+  contact::BruteForceSurfaceQuery no_surface_{{}, {}};
+  bool proxy_started_ = false;
   Vec3 last_position_ = Vec3::Zero();
   Vec3 velocity_ = Vec3::Zero();
   double last_t_ = -1.0;
