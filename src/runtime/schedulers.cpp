@@ -124,10 +124,11 @@ void run_real_time(const scene::Model& m, const SessionOptions& o, Loops& loops,
   const double end = run_length(o);
   bool stopped = false;
   Nanos last_flush = now_ns();
+  double t = 0.0;
   while (!stop.load()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
     const Nanos now = now_ns();
-    const double t = static_cast<double>(now - t0) * 1e-9;
+    t = static_cast<double>(now - t0) * 1e-9;
     recorder.drain();
     if (now - last_flush > 50'000'000) {  // at most 50 ms of frames lost to a crash
       recorder.flush();
@@ -140,9 +141,11 @@ void run_real_time(const scene::Model& m, const SessionOptions& o, Loops& loops,
     if (t >= end || (o.duration <= 0.0 && finished.load() == loops.haptic.size())) stop = true;
     if (o.interrupt && o.interrupt->load()) stop = true;
   }
+  // The run ends when the stop is decided, not when the last thread has finished its step
+  // (a long simulation step may still be running).
+  report.simulated_time = t;
   for (auto& th : threads) th.join();
   if (failure) std::rethrow_exception(failure);
-  report.simulated_time = static_cast<double>(now_ns() - t0) * 1e-9;
 }
 
 }  // namespace tactus::runtime
