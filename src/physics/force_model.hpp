@@ -4,6 +4,7 @@
 // simulation (positions, velocities, internal variables, linearization caches) lives in
 // BodyState and the model's Scratch.
 #include <Eigen/SparseCore>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -17,6 +18,16 @@ using SparseMatrix = Eigen::SparseMatrix<double>;
 /// Per-state buffers a model needs (element rotations, cached stiffness blocks...).
 struct Scratch {
   virtual ~Scratch() = default;
+};
+
+/// A symmetric matrix of 3x3 node blocks: the diagonal blocks and, row by row, the nonzero
+/// blocks above the diagonal (block compressed sparse rows). Models that assemble their system
+/// matrix fill one (ForceModel::assemble_system) and the integrator solves with it.
+struct BlockMatrix {
+  std::vector<Mat3> diagonal;           ///< one per node
+  std::vector<std::int32_t> row_start;  ///< row i's upper blocks: [row_start[i], row_start[i + 1])
+  std::vector<std::int32_t> column;     ///< each upper block's column (above its row)
+  std::vector<Mat3> upper;              ///< the upper blocks
 };
 
 class ForceModel {
@@ -51,6 +62,15 @@ class ForceModel {
                                   const Scratch& s) const;
   /// out += diag(K) and diag(D) scaled: out += a·diag(K) + b·diag(D); for preconditioning.
   virtual void add_diagonal(double a, double b, VecX& out, const Scratch& s) const = 0;
+  /// Assembles a·M + b·D + c·K (after linearize) into a block matrix kept in s until the next
+  /// call, and returns it. Returns nullptr where the model does not assemble (the default): the
+  /// integrator then solves with add_system_product and add_diagonal.
+  virtual const BlockMatrix* assemble_system(double a, double b, double c, Scratch& s) const;
+  /// f = forces(x, v, q) + K dx with K linearized at (x, v, q): linearize() and the force and
+  /// product of a linearized implicit step in one call. f has size 3N on entry. Default: the
+  /// three calls; models override it to make one pass over their elements.
+  virtual void linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
+                                 Scratch& s) const;
   /// Appends a·K + b·D as triplets (after linearize), for direct solvers.
   virtual void add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const = 0;
 

@@ -1,6 +1,7 @@
 #include "physics/fem/tet_fem.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 #include <string>
@@ -24,16 +25,19 @@ struct TetFem::Cache final : Scratch {
   /// Each element's contribution to its four nodes (12 values per element), written by the
   /// element pass and summed per node by gather(); scratch space of const products.
   mutable std::vector<Vec3> columns;
+  BlockMatrix system;  ///< assemble_system()'s matrix
 };
 
 namespace {
 
 using Mat12 = Eigen::Matrix<double, 12, 12>;
+using Mat34 = Eigen::Matrix<double, 3, 4>;
 
 // Loops shorter than two grains run on the calling thread: waking the pool's workers costs
 // more than the work they share below about 8,000 tetrahedra on the 2-core machine
 // (docs/BENCHMARKS.md).
 constexpr std::size_t kElementGrain = 4096, kNodeGrain = 1024;
+constexpr std::size_t kRotationBlock = 32;
 
 /// Small-strain stress of a displacement gradient M: lambda tr(M) I + mu (M + M^T).
 inline Mat3 hooke_of_gradient(double lambda, double mu, const Mat3& M) {
@@ -49,6 +53,68 @@ inline Mat3 gradient_of(const VecX& x, const TetElement& el) {
 }
 
 inline Mat3 deviator(const Mat3& m) { return m - (m.trace() / 3.0) * Mat3::Identity(); }
+
+// The element kernels below are plain scalar code on small arrays: fixed-size Eigen
+// expressions this deep inside the templated loops stop being inlined, and the calls cost more
+// than the arithmetic.
+
+/// An element's contributions to its four nodes.
+using Columns = std::array<std::array<double, 3>, 4>;
+
+/// d_b += scale (y_{b+1} - y_0), b = 0..2, for the nodal values y at node offsets n (3 per node).
+inline void add_differences(const double* y, const std::array<Eigen::Index, 4>& n, double scale, double (&d)[3][3]) {
+  for (int b = 0; b < 3; ++b)
+    for (int i = 0; i < 3; ++i) d[b][i] += scale * (y[n[b + 1] + i] - y[n[0] + i]);
+}
+
+/// D = sum_{b>0} d_{b-1} g_b^T for node differences d: with g_0 = -(g_1 + g_2 + g_3) this is
+/// sum_b y_b g_b^T, from differences (small next to the positions, so less round-off).
+inline void difference_gradient(const double (&d)[3][3], const Mat34& g, double (&D)[3][3]) {
+  const double* G = g.data();  // column b at G + 3 b
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) D[i][j] = d[0][i] * G[3 + j] + d[1][i] * G[6 + j] + d[2][i] * G[9 + j];
+}
+
+/// out_b = sign hooke(D) g_b for b = 1..3 and out_0 = -(out_1 + out_2 + out_3), where
+/// hooke(D) = lambda tr(D) I + mu (D + D^T).
+inline void hooke_columns(const double (&D)[3][3], const Mat34& g, double lambda, double mu, double sign,
+                          Columns& out) {
+  const double* G = g.data();
+  const double tr = lambda * (D[0][0] + D[1][1] + D[2][2]);
+  double S[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) S[i][j] = sign * (mu * (D[i][j] + D[j][i]) + (i == j ? tr : 0.0));
+  for (int b = 1; b < 4; ++b)
+    for (int i = 0; i < 3; ++i) out[b][i] = S[i][0] * G[3 * b] + S[i][1] * G[3 * b + 1] + S[i][2] * G[3 * b + 2];
+  for (int i = 0; i < 3; ++i) out[0][i] = -(out[1][i] + out[2][i] + out[3][i]);
+}
+
+/// The node pairs of an element, in the order of TetFem::pair_block_.
+constexpr std::array<std::array<std::size_t, 2>, 6> kPairs{{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+
+inline std::array<Eigen::Index, 4> node_offsets(const TetElement& el) {
+  return {3 * Eigen::Index{el.nodes[0]}, 3 * Eigen::Index{el.nodes[1]}, 3 * Eigen::Index{el.nodes[2]},
+          3 * Eigen::Index{el.nodes[3]}};
+}
+
+/// Element contributions of the serial path: added to the output vector at once.
+struct ScatterToNodes {
+  const std::vector<TetElement>& elements;
+  double* out;
+  void operator()(std::size_t e, const Columns& col) const {
+    const auto& n = elements[e].nodes;
+    for (std::size_t a = 0; a < 4; ++a)
+      for (int i = 0; i < 3; ++i) out[3 * Eigen::Index{n[a]} + i] += col[a][static_cast<std::size_t>(i)];
+  }
+};
+
+/// Element contributions of the parallel path: stored per element for TetFem::gather.
+struct StoreColumns {
+  Vec3* columns;
+  void operator()(std::size_t e, const Columns& col) const {
+    for (std::size_t a = 0; a < 4; ++a) columns[4 * e + a] = Vec3(col[a][0], col[a][1], col[a][2]);
+  }
+};
 
 }  // namespace
 
@@ -105,6 +171,30 @@ TetFem::TetFem(const mesh::TetMesh& mesh, const FemMaterial& material)
     for (std::size_t a = 0; a < 4; ++a)
       node_slot_[static_cast<std::size_t>(fill[static_cast<std::size_t>(elements_[e].nodes[a])]++)] =
           static_cast<std::int32_t>(4 * e + a);
+
+  // The assembled system's pattern: an upper block for every node pair that shares an element.
+  std::vector<std::vector<std::int32_t>> above(static_cast<std::size_t>(n));
+  for (const auto& el : elements_)
+    for (const auto& [a, b] : kPairs)
+      above[static_cast<std::size_t>(std::min(el.nodes[a], el.nodes[b]))].push_back(std::max(el.nodes[a], el.nodes[b]));
+  block_row_start_.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (std::size_t i = 0; i < above.size(); ++i) {
+    std::sort(above[i].begin(), above[i].end());
+    above[i].erase(std::unique(above[i].begin(), above[i].end()), above[i].end());
+    block_column_.insert(block_column_.end(), above[i].begin(), above[i].end());
+    block_row_start_[i + 1] = static_cast<std::int32_t>(block_column_.size());
+  }
+  pair_block_.resize(elements_.size());
+  for (std::size_t e = 0; e < elements_.size(); ++e)
+    for (std::size_t p = 0; p < kPairs.size(); ++p) {
+      const auto na = elements_[e].nodes[kPairs[p][0]], nb = elements_[e].nodes[kPairs[p][1]];
+      const auto row = static_cast<std::size_t>(std::min(na, nb));
+      const auto first = block_column_.begin() + block_row_start_[row];
+      const auto last = block_column_.begin() + block_row_start_[row + 1];
+      const auto found = std::lower_bound(first, last, std::max(na, nb));
+      const auto index = static_cast<std::int32_t>(found - block_column_.begin());
+      pair_block_[e][p] = na < nb ? index : -1 - index;
+    }
 }
 
 std::unique_ptr<Scratch> TetFem::make_scratch() const {
@@ -116,6 +206,12 @@ std::unique_ptr<Scratch> TetFem::make_scratch() const {
   }
   if (law_.law != FemLaw::linear && law_.law != FemLaw::corotational) c->tangent.assign(elements_.size(), Mat9::Zero());
   c->columns.assign(4 * elements_.size(), Vec3::Zero());
+  if (law_.law == FemLaw::linear || law_.law == FemLaw::corotational) {
+    c->system.diagonal.assign(node_count(), Mat3::Zero());
+    c->system.row_start = block_row_start_;
+    c->system.column = block_column_;
+    c->system.upper.assign(block_column_.size(), Mat3::Zero());
+  }
   return c;
 }
 
@@ -124,20 +220,61 @@ const TetFem::Cache& TetFem::cache(const Scratch& s) const { return static_cast<
 
 Mat3 TetFem::deformation_gradient(const VecX& x, std::size_t e) const { return gradient_of(x, elements_.at(e)); }
 
+bool TetFem::rotations_current(const VecX& x, const Cache& c) const {
+  return c.rotations_valid && c.rotation_x.size() == x.size() &&
+         std::equal(x.data(), x.data() + x.size(), c.rotation_x.data());
+}
+
+void TetFem::update_rotations(const VecX& x, std::size_t begin, std::size_t end, Cache& c) const {
+  // A few dozen at a time: polar_rotations works on several side by side.
+  std::array<Mat3, kRotationBlock> F;
+  for (std::size_t block = begin; block < end; block += kRotationBlock) {
+    const std::size_t count = std::min(kRotationBlock, end - block);
+    for (std::size_t k = 0; k < count; ++k) {
+      // sqrt(V) F from the scaled gradients the other loops read too (one array less to
+      // stream); the rotation of a positive multiple of F is the rotation of F.
+      const TetElement& el = elements_[block + k];
+      double d[3][3] = {}, D[3][3];
+      add_differences(x.data(), node_offsets(el), 1.0, d);
+      difference_gradient(d, el.sgrad, D);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) F[k](i, j) = D[i][j];
+    }
+    polar_rotations(std::span<const Mat3>(F.data(), count), std::span<Mat3>(c.rotation.data() + block, count));
+    for (std::size_t e = block; e < block + count; ++e) {
+      // rotated_grad = R sgrad, in plain loops (column-major 3x3 times 3x4).
+      const double* R = c.rotation[e].data();
+      const double* g = elements_[e].sgrad.data();
+      double* out = c.rotated_grad[e].data();
+      for (int a = 0; a < 4; ++a)
+        for (int i = 0; i < 3; ++i)
+          out[3 * a + i] = R[i] * g[3 * a] + R[i + 3] * g[3 * a + 1] + R[i + 6] * g[3 * a + 2];
+    }
+  }
+}
+
 void TetFem::ensure_rotations(const VecX& x, Cache& c) const {
-  if (c.rotations_valid && c.rotation_x.size() == x.size() &&
-      std::equal(x.data(), x.data() + x.size(), c.rotation_x.data()))
-    return;
+  if (rotations_current(x, c)) return;
   c.rotation.resize(elements_.size());
   c.rotated_grad.resize(elements_.size());
-  parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t e = begin; e < end; ++e) {
-      c.rotation[e] = polar_rotation(gradient_of(x, elements_[e]));
-      c.rotated_grad[e].noalias() = c.rotation[e] * elements_[e].sgrad;
-    }
-  }, kElementGrain);
+  parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) { update_rotations(x, begin, end, c); },
+               kElementGrain);
   c.rotation_x = x;
   c.rotations_valid = true;
+}
+
+template <class Kernel>
+void TetFem::accumulate(const Cache& c, double mass_scale, const VecX& in, VecX& out, Kernel&& kernel) const {
+  if (thread_count() == 1 || elements_.size() < 2 * kElementGrain) {
+    // Serial: no columns to write and read back, no node pass.
+    if (mass_scale != 0.0) out += mass_scale * mass_.cwiseProduct(in);
+    kernel(std::size_t{0}, elements_.size(), ScatterToNodes{elements_, out.data()});
+    return;
+  }
+  parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
+    kernel(begin, end, StoreColumns{c.columns.data()});
+  }, kElementGrain);
+  gather(c, mass_scale, in, out);
 }
 
 void TetFem::gather(const Cache& c, double mass_scale, const VecX& in, VecX& out) const {
@@ -161,14 +298,13 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
   const bool damped = beta > 0.0 && v.size() == x.size();
   if (corot || (hyper && damped)) ensure_rotations(x, c);
   const bool viscous = q_stride_ > 0 && static_cast<std::size_t>(q.size()) == internal_size();
-  auto element = [&](std::size_t e) {
+  auto element = [&](std::size_t e, Columns& out) {
     const TetElement& el = elements_[e];
     const auto node = [&](int a) { return 3 * el.nodes[static_cast<std::size_t>(a)]; };
-    Vec3* out = &c.columns[4 * e];
     if (corot) {
       // With g^R = sqrt(V) R g: V R hooke(R^T F - I) g_a = hooke(D) g^R_a with
       // D = sum_b x_b (g^R_b)^T - sqrt(V) I (see rest_stiffness_columns).
-      const Eigen::Matrix<double, 3, 4>& g = c.rotated_grad[e];
+      const Mat34& g = c.rotated_grad[e];
       Mat3 D = -std::sqrt(el.volume) * Mat3::Identity();
       for (int a = 0; a < 4; ++a) D.noalias() += x.segment<3>(node(a)) * g.col(a).transpose();
       Mat3 S = hooke_of_gradient(law_.lambda, law_.mu, D);
@@ -183,7 +319,7 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
         const Mat3 offset = prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
         S += std::sqrt(el.volume) * (R * offset * R.transpose());
       }
-      for (int a = 0; a < 4; ++a) out[a] = -(S * g.col(a));
+      for (int a = 0; a < 4; ++a) Eigen::Map<Vec3>(out[static_cast<std::size_t>(a)].data()) = -(S * g.col(a));
       return;
     }
     const Mat3 F = gradient_of(x, el);
@@ -203,13 +339,71 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
       if (viscous) P += prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
     }
     P *= el.volume;
-    for (int a = 0; a < 4; ++a) out[a] = -(P * el.grad.col(a));
+    for (int a = 0; a < 4; ++a) Eigen::Map<Vec3>(out[static_cast<std::size_t>(a)].data()) = -(P * el.grad.col(a));
   };
-  parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t e = begin; e < end; ++e) element(e);
-  }, kElementGrain);
-  gather(c, 0.0, x, f);
-  if (material_.rayleigh_mass > 0.0 && v.size() == x.size()) f -= material_.rayleigh_mass * mass_.cwiseProduct(v);
+  const bool mass_damped = material_.rayleigh_mass > 0.0 && v.size() == x.size();
+  accumulate(c, mass_damped ? -material_.rayleigh_mass : 0.0, mass_damped ? v : x, f,
+             [&](std::size_t begin, std::size_t end, auto sink) {
+               Columns out;
+               for (std::size_t e = begin; e < end; ++e) {
+                 element(e, out);
+                 sink(e, out);
+               }
+             });
+}
+
+void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
+                               Scratch& s) const {
+  const bool corot = law_.law == FemLaw::corotational;
+  if (!corot && law_.law != FemLaw::linear) {
+    ForceModel::linearized_forces(x, v, q, dx, f, s);
+    return;
+  }
+  Cache& c = cache(s);
+  f.setZero(x.size());
+  const bool fresh = corot && !rotations_current(x, c);  // rotations to compute in the pass
+  if (fresh) {
+    c.rotation.resize(elements_.size());
+    c.rotated_grad.resize(elements_.size());
+  }
+  const double beta = material_.rayleigh_stiffness;
+  const bool damped = beta > 0.0 && v.size() == x.size();
+  const bool viscous = q_stride_ > 0 && static_cast<std::size_t>(q.size()) == internal_size();
+  const double lambda = law_.lambda, mu = law_.mu;
+  auto kernel = [&](std::size_t begin, std::size_t end, auto sink) {
+    Columns out;
+    for (std::size_t e = begin; e < end; ++e) {
+      // Rotations a few dozen elements ahead, while their data is still in cache.
+      if (fresh && (e - begin) % kRotationBlock == 0) update_rotations(x, e, std::min(end, e + kRotationBlock), c);
+      const TetElement& el = elements_[e];
+      const Mat34& g = corot ? c.rotated_grad[e] : el.sgrad;
+      const auto n = node_offsets(el);
+      // The force at y = x - dx: D = sum_b y_b g_b^T - sqrt(V) I, as in forces(), plus the
+      // damping term's beta sum_b v_b g_b^T (hooke is linear).
+      double d[3][3] = {}, D[3][3];
+      add_differences(x.data(), n, 1.0, d);
+      add_differences(dx.data(), n, -1.0, d);
+      if (damped) add_differences(v.data(), n, beta, d);
+      difference_gradient(d, g, D);
+      const double root_volume = std::sqrt(el.volume);
+      for (int i = 0; i < 3; ++i) D[i][i] -= root_volume;
+      hooke_columns(D, g, lambda, mu, -1.0, out);
+      if (viscous) {
+        // Branch stresses in the corotated frame, as in forces().
+        Mat3 offset = prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
+        if (corot) offset = c.rotation[e] * offset * c.rotation[e].transpose();
+        for (int a = 0; a < 4; ++a)
+          Eigen::Map<Vec3>(out[static_cast<std::size_t>(a)].data()) -= root_volume * (offset * g.col(a));
+      }
+      sink(e, out);
+    }
+  };
+  const bool mass_damped = material_.rayleigh_mass > 0.0 && v.size() == x.size();
+  accumulate(c, mass_damped ? -material_.rayleigh_mass : 0.0, mass_damped ? v : x, f, kernel);
+  if (fresh) {
+    c.rotation_x = x;
+    c.rotations_valid = true;
+  }
 }
 
 void TetFem::linearize(const VecX& x, const VecX&, const VecX&, Scratch& s) const {
@@ -228,49 +422,48 @@ void TetFem::linearize(const VecX& x, const VecX&, const VecX&, Scratch& s) cons
   }, kElementGrain);
 }
 
-template <bool Rotated>
+template <bool Rotated, class Sink>
 void TetFem::rest_stiffness_columns(const VecX& dx, double scale, std::size_t begin, std::size_t end,
-                                    const Cache& c) const {
+                                    const Cache& c, Sink sink) const {
   // (R K0 R^T dx)_a = V R hooke(R^T dF) g_a with dF = sum_b dx_b g_b^T. Since
   // R hooke(R^T dF) g_a = hooke(D) R g_a with D = sum_b dx_b (R g_b)^T, the rotated element
   // is the linear kernel on rotated gradients: about 90 flops per element, no 12x12 block.
   const double lambda = scale * law_.lambda, mu = scale * law_.mu;
+  Columns out;
   for (std::size_t e = begin; e < end; ++e) {
     const TetElement& el = elements_[e];
-    const Eigen::Matrix<double, 3, 4>& g = Rotated ? c.rotated_grad[e] : el.sgrad;
-    const auto n0 = 3 * el.nodes[0], n1 = 3 * el.nodes[1], n2 = 3 * el.nodes[2], n3 = 3 * el.nodes[3];
-    // g_0 = -(g_1 + g_2 + g_3): D = sum_{b>0} (dx_b - dx_0) g_b^T and out_0 = -(out_1 + out_2 + out_3).
-    const Vec3 d0 = dx.segment<3>(n0);
-    Mat3 D;
-    D.noalias() = (dx.segment<3>(n1) - d0) * g.col(1).transpose();
-    D.noalias() += (dx.segment<3>(n2) - d0) * g.col(2).transpose();
-    D.noalias() += (dx.segment<3>(n3) - d0) * g.col(3).transpose();
-    Mat3 S = mu * (D + D.transpose());
-    S.diagonal().array() += lambda * D.trace();
-    Vec3* out = &c.columns[4 * e];
-    out[1] = S * g.col(1);
-    out[2] = S * g.col(2);
-    out[3] = S * g.col(3);
-    out[0] = -(out[1] + out[2] + out[3]);
+    const Mat34& g = Rotated ? c.rotated_grad[e] : el.sgrad;
+    double d[3][3] = {}, D[3][3];
+    add_differences(dx.data(), node_offsets(el), 1.0, d);
+    difference_gradient(d, g, D);
+    hooke_columns(D, g, lambda, mu, 1.0, out);
+    sink(e, out);
   }
 }
 
+template <class Sink>
 void TetFem::tangent_columns(const VecX& dx, double c_tangent, double b_rest, std::size_t begin, std::size_t end,
-                             const Cache& c) const {
+                             const Cache& c, Sink sink) const {
   // c·(tangent) dx plus, when b_rest != 0, b_rest·(rotated rest stiffness) dx.
-  if (b_rest != 0.0) rest_stiffness_columns<true>(dx, b_rest, begin, end, c);
-  if (c_tangent == 0.0) return;
+  const double lambda = b_rest * law_.lambda, mu = b_rest * law_.mu;
+  Columns out, rest;
   for (std::size_t e = begin; e < end; ++e) {
     const TetElement& el = elements_[e];
-    const Vec9 dP = c.tangent[e] * vec9(gradient_of(dx, el));
-    const Mat3 S = (c_tangent * el.volume) * Eigen::Map<const Mat3>(dP.data());
-    Vec3* out = &c.columns[4 * e];
-    for (int a = 0; a < 4; ++a) {
-      if (b_rest != 0.0)
-        out[a] += S * el.grad.col(a);
-      else
-        out[a] = S * el.grad.col(a);
+    Mat3 S = Mat3::Zero();
+    if (c_tangent != 0.0) {
+      const Vec9 dP = c.tangent[e] * vec9(gradient_of(dx, el));
+      S = (c_tangent * el.volume) * Eigen::Map<const Mat3>(dP.data());
     }
+    for (int a = 0; a < 4; ++a) Eigen::Map<Vec3>(out[static_cast<std::size_t>(a)].data()) = S * el.grad.col(a);
+    if (b_rest != 0.0) {
+      double d[3][3] = {}, D[3][3];
+      add_differences(dx.data(), node_offsets(el), 1.0, d);
+      difference_gradient(d, c.rotated_grad[e], D);
+      hooke_columns(D, c.rotated_grad[e], lambda, mu, 1.0, rest);
+      for (std::size_t a = 0; a < 4; ++a)
+        for (std::size_t i = 0; i < 3; ++i) out[a][i] += rest[a][i];
+    }
+    sink(e, out);
   }
 }
 
@@ -281,18 +474,17 @@ void TetFem::add_system_product(double a, double b, double c_stiff, const VecX& 
   const double mass_scale = a + b * material_.rayleigh_mass;
   const bool hyper = law_.law != FemLaw::linear && law_.law != FemLaw::corotational;
   const bool elements = hyper ? (rest_scale != 0.0 || c_stiff != 0.0) : rest_scale + c_stiff != 0.0;
-  if (elements) {
-    parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
-      switch (law_.law) {
-        case FemLaw::linear: rest_stiffness_columns<false>(in, rest_scale + c_stiff, begin, end, c); break;
-        case FemLaw::corotational: rest_stiffness_columns<true>(in, rest_scale + c_stiff, begin, end, c); break;
-        default: tangent_columns(in, c_stiff, rest_scale, begin, end, c); break;
-      }
-    }, kElementGrain);
-    gather(c, mass_scale, in, out);
-  } else if (mass_scale != 0.0) {
-    out += mass_scale * mass_.cwiseProduct(in);
+  if (!elements) {
+    if (mass_scale != 0.0) out += mass_scale * mass_.cwiseProduct(in);
+    return;
   }
+  accumulate(c, mass_scale, in, out, [&](std::size_t begin, std::size_t end, auto sink) {
+    switch (law_.law) {
+      case FemLaw::linear: rest_stiffness_columns<false>(in, rest_scale + c_stiff, begin, end, c, sink); break;
+      case FemLaw::corotational: rest_stiffness_columns<true>(in, rest_scale + c_stiff, begin, end, c, sink); break;
+      default: tangent_columns(in, c_stiff, rest_scale, begin, end, c, sink); break;
+    }
+  });
 }
 
 void TetFem::add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const {
@@ -332,6 +524,47 @@ void TetFem::add_diagonal(double a, double b, VecX& out, const Scratch& s) const
     }
   }
   if (b != 0.0 && material_.rayleigh_mass > 0.0) out += (b * material_.rayleigh_mass) * mass_;
+}
+
+const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, double c_stiffness, Scratch& s) const {
+  if (law_.law != FemLaw::linear && law_.law != FemLaw::corotational) return nullptr;
+  Cache& cc = cache(s);
+  BlockMatrix& K = cc.system;
+  const double stiffness = c_stiffness + b_damping * material_.rayleigh_stiffness;
+  const double mass = a_mass + b_damping * material_.rayleigh_mass;
+  for (std::size_t i = 0; i < K.diagonal.size(); ++i)
+    K.diagonal[i] = (mass * mass_.segment<3>(3 * static_cast<Eigen::Index>(i))).asDiagonal();
+  std::fill(K.upper.begin(), K.upper.end(), Mat3::Zero());
+  // Element block (a, b) of R K0 R^T: lambda r_a r_b^T + mu r_b r_a^T + mu (r_a . r_b) I with
+  // r = sqrt(V) R g (the columns of the rotated gradients). Computed from local copies into a
+  // local block, so the compiler need not reload anything after each store into the matrix.
+  const double lambda = stiffness * law_.lambda, mu = stiffness * law_.mu;
+  auto add_block = [lambda, mu](const double (&ra)[3], const double (&rb)[3], double* out) {
+    double block[9];
+    const double diagonal = mu * (ra[0] * rb[0] + ra[1] * rb[1] + ra[2] * rb[2]);
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) block[i + 3 * j] = lambda * ra[i] * rb[j] + mu * rb[i] * ra[j];
+    for (int i = 0; i < 3; ++i) block[4 * i] += diagonal;
+    for (int k = 0; k < 9; ++k) out[k] += block[k];
+  };
+  double r[4][3];
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    const TetElement& el = elements_[e];
+    const double* g = rotated() ? cc.rotated_grad[e].data() : el.sgrad.data();  // column a at g + 3 a
+    for (int k = 0; k < 12; ++k) r[k / 3][k % 3] = g[k];
+    for (std::size_t n = 0; n < 4; ++n) add_block(r[n], r[n], K.diagonal[static_cast<std::size_t>(el.nodes[n])].data());
+    for (std::size_t p = 0; p < kPairs.size(); ++p) {
+      const std::int32_t index = pair_block_[e][p];
+      const auto& ra = r[kPairs[p][0]];
+      const auto& rb = r[kPairs[p][1]];
+      // Block (b, a) is the transpose of (a, b): swap the roles where the pair is stored transposed.
+      if (index >= 0)
+        add_block(ra, rb, K.upper[static_cast<std::size_t>(index)].data());
+      else
+        add_block(rb, ra, K.upper[static_cast<std::size_t>(-1 - index)].data());
+    }
+  }
+  return &K;
 }
 
 void TetFem::element_matrix(std::size_t e, double a, double b, const Cache& c, Mat12& k) const {

@@ -44,6 +44,14 @@ class TetFem final : public ForceModel {
   /// (a + b alpha) M + (b beta + c) K_rest for the linear and corotational laws.
   void add_system_product(double a, double b, double c, const VecX& in, VecX& out, const Scratch& s) const override;
   void add_diagonal(double a, double b, VecX& out, const Scratch& s) const override;
+  /// Linear and corotational laws: (a + b alpha) M + (c + b beta) R K0 R^T, element blocks
+  /// summed in element order. Hyperelastic laws: nullptr (matrix-free).
+  const BlockMatrix* assemble_system(double a_mass, double b_damping, double c_stiffness, Scratch& s) const override;
+  /// Linear and corotational laws: the rotations, the force and the product in one element
+  /// pass (the corotational force is linear in x for fixed rotations: f + K dx is the force at
+  /// x - dx with the rotations of x). Hyperelastic laws: the default.
+  void linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
+                         Scratch& s) const override;
   void add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const override;
   void update_internal(const VecX& x, double dt, VecX& q, Scratch& s) const override;
   /// Elastic energy of the laws' strain energy densities (the Maxwell branches' stored
@@ -60,13 +68,25 @@ class TetFem final : public ForceModel {
   struct Cache;
   Cache& cache(Scratch& s) const;
   const Cache& cache(const Scratch& s) const;
+  [[nodiscard]] bool rotations_current(const VecX& x, const Cache& c) const;
+  /// Rotations and rotated gradients of elements [begin, end) at x.
+  void update_rotations(const VecX& x, std::size_t begin, std::size_t end, Cache& c) const;
   void ensure_rotations(const VecX& x, Cache& c) const;
-  template <bool Rotated>
-  void rest_stiffness_columns(const VecX& dx, double scale, std::size_t begin, std::size_t end, const Cache& c) const;
+  template <bool Rotated, class Sink>
+  void rest_stiffness_columns(const VecX& dx, double scale, std::size_t begin, std::size_t end, const Cache& c,
+                              Sink sink) const;
+  template <class Sink>
   void tangent_columns(const VecX& dx, double c_tangent, double b_rest, std::size_t begin, std::size_t end,
-                       const Cache& c) const;
+                       const Cache& c, Sink sink) const;
+  /// out += mass_scale·M·in + the sum of the element contributions kernel(begin, end, sink)
+  /// hands to sink(e, columns). On one thread the contributions go straight into out; on
+  /// several, each element stores its own (Cache::columns) and gather() sums them per node.
+  /// Either way every node adds its mass term and then its elements in element order, so
+  /// the sums are the same whatever the thread count.
+  template <class Kernel>
+  void accumulate(const Cache& c, double mass_scale, const VecX& in, VecX& out, Kernel&& kernel) const;
   /// Adds every element's nodal columns (Cache::columns) to out, node by node in element
-  /// order, plus mass_scale·M·in: the same sums whatever the thread count.
+  /// order, plus mass_scale·M·in.
   void gather(const Cache& c, double mass_scale, const VecX& in, VecX& out) const;
   void element_matrix(std::size_t e, double a, double b, const Cache& c, Eigen::Matrix<double, 12, 12>& k) const;
   [[nodiscard]] bool rotated() const { return law_.law != FemLaw::linear; }
@@ -79,6 +99,12 @@ class TetFem final : public ForceModel {
   /// Node -> element columns (4 e + local index), in element order: node_slot_ from
   /// node_start_[i] to node_start_[i + 1].
   std::vector<std::int32_t> node_start_, node_slot_;
+  /// The block pattern of the assembled system (BlockMatrix::row_start, column) and, per
+  /// element, the upper block of each node pair (0,1), (0,2), (0,3), (1,2), (1,3), (2,3):
+  /// its index, or -1 - index where the pair's first node is the later row (the element block
+  /// goes in transposed).
+  std::vector<std::int32_t> block_row_start_, block_column_;
+  std::vector<std::array<std::int32_t, 6>> pair_block_;
 };
 
 }  // namespace tactus::physics

@@ -222,6 +222,74 @@ TEST(TetFem, SystemProductEqualsMassDampingAndStiffnessProducts) {
   }
 }
 
+TEST(TetFem, LinearizedForcesEqualForcesPlusStiffnessProduct) {
+  // The one-pass right-hand side of implicit steps, with damping and relaxation branches.
+  const mesh::TetMesh m = mesh::box_volume(Vec3(0.02, 0.02, 0.02), 2, 2, 2);
+  for (FemLaw law : fem_test::all_laws()) {
+    FemMaterial mat = material(law, 1e4, 0.45);
+    mat.rayleigh_mass = 3.0;
+    mat.rayleigh_stiffness = 0.01;
+    if (law == FemLaw::linear || law == FemLaw::corotational) mat.prony = {{0.3, 0.05}};
+    const TetFem fem(m, mat);
+    const VecX x = fem_test::deformed(fem.rest_positions(), fem_test::rotation(0.4, Vec3(1, 2, 3)) *
+                                                                Vec3(1.1, 0.95, 1.02).asDiagonal());
+    const VecX v = 0.1 * random_vector(x.size(), 3), dx = 1e-3 * random_vector(x.size(), 5);
+    const VecX q = random_vector(static_cast<Eigen::Index>(fem.internal_size()), 9);
+    auto s = fem.make_scratch();
+    VecX expected(x.size());
+    fem.forces(x, v, q, expected, *s);
+    fem.linearize(x, v, q, *s);
+    fem.add_stiffness_product(dx, expected, *s);
+    auto fresh = fem.make_scratch();  // rotations computed inside the pass
+    VecX f = VecX::Constant(x.size(), 7.0);
+    fem.linearized_forces(x, v, q, dx, f, *fresh);
+    EXPECT_LT((f - expected).norm(), 1e-12 * expected.norm()) << to_string(law);
+    VecX k = VecX::Zero(x.size()), k_expected = VecX::Zero(x.size());
+    fem.add_stiffness_product(dx, k, *fresh);  // and it linearizes
+    fem.add_stiffness_product(dx, k_expected, *s);
+    EXPECT_LT((k - k_expected).norm(), 1e-12 * k_expected.norm()) << to_string(law);
+  }
+}
+
+TEST(TetFem, AssembledSystemEqualsTheTriplets) {
+  // The block matrix of a M + b D + c K holds the same entries as the triplets plus the mass.
+  const mesh::TetMesh m = mesh::box_volume(Vec3(0.02, 0.02, 0.02), 2, 2, 2);
+  for (FemLaw law : fem_test::all_laws()) {
+    FemMaterial mat = material(law, 1e4, 0.45);
+    mat.rayleigh_mass = 3.0;
+    mat.rayleigh_stiffness = 0.01;
+    const TetFem fem(m, mat);
+    auto s = fem.make_scratch();
+    const VecX x = fem_test::deformed(fem.rest_positions(), fem_test::rotation(0.4, Vec3(1, 2, 3)) *
+                                                                Vec3(1.1, 0.95, 1.02).asDiagonal());
+    fem.linearize(x, VecX::Zero(x.size()), VecX(), *s);
+    const double a = 1.0, b = 0.01, c = 1e-4;
+    const BlockMatrix* assembled = fem.assemble_system(a, b, c, *s);
+    if (law != FemLaw::linear && law != FemLaw::corotational) {
+      EXPECT_EQ(assembled, nullptr) << to_string(law);
+      continue;
+    }
+    ASSERT_NE(assembled, nullptr) << to_string(law);
+    const auto n = x.size();
+    Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(n, n);
+    for (std::size_t i = 0; i < assembled->diagonal.size(); ++i)
+      dense.block<3, 3>(3 * i, 3 * i) = assembled->diagonal[i];
+    for (std::size_t i = 0; i + 1 < assembled->row_start.size(); ++i)
+      for (auto k = assembled->row_start[i]; k < assembled->row_start[i + 1]; ++k) {
+        const auto j = static_cast<Eigen::Index>(assembled->column[static_cast<std::size_t>(k)]);
+        ASSERT_GT(j, static_cast<Eigen::Index>(i));
+        dense.block<3, 3>(3 * i, 3 * j) = assembled->upper[static_cast<std::size_t>(k)];
+        dense.block<3, 3>(3 * j, 3 * i) = assembled->upper[static_cast<std::size_t>(k)].transpose();
+      }
+    std::vector<Triplet> triplets;
+    fem.add_triplets(c, b, triplets, *s);
+    SparseMatrix expected(n, n);
+    expected.setFromTriplets(triplets.begin(), triplets.end());
+    const Eigen::MatrixXd reference = Eigen::MatrixXd(expected) + Eigen::MatrixXd(a * fem.lumped_mass().asDiagonal());
+    EXPECT_LT((dense - reference).norm(), 1e-12 * reference.norm()) << to_string(law);
+  }
+}
+
 /// Positions after a few implicit steps of a sagging block, on `threads` threads.
 VecX run_block(FemLaw law, unsigned threads) {
   set_thread_limit(threads);
