@@ -39,7 +39,8 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
   bool touching = false;
   if (config_.proxy && !config_.spheres.empty()) {
-    // God-object: the proxy slides on the local contact plane, blended towards each new one.
+    // God-object: the proxy slides on the local contact plane (blended towards each new one
+    // over plane_blend, when that is set).
     const Vec3 arm = orientation * config_.spheres.front().offset;
     const Vec3 goal = position + arm;
     if (!proxy_started_) {
