@@ -45,7 +45,8 @@ Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model)
     }
     case hertz_finger: {
       HertzFingerParams p;
-      p.curvature_rings = r.integer("curvature_rings", p.curvature_rings, 1, 10);
+      // More rings smooth away the curvature a finger feels (mesh::CurvatureEstimator::kMaxRings).
+      p.curvature_rings = r.integer("curvature_rings", p.curvature_rings, 1, 6);
       p.friction = r.number("friction", p.friction, Range::non_negative());
       p.weight_compensation = r.boolean("weight_compensation", p.weight_compensation);
       a.params = p;
