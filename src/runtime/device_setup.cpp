@@ -6,7 +6,6 @@
 
 #include "core/error.hpp"
 #include "contact/proxy.hpp"
-#include "haptics/normal_force.hpp"
 #include "runtime/devices.hpp"
 
 namespace tactus::runtime {
@@ -90,12 +89,11 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
   }
   s.bodies = bodies_of(m, *a);
   if (const auto* p = std::get_if<scene::ProxyParams>(&a->params)) {
-    s.config.law.law = haptics::NormalLaw::linear;
-    s.config.law.stiffness = std::min(p->stiffness, d.max_stiffness);
+    s.config.stiffness = std::min(p->stiffness, d.max_stiffness);
     s.config.damping = p->damping;
     contact::ProxyParams proxy;
     proxy.radius = s.config.spheres.front().radius;
-    proxy.stiffness = s.config.law.stiffness;  // never stiffer than the device renders stably
+    proxy.stiffness = s.config.stiffness;  // never stiffer than the device renders stably
     proxy.damping = p->damping;
     proxy.static_friction = p->static_friction;
     proxy.kinetic_friction = p->kinetic_friction;
@@ -115,9 +113,10 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
     s.config.hertz.emplace(hp);
     s.curvature_rings = hz->curvature_rings;
   } else if (const auto* pad = std::get_if<scene::FingerpadParams>(&a->params)) {
-    s.config.law.law = haptics::NormalLaw::fingerpad;
-    s.config.law.b = pad->b;
-    s.config.law.m = pad->m;
+    contact::FingerpadParameters fp;
+    fp.b = pad->b;
+    fp.m = pad->m;
+    s.config.fingerpad.emplace(fp);
   } else {
     throw InputError(SourceLocation{m.source, {}, {}, {}},
                      fmt::format("algorithm '{}': type '{}' cannot be rendered by this version yet", a->name,

@@ -67,8 +67,9 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
       const double depth = sphere.radius - contact.normal.dot(position + arm - contact.point);
       if (!(depth > 0.0)) continue;
       touching = true;
-      const double elastic = config_.hertz ? config_.hertz->evaluate(depth, contact.mean_curvature).force
-                                           : config_.law.force(depth);
+      const double elastic = config_.hertz       ? config_.hertz->evaluate(depth, contact.mean_curvature).force
+                             : config_.fingerpad ? config_.fingerpad->force(depth)
+                                                 : config_.stiffness * depth;
       const double fn = std::max(0.0, elastic - config_.damping * normal_speed);
       force += fn * contact.normal;
       torque += arm.cross(fn * contact.normal);

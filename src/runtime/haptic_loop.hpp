@@ -14,7 +14,6 @@
 #include "core/spsc_ring.hpp"
 #include "core/triple_buffer.hpp"
 #include "haptics/device.hpp"
-#include "haptics/normal_force.hpp"
 #include "haptics/safety.hpp"
 #include "runtime/exchange.hpp"
 #include "runtime/loop_stats.hpp"
@@ -52,7 +51,10 @@ struct HapticConfig {
     double radius = 0.0;         ///< [m]
   };
   std::vector<Sphere> spheres;
-  haptics::NormalForceLaw law;
+  /// Penalty stiffness of the plane contact when no other law below is set [N/m].
+  double stiffness = 500.0;
+  /// Pawluk & Howe fingerpad law (fingerpad); replaces `stiffness` when set.
+  std::optional<contact::FingerpadLaw> fingerpad;
   /// Hertz contact with the tissue's curvature (hertz_finger); replaces `law` when set.
   std::optional<contact::HertzContact> hertz;
   /// God-object proxy with friction against the local contact plane (proxy); replaces

@@ -20,7 +20,6 @@ struct LoopStats {
   std::uint64_t steps = 0;
   std::uint64_t missed_deadlines = 0;  ///< started more than one period late
   std::uint64_t overruns = 0;          ///< compute time longer than the period
-  std::uint64_t skipped = 0;           ///< periods dropped by re-basing after a stall
 
   /// Records one step that started at `start` (deadline `deadline`) and took `compute`.
   void record(Nanos deadline, Nanos start, Nanos compute_time, bool real_time);

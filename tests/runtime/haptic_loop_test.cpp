@@ -22,7 +22,7 @@ struct Rig {
     auto device = std::make_unique<haptics::ScriptedDevice>(still, haptics::Tremor{}, haptics::DeviceLimits{});
     HapticConfig c;
     c.spheres = {{Vec3::Zero(), 0.01}};
-    c.law.stiffness = stiffness;
+    c.stiffness = stiffness;
     c.safety.max_force = 10.0;
     c.safety.watchdog_timeout = 0.1;
     loop = std::make_unique<HapticLoop>(c, std::move(device), channels);
