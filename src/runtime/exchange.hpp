@@ -14,9 +14,7 @@ namespace tactus::runtime {
 
 /// A device's tool in scene coordinates, as the haptic loop last saw it.
 struct ToolState {
-  double t = 0.0;
   Vec3 position = Vec3::Zero();  ///< tool frame origin (sphere centre for a fingertip)
-  Quat orientation = Quat::Identity();
   bool valid = false;
 };
 
@@ -32,8 +30,9 @@ struct LocalContact {
   /// Mean curvature of the tissue at `point` [1/m], positive where convex (seed 000 §3.2);
   /// estimated only for algorithms that use it, else 0.
   double mean_curvature = 0.0;
-  double built_at = 0.0;          ///< interaction time that built it [s]
-  double surface_time = 0.0;      ///< simulation time of the surface it was built from [s]
+  /// When the simulation published the surface it was built from (loop time) [s]: the
+  /// safety watchdog's measure of a stalled simulation.
+  double surface_time = 0.0;
 };
 
 /// The reaction of one device's contact on the tissue, applied by the next simulation step.
@@ -43,7 +42,6 @@ struct ContactLoad {
   std::int32_t triangle = -1;
   Vec3 barycentric = Vec3::Zero();
   Vec3 force = Vec3::Zero();  ///< on the tissue, scene coordinates [N]
-  double t = 0.0;
 };
 
 /// Deformed surfaces of every body, published after each simulation step.

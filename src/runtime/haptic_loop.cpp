@@ -94,13 +94,10 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   load.triangle = contact.triangle;
   load.barycentric = contact.barycentric;
   load.force = -(config_.map.rotation * out.force);
-  load.t = t;
   channels_.load.publish();
 
   ToolState& tool = channels_.tool.write_buffer();
-  tool.t = t;
   tool.position = position;
-  tool.orientation = orientation;
   tool.valid = true;
   channels_.tool.publish();
 

@@ -32,7 +32,7 @@ InteractionLoop::InteractionLoop(const scene::Model& model, std::vector<Interact
   }
 }
 
-void InteractionLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
+void InteractionLoop::step(double /*t*/, Nanos deadline, Nanos start, bool real_time) {
   surfaces_.update();
   const SurfaceSnapshot& surfaces = surfaces_.read();
   if (surfaces.step != tree_step_) {
@@ -52,7 +52,6 @@ void InteractionLoop::step(double t, Nanos deadline, Nanos start, bool real_time
     const ToolState& tool = target.channels->tool.read();
     LocalContact& out = target.channels->contact.write_buffer();
     out = LocalContact{};
-    out.built_at = t;
     out.surface_time = surfaces.t;
     if (tool.valid) {
       double best = std::numeric_limits<double>::infinity();
