@@ -21,6 +21,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Boxes are widened by this fraction of the coordinate scale in every query, so rounding
 /// in the triangle tests can never report a hit or a distance that the box test pruned.
 constexpr double kRelativeMargin = 1e-9;
+/// The same for sphere sweeps, whose face test accepts contacts up to 1e-9 barycentric units
+/// outside a face (up to about 4e-9 of the coordinate scale away from it).
+constexpr double kSweepMargin = 1e-8;
 /// Below this depth the build splits by surface-area heuristic; deeper, by the median,
 /// which halves the count and so bounds the depth (and the query stacks) by kMaxDepth.
 constexpr int kSahMaxDepth = 32;
@@ -483,6 +486,9 @@ void TriangleBvh::build(std::span<const Vec3> positions, std::span<const mesh::T
       slots_[s].corners[k] = tree_vertex[v];
     }
   }
+  slot_of_.resize(tree_.order.size());
+  for (std::size_t s = 0; s < tree_.order.size(); ++s)
+    slot_of_[static_cast<std::size_t>(tree_.order[s])] = static_cast<std::int32_t>(s);
   positions_.resize(vertex_source_.size());
   for (std::size_t i = 0; i < vertex_source_.size(); ++i)
     positions_[i] = positions[static_cast<std::size_t>(vertex_source_[i])];
@@ -529,13 +535,46 @@ Aabb TriangleBvh::bounds() const {
   return b;
 }
 
+/// Nearest-child-first descent over the triangles whose boxes are within a squared distance
+/// of p: bound2() is read at every step, so a visit that shrinks it prunes what is left, and
+/// visit(slot, a, b, c) gets every triangle whose own box is within it.
+template <class Bound, class Visit>
+void TriangleBvh::visit_near(const Vec3& p, Bound&& bound2, Visit&& visit) const {
+  if (tree_.empty()) return;
+  std::array<StackEntry, kMaxDepth + 2> stack;
+  std::size_t top = 0;
+  stack[top++] = {tree_.root, tree_.root_count, box_distance2(tree_.root_lo, tree_.root_hi, p)};
+  while (top > 0) {
+    const StackEntry e = stack[--top];
+    if (e.d2 > bound2()) continue;
+    if (e.ref < 0) {
+      const auto first = static_cast<std::size_t>(-e.ref - 1);
+      for (std::size_t s = first; s < first + e.count; ++s) {
+        const mesh::Triangle& tri = slots_[s].corners;
+        const Vec3& a = positions_[static_cast<std::size_t>(tri[0])];
+        const Vec3& b = positions_[static_cast<std::size_t>(tri[1])];
+        const Vec3& c = positions_[static_cast<std::size_t>(tri[2])];
+        if (triangle_box_distance2(a, b, c, p) > bound2()) continue;
+        visit(s, a, b, c);
+      }
+      continue;
+    }
+    const BvhNode& n = tree_.nodes[static_cast<std::size_t>(e.ref)];
+    const auto [d0, d1] = child_distances2(n, p);
+    // Push the farther child first so that the nearer one is searched first.
+    const int nearer = d0 <= d1 ? 0 : 1;
+    const StackEntry near_entry{n.child[nearer], n.count[nearer], nearer == 0 ? d0 : d1};
+    const StackEntry far_entry{n.child[1 - nearer], n.count[1 - nearer], nearer == 0 ? d1 : d0};
+    if (far_entry.d2 <= bound2()) stack[top++] = far_entry;
+    if (near_entry.d2 <= bound2()) stack[top++] = near_entry;
+  }
+}
+
 SurfacePoint TriangleBvh::closest_point(const Vec3& p, double max_distance) const {
   if (!p.allFinite()) throw InputError("triangle BVH closest point: the query point must be finite");
   if (!(max_distance >= 0.0))
     throw InputError(fmt::format("triangle BVH closest point: max_distance must be >= 0, got {}", max_distance));
   SurfacePoint best;
-  if (tree_.empty()) return best;
-
   const double slack = margin(p);
   const double max_d2 = max_distance * max_distance;
   auto prune_bound = [&](double distance) { return (distance + slack) * (distance + slack); };
@@ -544,21 +583,9 @@ SurfacePoint TriangleBvh::closest_point(const Vec3& p, double max_distance) cons
   std::int32_t best_t = -1;
   std::size_t best_slot = 0;
   TrianglePoint best_q;
-
-  std::array<StackEntry, kMaxDepth + 2> stack;
-  std::size_t top = 0;
-  stack[top++] = {tree_.root, tree_.root_count, box_distance2(tree_.root_lo, tree_.root_hi, p)};
-  while (top > 0) {
-    const StackEntry e = stack[--top];
-    if (e.d2 > bound2) continue;
-    if (e.ref < 0) {
-      const auto first = static_cast<std::size_t>(-e.ref - 1);
-      for (std::size_t s = first; s < first + e.count; ++s) {
-        const mesh::Triangle& tri = slots_[s].corners;
-        const Vec3& a = positions_[static_cast<std::size_t>(tri[0])];
-        const Vec3& b = positions_[static_cast<std::size_t>(tri[1])];
-        const Vec3& c = positions_[static_cast<std::size_t>(tri[2])];
-        if (triangle_box_distance2(a, b, c, p) > bound2) continue;
+  visit_near(
+      p, [&] { return bound2; },
+      [&](std::size_t s, const Vec3& a, const Vec3& b, const Vec3& c) {
         const TrianglePoint q = closest_point_on_triangle(p, a, b, c);
         const double d2 = (p - q.point).squaredNorm();
         const std::int32_t t = slots_[s].triangle;
@@ -569,18 +596,7 @@ SurfacePoint TriangleBvh::closest_point(const Vec3& p, double max_distance) cons
           best_q = q;
           bound2 = std::min(bound2, prune_bound(std::sqrt(d2)));
         }
-      }
-      continue;
-    }
-    const BvhNode& n = tree_.nodes[static_cast<std::size_t>(e.ref)];
-    const auto [d0, d1] = child_distances2(n, p);
-    // Push the farther child first so that the nearer one is searched first.
-    const int nearer = d0 <= d1 ? 0 : 1;
-    const StackEntry near_entry{n.child[nearer], n.count[nearer], nearer == 0 ? d0 : d1};
-    const StackEntry far_entry{n.child[1 - nearer], n.count[1 - nearer], nearer == 0 ? d1 : d0};
-    if (far_entry.d2 <= bound2) stack[top++] = far_entry;
-    if (near_entry.d2 <= bound2) stack[top++] = near_entry;
-  }
+      });
   if (best_t < 0) return best;
   const mesh::Triangle& tri = slots_[best_slot].corners;
   best.triangle = best_t;
@@ -589,6 +605,137 @@ SurfacePoint TriangleBvh::closest_point(const Vec3& p, double max_distance) cons
   best.normal = unit_normal(positions_[static_cast<std::size_t>(tri[0])], positions_[static_cast<std::size_t>(tri[1])],
                             positions_[static_cast<std::size_t>(tri[2])]);
   best.distance = std::sqrt(best_d2);
+  return best;
+}
+
+std::optional<std::array<Vec3, 3>> TriangleBvh::triangle_corners(std::int32_t t) const {
+  if (t < 0 || static_cast<std::size_t>(t) >= slot_of_.size()) return std::nullopt;
+  const mesh::Triangle& tri = slots_[static_cast<std::size_t>(slot_of_[static_cast<std::size_t>(t)])].corners;
+  return std::array<Vec3, 3>{positions_[static_cast<std::size_t>(tri[0])], positions_[static_cast<std::size_t>(tri[1])],
+                             positions_[static_cast<std::size_t>(tri[2])]};
+}
+
+template <class Visit>
+void TriangleBvh::visit_box(const Vec3& lo, const Vec3& hi, Visit&& visit) const {
+  if (tree_.empty()) return;
+  const auto overlaps = [&](const Vec3& node_lo, const Vec3& node_hi) {
+    return (node_lo.array() <= hi.array()).all() && (lo.array() <= node_hi.array()).all();
+  };
+  if (!overlaps(tree_.root_lo, tree_.root_hi)) return;
+  std::array<StackEntry, kMaxDepth + 2> stack;
+  std::size_t top = 0;
+  stack[top++] = {tree_.root, tree_.root_count, 0.0};
+  while (top > 0) {
+    const StackEntry e = stack[--top];
+    if (e.ref < 0) {
+      const auto first = static_cast<std::size_t>(-e.ref - 1);
+      for (std::size_t s = first; s < first + e.count; ++s) visit(s);
+      continue;
+    }
+    const BvhNode& n = tree_.nodes[static_cast<std::size_t>(e.ref)];
+    for (int k = 1; k >= 0; --k)
+      if (overlaps(child_lo(n, k), child_hi(n, k))) stack[top++] = {n.child[k], n.count[k], 0.0};
+  }
+}
+
+ClosestSurfacePoint TriangleBvh::closest_point_with_side(const Vec3& p) const {
+  if (!p.allFinite()) throw InputError("triangle BVH closest point: the query point must be finite");
+  const PseudoNormalSum side(p, closest_point(p));
+  Vec3 sum = Vec3::Zero();
+  if (side.on_edge_or_vertex() && !tree_.empty()) {
+    // Summed in ascending triangle index, as the brute-force scan does, so that both give
+    // the same bits (an edge has two triangles, a vertex its valence; more than fit here
+    // are summed in tree order, equal up to rounding).
+    struct Term {
+      std::int32_t triangle;
+      Vec3 value;
+    };
+    std::array<Term, 32> terms;
+    std::size_t count = 0;
+    Vec3 overflow = Vec3::Zero();
+    visit_box(side.lo(), side.hi(), [&](std::size_t s) {
+      const mesh::Triangle& tri = slots_[s].corners;
+      const Vec3 term = side.term(positions_[static_cast<std::size_t>(tri[0])],
+                                  positions_[static_cast<std::size_t>(tri[1])],
+                                  positions_[static_cast<std::size_t>(tri[2])]);
+      if (term == Vec3::Zero()) return;
+      if (count < terms.size())
+        terms[count++] = {slots_[s].triangle, term};
+      else
+        overflow += term;
+    });
+    std::sort(terms.begin(), terms.begin() + static_cast<std::ptrdiff_t>(count),
+              [](const Term& l, const Term& r) { return l.triangle < r.triangle; });
+    for (std::size_t i = 0; i < count; ++i) sum += terms[i].value;
+    sum += overflow;
+  }
+  return side.result(sum);
+}
+
+SweepHit TriangleBvh::sweep_sphere(const Vec3& from, const Vec3& to, double radius) const {
+  if (!from.allFinite() || !to.allFinite()) throw InputError("triangle BVH sphere sweep: the end points must be finite");
+  check_radius(radius, "triangle BVH sphere sweep");
+  SweepHit best;
+  if (tree_.empty()) return best;
+  const Vec3 d = to - from;
+  // The brute-force scan's reject box, applied per triangle here too, so that both test the
+  // same triangles with the same function.
+  const Vec3 lo = from.cwiseMin(to).array() - radius, hi = from.cwiseMax(to).array() + radius;
+  // Node boxes grow by the radius and a margin above the face test's tolerance (a contact
+  // up to 1e-9 barycentric units outside a face) and rounding.
+  const double grow = radius + kSweepMargin * (abs_max_ + std::max(abs_max(from), abs_max(to)) + radius);
+  Vec3 inverse;
+  for (int i = 0; i < 3; ++i) inverse[i] = d[i] != 0.0 ? 1.0 / d[i] : kInf;
+  // Entry time of the centre into a grown box within [0, t_max]; +inf when it misses.
+  const auto entry = [&](const Vec3& box_lo, const Vec3& box_hi, double t_max) {
+    double t0 = 0.0, t1 = t_max;
+    for (int i = 0; i < 3; ++i) {
+      double a = (box_lo[i] - grow - from[i]) * inverse[i];
+      double b = (box_hi[i] + grow - from[i]) * inverse[i];
+      if (a > b) std::swap(a, b);
+      // 0 · ∞ is NaN (see SlabRay): the comparisons keep the bound and the box is visited.
+      t0 = a > t0 ? a : t0;
+      t1 = b < t1 ? b : t1;
+    }
+    return t0 <= t1 ? t0 : kInf;
+  };
+  const double root_entry = entry(tree_.root_lo, tree_.root_hi, 1.0);
+  if (!(root_entry <= 1.0)) return best;
+  std::array<StackEntry, kMaxDepth + 2> stack;
+  std::size_t top = 0;
+  stack[top++] = {tree_.root, tree_.root_count, root_entry};
+  while (top > 0) {
+    const StackEntry e = stack[--top];
+    const double t_max = best.hit ? best.time : 1.0;
+    if (e.d2 > t_max) continue;  // a contact at the same time may still win by index
+    if (e.ref < 0) {
+      const auto first = static_cast<std::size_t>(-e.ref - 1);
+      for (std::size_t s = first; s < first + e.count; ++s) {
+        const mesh::Triangle& tri = slots_[s].corners;
+        const Vec3& a = positions_[static_cast<std::size_t>(tri[0])];
+        const Vec3& b = positions_[static_cast<std::size_t>(tri[1])];
+        const Vec3& c = positions_[static_cast<std::size_t>(tri[2])];
+        if (!((a.cwiseMin(b).cwiseMin(c).array() <= hi.array()).all() &&
+              (lo.array() <= a.cwiseMax(b).cwiseMax(c).array()).all()))
+          continue;
+        const SweepHit h = sweep_sphere_triangle(from, to, radius, a, b, c);
+        const std::int32_t t = slots_[s].triangle;
+        if (h.hit && (!best.hit || h.time < best.time || (h.time == best.time && t < best.triangle))) {
+          best = h;
+          best.triangle = t;
+        }
+      }
+      continue;
+    }
+    const BvhNode& n = tree_.nodes[static_cast<std::size_t>(e.ref)];
+    const double t0 = entry(child_lo(n, 0), child_hi(n, 0), t_max);
+    const double t1 = entry(child_lo(n, 1), child_hi(n, 1), t_max);
+    // The later entry is pushed first, so that the earlier one is searched first.
+    const int earlier = t0 <= t1 ? 0 : 1;
+    const double t_earlier = earlier == 0 ? t0 : t1, t_later = earlier == 0 ? t1 : t0;
+    if (t_later <= t_max) stack[top++] = {n.child[1 - earlier], n.count[1 - earlier], t_later};
+    if (t_earlier <= t_max) stack[top++] = {n.child[earlier], n.count[earlier], t_earlier};
+  }
   return best;
 }
 
@@ -644,33 +791,15 @@ void TriangleBvh::sphere_overlap(const Vec3& center, double radius, std::vector<
   if (!center.allFinite()) throw InputError("triangle BVH sphere overlap: the centre must be finite");
   check_radius(radius, "triangle BVH sphere overlap");
   triangles.clear();
-  if (tree_.empty()) return;
   const double r2 = radius * radius;
   const double reach = radius + margin(center);
   const double bound2 = reach * reach;
-  std::array<StackEntry, kMaxDepth + 2> stack;
-  std::size_t top = 0;
-  stack[top++] = {tree_.root, tree_.root_count, box_distance2(tree_.root_lo, tree_.root_hi, center)};
-  while (top > 0) {
-    const StackEntry e = stack[--top];
-    if (e.d2 > bound2) continue;
-    if (e.ref < 0) {
-      const auto first = static_cast<std::size_t>(-e.ref - 1);
-      for (std::size_t s = first; s < first + e.count; ++s) {
-        const mesh::Triangle& tri = slots_[s].corners;
-        const Vec3& a = positions_[static_cast<std::size_t>(tri[0])];
-        const Vec3& b = positions_[static_cast<std::size_t>(tri[1])];
-        const Vec3& c = positions_[static_cast<std::size_t>(tri[2])];
-        if (triangle_box_distance2(a, b, c, center) > bound2) continue;
+  visit_near(
+      center, [&] { return bound2; },
+      [&](std::size_t s, const Vec3& a, const Vec3& b, const Vec3& c) {
         const TrianglePoint q = closest_point_on_triangle(center, a, b, c);
         if ((center - q.point).squaredNorm() <= r2) triangles.push_back(slots_[s].triangle);
-      }
-      continue;
-    }
-    const BvhNode& n = tree_.nodes[static_cast<std::size_t>(e.ref)];
-    const auto d2 = child_distances2(n, center);
-    for (int k = 1; k >= 0; --k) stack[top++] = {n.child[k], n.count[k], d2[static_cast<std::size_t>(k)]};
-  }
+      });
   std::sort(triangles.begin(), triangles.end());
 }
 

@@ -8,10 +8,12 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "contact/closest_point.hpp"
+#include "contact/surface_query.hpp"
 #include "core/math.hpp"
 #include "mesh/tri_mesh.hpp"
 
@@ -108,6 +110,18 @@ class TriangleBvh {
   /// positions. Throws InputError for a non-finite p or a negative or NaN max_distance.
   [[nodiscard]] SurfacePoint closest_point(const Vec3& p,
                                            double max_distance = std::numeric_limits<double>::infinity()) const;
+  /// closest_point(p) with the side of the surface p is on (the angle-weighted
+  /// pseudo-normal on an edge or a vertex, from the triangles near it): the same answer as
+  /// BruteForceSurfaceQuery::closest_point over the same positions. Throws InputError for a
+  /// non-finite p.
+  [[nodiscard]] ClosestSurfacePoint closest_point_with_side(const Vec3& p) const;
+  /// The first contact of a sphere of `radius` moving from `from` to `to`, by the rules of
+  /// SurfaceQuery::sweep_sphere, and the same answer as BruteForceSurfaceQuery::sweep_sphere
+  /// over the same positions (the earliest time; ties to the lowest triangle index). The
+  /// segment is clipped against the node boxes grown by the radius, up to the earliest
+  /// contact found so far, nearer boxes first. Throws InputError for non-finite ends or a
+  /// negative or NaN radius.
+  [[nodiscard]] SweepHit sweep_sphere(const Vec3& from, const Vec3& to, double radius) const;
   /// Every hit with 0 ≤ t ≤ max_t into `hits` (cleared first), sorted by t then triangle:
   /// all layers, for palpation through several surfaces. Watertight (Woop, Benthin & Wald
   /// 2013) with a consistent tie rule on shared edges and vertices, so a ray that crosses
@@ -135,10 +149,17 @@ class TriangleBvh {
   /// bounds by a float rounding.
   [[nodiscard]] Aabb bounds() const;
   [[nodiscard]] std::span<const mesh::Triangle> triangles() const { return triangles_; }
+  /// Corner positions of triangle t as of the last build or refit; nullopt when t is not a
+  /// triangle of the tree.
+  [[nodiscard]] std::optional<std::array<Vec3, 3>> triangle_corners(std::int32_t t) const;
 
  private:
   template <class Visit>
   void visit_ray(const Vec3& origin, const Vec3& direction, double max_t, Visit&& visit) const;
+  template <class Bound, class Visit>
+  void visit_near(const Vec3& p, Bound&& bound2, Visit&& visit) const;
+  template <class Visit>
+  void visit_box(const Vec3& lo, const Vec3& hi, Visit&& visit) const;
   int crossing_parity(const Vec3& p, const Vec3& direction, bool& degenerate) const;
   void update_boxes();
   [[nodiscard]] double margin(const Vec3& query) const;
@@ -154,6 +175,7 @@ class TriangleBvh {
     std::int32_t triangle;
   };
   std::vector<SlotTriangle> slots_;
+  std::vector<std::int32_t> slot_of_;        ///< caller's triangle index → slot
   std::vector<std::int32_t> vertex_source_;  ///< tree vertex → caller's vertex index
   std::vector<Vec3> positions_;              ///< in the tree's vertex numbering
   double build_cost_ = 0.0;

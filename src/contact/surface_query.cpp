@@ -175,40 +175,52 @@ std::optional<std::array<Vec3, 3>> BruteForceSurfaceQuery::triangle(std::int32_t
                              positions_[static_cast<std::size_t>(tri[2])]};
 }
 
-ClosestSurfacePoint BruteForceSurfaceQuery::closest_point(const Vec3& p) const {
-  ClosestSurfacePoint out;
-  const SurfacePoint best = closest_point_on_surface(p, positions_, triangles_);
-  if (best.triangle < 0) return out;
-  out.found = true;
-  out.triangle = best.triangle;
-  out.point = best.point;
-  out.barycentric = best.barycentric;
-  out.distance = best.distance;
+PseudoNormalSum::PseudoNormalSum(const Vec3& p, const SurfacePoint& closest)
+    : p_(p),
+      closest_(closest),
+      on_edge_or_vertex_((closest.barycentric.array() == 0.0).any()),
+      tolerance_(1e-10 * (1e-3 + closest.point.cwiseAbs().maxCoeff() + closest.distance)),
+      lo_(closest.point.array() - tolerance_),
+      hi_(closest.point.array() + tolerance_) {}
 
-  Vec3 normal = best.normal;
-  if ((best.barycentric.array() == 0.0).any()) {
-    // On an edge or a vertex: the angle-weighted normal of every triangle sharing the point.
-    const double tolerance = 1e-10 * (1e-3 + best.point.cwiseAbs().maxCoeff() + best.distance);
-    const Vec3 lo = best.point.array() - tolerance, hi = best.point.array() + tolerance;
-    Vec3 sum = Vec3::Zero();
-    for (const auto& tri : triangles_) {
-      const Vec3& a = positions_[static_cast<std::size_t>(tri[0])];
-      const Vec3& b = positions_[static_cast<std::size_t>(tri[1])];
-      const Vec3& c = positions_[static_cast<std::size_t>(tri[2])];
-      if (!boxes_overlap(lo, hi, a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c))) continue;
-      const TrianglePoint q = closest_point_on_triangle(p, a, b, c);
-      if ((q.point - best.point).cwiseAbs().maxCoeff() > tolerance) continue;
-      const Vec3 n_raw = (b - a).cross(c - a);
-      const double n_len = n_raw.norm();
-      if (n_len > 0.0) sum += pseudo_normal_weight(q.barycentric, a, b, c) * n_raw / n_len;
-    }
+Vec3 PseudoNormalSum::term(const Vec3& a, const Vec3& b, const Vec3& c) const {
+  if (!boxes_overlap(lo_, hi_, a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c))) return Vec3::Zero();
+  const TrianglePoint q = closest_point_on_triangle(p_, a, b, c);
+  if ((q.point - closest_.point).cwiseAbs().maxCoeff() > tolerance_) return Vec3::Zero();
+  const Vec3 n_raw = (b - a).cross(c - a);
+  const double n_len = n_raw.norm();
+  if (!(n_len > 0.0)) return Vec3::Zero();
+  return pseudo_normal_weight(q.barycentric, a, b, c) * n_raw / n_len;
+}
+
+ClosestSurfacePoint PseudoNormalSum::result(const Vec3& sum) const {
+  ClosestSurfacePoint out;
+  if (closest_.triangle < 0) return out;
+  out.found = true;
+  out.triangle = closest_.triangle;
+  out.point = closest_.point;
+  out.barycentric = closest_.barycentric;
+  out.distance = closest_.distance;
+  Vec3 normal = closest_.normal;
+  if (on_edge_or_vertex_) {
     const double sum_len = sum.norm();
     if (sum_len > 0.0) normal = sum / sum_len;
   }
   if (normal.squaredNorm() == 0.0) normal = Vec3::UnitZ();  // only degenerate triangles
   out.normal = normal;
-  out.behind = (p - best.point).dot(normal) < 0.0;
+  out.behind = (p_ - closest_.point).dot(normal) < 0.0;
   return out;
+}
+
+ClosestSurfacePoint BruteForceSurfaceQuery::closest_point(const Vec3& p) const {
+  const PseudoNormalSum side(p, closest_point_on_surface(p, positions_, triangles_));
+  // On an edge or a vertex: the angle-weighted normal of every triangle sharing the point.
+  Vec3 sum = Vec3::Zero();
+  if (side.on_edge_or_vertex())
+    for (const auto& tri : triangles_)
+      sum += side.term(positions_[static_cast<std::size_t>(tri[0])], positions_[static_cast<std::size_t>(tri[1])],
+                       positions_[static_cast<std::size_t>(tri[2])]);
+  return side.result(sum);
 }
 
 SweepHit BruteForceSurfaceQuery::sweep_sphere(const Vec3& from, const Vec3& to, double radius) const {

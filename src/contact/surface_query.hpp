@@ -71,6 +71,32 @@ class SurfaceQuery {
 /// these barycentric coordinates: the triangle's angle at a vertex, π on an edge, 2π inside.
 [[nodiscard]] double pseudo_normal_weight(const Vec3& barycentric, const Vec3& a, const Vec3& b, const Vec3& c);
 
+/// The side of the surface at a closest point, shared by every SurfaceQuery so that they
+/// answer alike: the angle-weighted pseudo-normal at `closest` (the surface point closest
+/// to p) is the sum of term() over the triangles near it, in ascending triangle index.
+/// Inside a face no neighbours are needed (on_edge_or_vertex() is false); otherwise only
+/// triangles whose box overlaps [lo(), hi()] can contribute.
+class PseudoNormalSum {
+ public:
+  PseudoNormalSum(const Vec3& p, const SurfacePoint& closest);
+
+  [[nodiscard]] bool on_edge_or_vertex() const { return on_edge_or_vertex_; }
+  [[nodiscard]] const Vec3& lo() const { return lo_; }
+  [[nodiscard]] const Vec3& hi() const { return hi_; }
+  /// What triangle (a, b, c) adds: its unit normal times pseudo_normal_weight when its own
+  /// closest point to p is the shared one (within a relative 1e-10), zero otherwise.
+  [[nodiscard]] Vec3 term(const Vec3& a, const Vec3& b, const Vec3& c) const;
+  /// The answer for p given the sum of the terms (ignored inside a face).
+  [[nodiscard]] ClosestSurfacePoint result(const Vec3& sum) const;
+
+ private:
+  Vec3 p_;
+  SurfacePoint closest_;
+  bool on_edge_or_vertex_;
+  double tolerance_;
+  Vec3 lo_, hi_;
+};
+
 /// SurfaceQuery by visiting every triangle: O(triangles) per query, no allocation. It reads
 /// the positions through the span on every query, so a deforming surface updated in place
 /// is seen at once.

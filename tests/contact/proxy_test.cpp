@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -13,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "contact/bvh_surface_query.hpp"
 #include "contact/proxy.hpp"
 #include "contact/surface_query.hpp"
 #include "core/counting_allocator.hpp"
@@ -704,6 +706,114 @@ TEST(ProxyRobustness, NeverEndsInsideOverFastRandomTrajectories) {
     }
     EXPECT_GT(contacts, kUpdatesPerShape / 5) << shape.name;
     EXPECT_GT(inside_goals, kUpdatesPerShape / 20) << shape.name;
+  }
+}
+
+// --- robustness on deforming closed meshes ----------------------------------------------------
+
+/// A closed surface whose vertices move smoothly between proxy updates; the proxy queries it
+/// through a BVH refitted after every move.
+struct DeformingShape {
+  const char* name;
+  mesh::TriMesh rest;                 ///< everything the proxy touches, at rest
+  std::size_t boundary_triangles;     ///< the first ones: the closed surface to stay outside of
+  double size;                        ///< extent of the object [m]
+  std::function<Vec3(const Vec3&, int)> at;  ///< where a rest vertex is at update `step`
+};
+
+std::vector<DeformingShape> deforming_shapes() {
+  std::vector<DeformingShape> out;
+  // A sphere breathing anisotropically by ±15 % of its 5 cm radius every 50 updates: the
+  // surface moves up to about 1 mm per update (1 m/s).
+  out.push_back({"breathing sphere", mesh::sphere(0.05, 2), 0, 0.1, [](const Vec3& x, int step) {
+                   const double phase = 2.0 * kPi * step / 50.0;
+                   const Vec3 scale(1.0 + 0.15 * std::sin(phase), 1.0 + 0.15 * std::sin(phase + 2.0),
+                                    1.0 + 0.15 * std::sin(phase + 4.0));
+                   return Vec3(scale.cwiseProduct(x));
+                 }});
+  // The two-layer skin over a nodule, dented: a Gaussian dent up to 4 mm deep and 12 mm wide
+  // presses in and releases every 40 updates while its centre wanders over the skin, and the
+  // whole swells by ±3 % every 30 updates. Every layer moves with the same smooth field
+  // (gradient below 0.4), so the layers never cross.
+  DeformingShape skin{"dented two-layer skin over a nodule", mesh::sphere(0.03, 2), 0, 0.06,
+                      [](const Vec3& x, int step) {
+                        const double phase = 2.0 * kPi * step / 40.0;
+                        const double depth = 0.004 * 0.5 * (1.0 - std::cos(phase));
+                        const double turn = 0.01 * step;
+                        const Vec3 axis =
+                            Vec3(std::cos(turn), std::sin(turn), 0.4 * std::sin(0.7 * turn)).normalized();
+                        const double w = 0.012;
+                        const double swell = 1.0 + 0.03 * std::sin(2.0 * kPi * step / 30.0);
+                        return Vec3(swell * x - depth * std::exp(-(x - 0.03 * axis).squaredNorm() / (w * w)) * axis);
+                      }};
+  skin.boundary_triangles = skin.rest.triangles.size();
+  append(skin.rest, mesh::sphere(0.027, 2));
+  append(skin.rest, mesh::sphere(0.003, 1), Vec3(0.01, 0.005, 0.012));
+  out.push_back(std::move(skin));
+  for (DeformingShape& s : out)
+    if (s.boundary_triangles == 0) s.boundary_triangles = s.rest.triangles.size();
+  return out;
+}
+
+TEST(ProxyRobustness, NeverEndsInsideAClosedMeshThatDeformsBetweenUpdates) {
+#ifdef TACTUS_SANITIZED
+  constexpr int kUpdatesPerShape = 5000;  // 10,000 updates: shrunk under sanitizers
+#else
+  constexpr int kUpdatesPerShape = 50000;  // 100,000 updates over the two shapes
+#endif
+  constexpr int kUpdatesPerTrajectory = 50;
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+  for (const DeformingShape& shape : deforming_shapes()) {
+    mesh::TriMesh moving = shape.rest;
+    mesh::TriMesh boundary = shape.rest;
+    boundary.triangles.resize(shape.boundary_triangles);
+    int step = 0;
+    const auto deform = [&] {
+      for (std::size_t v = 0; v < shape.rest.vertices.size(); ++v)
+        moving.vertices[v] = shape.at(shape.rest.vertices[v], step);
+      boundary.vertices = moving.vertices;
+      ++step;
+    };
+    deform();
+    TriangleBvh tree(moving.vertices, moving.triangles);
+    const BvhSurfaceQuery surface(tree);
+    const Aabb box = boundary.bounds();
+    int contacts = 0, pushes = 0, trajectory = 0;
+    for (int done = 0; done < kUpdatesPerShape; done += kUpdatesPerTrajectory, ++trajectory) {
+      const double radius = trajectory % 2 == 0 ? 0.0 : 0.02 * shape.size;
+      const ProxyParams params = trajectory % 4 < 2 ? params_with(radius) : params_with(radius, 0.6, 0.4);
+      Vec3 start;
+      do start = 2.0 * shape.size * Vec3(u(rng), u(rng), u(rng));
+      while (distance_to(start, moving) < radius + params.skin || winding_number(start, boundary) > 0.5);
+      ProxyState state = make_proxy_state(start);
+      Vec3 goal = start;
+      for (int k = 0; k < kUpdatesPerTrajectory; ++k) {
+        // Jumps, goals inside the object, holds (the surface moves under a still hand) and drags.
+        const double pick = unit(rng);
+        if (pick < 0.2) {
+          goal = 2.0 * shape.size * Vec3(u(rng), u(rng), u(rng));
+        } else if (pick < 0.5) {
+          goal = box.center() + 0.5 * box.size().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+        } else if (pick < 0.8) {
+          goal += 0.05 * shape.size * Vec3(u(rng), u(rng), u(rng));
+        }
+        // The simulation moved the surface since the last update; the tree follows it.
+        deform();
+        tree.refit(moving.vertices);
+        const ProxyResult res = update_proxy(params, state, goal, Vec3::Zero(), kDt, surface);
+        contacts += res.in_contact ? 1 : 0;
+        pushes += res.pushed_out ? 1 : 0;
+        ASSERT_LT(winding_number(res.position, boundary), 0.5)
+            << shape.name << ", trajectory " << trajectory << ", update " << k << ", step " << step;
+        ASSERT_GE(distance_to(res.position, moving), radius + 0.5 * params.skin)
+            << shape.name << ", trajectory " << trajectory << ", update " << k << ", step " << step;
+        ASSERT_TRUE(res.force.allFinite());
+      }
+    }
+    EXPECT_GT(contacts, kUpdatesPerShape / 5) << shape.name;
+    // The surface came to the proxy often: the push-out, not the sweep, kept it outside.
+    EXPECT_GT(pushes, kUpdatesPerShape / 25) << shape.name;
   }
 }
 
