@@ -10,6 +10,7 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "mesh/io/mesh_io.hpp"
+#include "runtime/bodies.hpp"
 #include "runtime/solve.hpp"
 #include "scene/scene.hpp"
 
@@ -85,6 +86,22 @@ Action add_solve(CLI::App& app) {
           mesh::write_mesh(out, deformed);
         }
         std::fprintf(stderr, "wrote %s\n", out.string().c_str());
+        if (!sb.mapped.empty()) {
+          // Mapped surfaces beside it: OUT.<surface name>.<extension>.
+          VecX x(3 * static_cast<Eigen::Index>(body.final_positions.size()));
+          for (std::size_t i = 0; i < body.final_positions.size(); ++i)
+            x.segment<3>(3 * static_cast<Eigen::Index>(i)) = body.final_positions[i];
+          std::vector<std::vector<Vec3>> surfaces;
+          runtime::mapped_surface_positions(sb, x, surfaces);
+          for (std::size_t k = 0; k < sb.mapped.size(); ++k) {
+            mesh::TriMesh deformed = sb.mapped[k].mesh;
+            deformed.vertices = surfaces[k];
+            std::filesystem::path path = out;
+            path.replace_extension("." + sb.mapped[k].name + out.extension().string());
+            mesh::write_mesh(path, deformed);
+            std::fprintf(stderr, "wrote %s\n", path.string().c_str());
+          }
+        }
       }
     }
     if (failures > 0) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "physics/force_model.hpp"
+#include "physics/nodules.hpp"
 
 namespace tactus::physics {
 
@@ -28,6 +29,8 @@ struct Body {
   std::vector<std::uint8_t> fixed_dofs;
   Vec3 gravity = Vec3::Zero();
   StepSettings settings;
+  /// Spheres the nodes touch only from outside, enforced after every step (seed 004).
+  NoduleSet nodules;
 
   /// Fixes all three dofs of the given nodes.
   void fix_nodes(const std::vector<std::int32_t>& nodes);
@@ -68,7 +71,7 @@ struct StaticResult {
 StaticResult solve_static(const Body& body, BodyState& state, const VecX& f_ext = {},
                           int max_iterations = 50, double tolerance = 1e-8);
 
-/// Kinetic energy ½ vᵀMv (lumped) and elastic energy; their sum minus the work of gravity is
+/// Kinetic energy ½ vᵀMv (the model's mass matrix) and elastic energy; their sum minus the work of gravity is
 /// conserved by an undamped exact integrator.
 double kinetic_energy(const Body& body, const BodyState& state);
 double potential_energy(const Body& body, const BodyState& state);  ///< elastic + gravity

@@ -37,8 +37,16 @@ class ForceModel {
   [[nodiscard]] virtual std::size_t node_count() const = 0;
   /// Rest positions, 3N (x0 y0 z0 x1 ...).
   [[nodiscard]] virtual const VecX& rest_positions() const = 0;
-  /// Lumped mass per degree of freedom, 3N.
+  /// Lumped mass per degree of freedom, 3N. Its row sums equal those of the mass matrix M
+  /// below, so weight (M·g) and the total mass are the same with either.
   [[nodiscard]] virtual const VecX& lumped_mass() const = 0;
+  /// Whether M is the lumped (diagonal) one. Explicit integrators need M^-1 f and run only
+  /// with a diagonal M.
+  [[nodiscard]] virtual bool mass_is_diagonal() const { return true; }
+  /// out += scale·M·in with the model's mass matrix M (default: the lumped one).
+  virtual void add_mass_product(double scale, const VecX& in, VecX& out) const;
+  /// Appends scale·M as triplets (default: the lumped diagonal), for direct solvers.
+  virtual void add_mass_triplets(double scale, std::vector<Triplet>& out) const;
   /// Number of internal variables (viscoelastic history); they start at zero.
   [[nodiscard]] virtual std::size_t internal_size() const { return 0; }
   [[nodiscard]] virtual std::unique_ptr<Scratch> make_scratch() const {
@@ -55,7 +63,7 @@ class ForceModel {
   virtual void add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const = 0;
   /// out += D dv (after linearize). Default: no velocity dependence.
   virtual void add_damping_product(const VecX& dv, VecX& out, const Scratch& s) const;
-  /// out += (a·M + b·D + c·K) in (after linearize), M the lumped mass: the system product of
+  /// out += (a·M + b·D + c·K) in (after linearize), M the mass matrix: the system product of
   /// implicit steps and static solves, once per CG iteration. Default: the mass term plus
   /// the two products above; models override it to make one pass over their elements.
   virtual void add_system_product(double a_mass, double b_damping, double c_stiffness, const VecX& in, VecX& out,

@@ -2,6 +2,7 @@
 #include <Eigen/CholmodSupport>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "physics/body.hpp"
@@ -10,6 +11,15 @@ namespace tactus::physics {
 
 void ForceModel::add_damping_product(const VecX&, VecX&, const Scratch&) const {}
 void ForceModel::update_internal(const VecX&, double, VecX&, Scratch&) const {}
+
+void ForceModel::add_mass_product(double scale, const VecX& in, VecX& out) const {
+  out += scale * lumped_mass().cwiseProduct(in);
+}
+
+void ForceModel::add_mass_triplets(double scale, std::vector<Triplet>& out) const {
+  const VecX& m = lumped_mass();
+  for (Eigen::Index i = 0; i < m.size(); ++i) out.emplace_back(i, i, scale * m[i]);
+}
 
 const BlockMatrix* ForceModel::assemble_system(double, double, double, Scratch&) const { return nullptr; }
 
@@ -24,7 +34,7 @@ void ForceModel::add_system_product(double a, double b, double c, const VecX& in
   // The products take unscaled inputs: scale a copy, kept per thread so that repeated calls
   // allocate nothing once it is sized.
   thread_local VecX scaled;
-  out += a * lumped_mass().cwiseProduct(in);
+  add_mass_product(a, in, out);
   if (b != 0.0) {
     scaled = b * in;
     add_damping_product(scaled, out, s);
@@ -269,14 +279,14 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
   if (body.settings.solver == LinearSolver::cholesky) {
     w.triplets.clear();
     model.add_triplets(c, b, w.triplets, ms);
+    if (a != 0.0) model.add_mass_triplets(a, w.triplets);
     const auto n = static_cast<Eigen::Index>(m.size());
     // Fixed dofs: drop their rows and columns and put 1 on the diagonal, so x = 0 there.
     std::size_t keep = 0;
     for (const auto& t : w.triplets)
       if (w.free_mask[t.row()] != 0.0 && w.free_mask[t.col()] != 0.0) w.triplets[keep++] = t;
     w.triplets.resize(keep);
-    for (Eigen::Index i = 0; i < n; ++i)
-      w.triplets.emplace_back(i, i, w.free_mask[i] != 0.0 ? a * m[i] : 1.0);
+    for (Eigen::Index i = 0; i < n; ++i) w.triplets.emplace_back(i, i, w.free_mask[i] != 0.0 ? 0.0 : 1.0);
     w.matrix.resize(n, n);
     w.matrix.setFromTriplets(w.triplets.begin(), w.triplets.end());
     if (!w.pattern_analyzed) {
@@ -295,7 +305,8 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
     if (it >= 0) return it;
   }
 
-  // Jacobi-preconditioned conjugate gradients on the free dofs, matrix-free.
+  // Jacobi-preconditioned conjugate gradients on the free dofs, matrix-free. The lumped mass
+  // stands in for the mass's diagonal: a consistent mass is spectrally equivalent to it.
   auto apply = [&](const VecX& in, VecX& out) {
     out.setZero();
     model.add_system_product(a, b, c, in, out, ms);
@@ -349,7 +360,15 @@ void prepare(const Body& body, BodyState& s) {
   }
 }
 
+/// Explicit integrators divide by the mass: they need a diagonal one.
+void require_diagonal_mass(const Body& body, const char* integrator) {
+  if (!body.model->mass_is_diagonal())
+    throw std::invalid_argument(std::string(integrator) +
+                                " needs a lumped (diagonal) mass matrix; use implicit_euler with a consistent mass");
+}
+
 void explicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, bool symplectic) {
+  require_diagonal_mass(body, symplectic ? "symplectic_euler" : "explicit_euler");
   SolverScratch& w = *s.solver_scratch;
   total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
   w.force.array() /= body.model->lumped_mass().array();  // acceleration
@@ -364,6 +383,7 @@ void explicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
 }
 
 void rk4_step(const Body& body, BodyState& s, double h, const VecX& f_ext) {
+  require_diagonal_mass(body, "rk4");
   SolverScratch& w = *s.solver_scratch;
   const VecX& m = body.model->lumped_mass();
   auto accel = [&](const VecX& x, const VecX& v, VecX& out) {
@@ -388,7 +408,6 @@ void rk4_step(const Body& body, BodyState& s, double h, const VecX& f_ext) {
 void implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext) {
   SolverScratch& w = *s.solver_scratch;
   const ForceModel& model = *body.model;
-  const VecX& m = model.lumped_mass();
   // First iteration, linearized at (x_n, v_n) (Baraff & Witkin 1998):
   //   (M + hD + h²K) Δv = h (f_n − h K v_n)
   w.z = -h * s.v;
@@ -421,7 +440,9 @@ void implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext) 
   for (int it = 1; it < body.settings.newton_iterations; ++it) {
     w.x_trial = s.x + h * w.v_trial;
     total_force(body, w.x_trial, w.v_trial, s.q, f_ext, s, w.force);
-    w.rhs = h * w.force - m.cwiseProduct(w.v_trial - s.v);  // −g
+    w.rhs = h * w.force;  // −g
+    w.z = w.v_trial - s.v;
+    model.add_mass_product(-1.0, w.z, w.rhs);
     w.rhs.array() *= w.free_mask.array();
     if (w.rhs.norm() <= body.settings.newton_tolerance * h * scale) break;
     model.linearize(w.x_trial, w.v_trial, s.q, *s.model_scratch);
@@ -469,6 +490,7 @@ void step(const Body& body, BodyState& s, double dt, const VecX& f_ext) {
     case Integrator::implicit_euler: implicit_step(body, s, dt, f_ext); break;
   }
   zero_fixed(body, s.v);
+  enforce_nodules(body.nodules, body.fixed_dofs, body.model->lumped_mass(), dt, s.x, s.v);
   body.model->update_internal(s.x, dt, s.q, *s.model_scratch);
   s.time += dt;
 }
@@ -561,7 +583,10 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int
 }
 
 double kinetic_energy(const Body& body, const BodyState& s) {
-  return 0.5 * s.v.dot(body.model->lumped_mass().cwiseProduct(s.v));
+  if (body.model->mass_is_diagonal()) return 0.5 * s.v.dot(body.model->lumped_mass().cwiseProduct(s.v));
+  VecX mv = VecX::Zero(s.v.size());
+  body.model->add_mass_product(1.0, s.v, mv);
+  return 0.5 * s.v.dot(mv);
 }
 
 double potential_energy(const Body& body, const BodyState& s) {

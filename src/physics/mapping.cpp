@@ -153,7 +153,8 @@ BarycentricMapping::BarycentricMapping(const mesh::TetMesh& volume, const std::v
     const auto& e = volume.tets[static_cast<std::size_t>(t)];
     std::array<Vec3, 4> corners;
     for (std::size_t k = 0; k < 4; ++k) corners[k] = volume.vertices[static_cast<std::size_t>(e[k])];
-    max_outside_ = std::max(max_outside_, distance_to_tet(p, corners, w));
+    outside_.push_back(distance_to_tet(p, corners, w));
+    max_outside_ = std::max(max_outside_, outside_.back());
     nodes_.push_back(e);
     tets_.push_back(t);
     weights_.push_back(w);

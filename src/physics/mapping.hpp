@@ -26,11 +26,14 @@ class BarycentricMapping {
   [[nodiscard]] mesh::Index tet_of(std::size_t point) const { return tets_[point]; }
   [[nodiscard]] const Vec4& weights_of(std::size_t point) const { return weights_[point]; }
   [[nodiscard]] double max_outside_distance() const { return max_outside_; }
+  /// How far `point` lay outside its tetrahedron at rest (0 inside).
+  [[nodiscard]] double outside_distance(std::size_t point) const { return outside_[point]; }
 
  private:
   std::vector<mesh::Tet> nodes_;  // the four volume nodes of each point's tetrahedron
   std::vector<mesh::Index> tets_;
   std::vector<Vec4> weights_;
+  std::vector<double> outside_;
   double max_outside_ = 0.0;
 };
 

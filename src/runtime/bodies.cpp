@@ -8,6 +8,7 @@
 #include "physics/fem/tet_fem.hpp"
 #include "physics/mass_spring/surface_builder.hpp"
 #include "physics/mass_spring/tet_builder.hpp"
+#include "runtime/nodules.hpp"
 
 namespace tactus::runtime {
 namespace {
@@ -51,7 +52,8 @@ std::shared_ptr<const physics::ForceModel> fem_model(const scene::Body& b, const
       fm.prony_relaxes_bulk = true;
       break;
   }
-  return std::make_shared<physics::TetFem>(*b.volume, fm);
+  return std::make_shared<physics::TetFem>(
+      *b.volume, fm, b.mass_matrix == scene::MassMatrix::consistent ? physics::FemMass::consistent : physics::FemMass::lumped);
 }
 
 /// Maxwell arms relative to the long-term stiffness from a scene's viscoelastic table (whose
@@ -144,8 +146,16 @@ physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
   const scene::Body& b = model.bodies.at(index);
   if (b.kind == scene::BodyKind::rigid) throw InputError(fmt::format("body '{}' is rigid: it has no dynamics", b.name));
   const scene::Material& m = model.materials.at(*b.material);
-  if (b.mass_matrix == scene::MassMatrix::consistent)
-    throw InputError(fmt::format("body '{}': mass_matrix = \"consistent\" is not available yet; use \"lumped\"", b.name));
+  if (b.mass_matrix == scene::MassMatrix::consistent) {
+    // Explicit integrators need M^-1 f: with a consistent M that is a sparse solve per
+    // evaluation, which defeats their purpose; implicit steps take M in their system matrix.
+    if (b.kind != scene::BodyKind::fem)
+      throw InputError(fmt::format("body '{}': mass_matrix = \"consistent\" is for 'fem' bodies; spring networks"
+                                   " carry lumped masses", b.name));
+    if (b.integrator != scene::Integrator::implicit_euler && b.integrator != scene::Integrator::static_solve)
+      throw InputError(fmt::format("body '{}': mass_matrix = \"consistent\" needs integrator = \"implicit_euler\""
+                                   " (or \"static\"): explicit integrators divide by a lumped mass", b.name));
+  }
 
   physics::Body body;
   try {
@@ -162,12 +172,24 @@ physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
   body.fixed_dofs.assign(3 * body.model->node_count(), 0);
   for (const auto& f : b.fixed) body.fix_nodes(f.nodes);
   for (const auto& p : b.prescribed) body.fix_nodes(p.nodes);
+  body.nodules = physics_nodules(b);
   body.settings.integrator = integrator(b.integrator);
   body.settings.solver =
       b.solver == scene::LinearSolver::cholesky ? physics::LinearSolver::cholesky : physics::LinearSolver::conjugate_gradient;
   body.settings.cg_tolerance = b.solver_tolerance;
   body.settings.cg_max_iterations = b.solver_max_iterations;
+  body.settings.newton_iterations = b.newton_iterations;
   return body;
+}
+
+void mapped_surface_positions(const scene::Body& b, const VecX& x, std::vector<std::vector<Vec3>>& out) {
+  out.resize(b.mapped.size());
+  for (std::size_t i = 0; i < b.mapped.size(); ++i) b.mapped[i].mapping->apply(x, out[i]);
+}
+
+void add_mapped_surface_forces(const scene::Body& b, std::size_t index, const std::vector<Vec3>& vertex_forces,
+                               VecX& node_forces) {
+  b.mapped.at(index).mapping->apply_transpose(vertex_forces, node_forces);
 }
 
 }  // namespace tactus::runtime

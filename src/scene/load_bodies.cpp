@@ -10,6 +10,7 @@
 #include "mesh/io/mesh_io.hpp"
 #include "mesh/tet_topology.hpp"
 #include "mesh/tetrahedralize.hpp"
+#include "physics/mapping.hpp"
 #include "scene/loader.hpp"
 
 namespace tactus::scene::detail {
@@ -338,6 +339,46 @@ PrescribedMotion read_prescribed(Reader& f, const Body& b, std::size_t index) {
                            "prescribed motion");
 }
 
+/// bodies.<name>.mapped[i]: a surface carried by the body's tetrahedra, mapped at load time.
+MappedSurface read_mapped_surface(Reader& f, const Body& b, std::size_t index) {
+  MappedSurface s;
+  s.name = f.string("name", fmt::format("mapped{}", index));
+  s.role = f.choice<MappedRole>("role",
+                                {{"visual", MappedRole::visual},
+                                 {"collision", MappedRole::collision},
+                                 {"embedded", MappedRole::embedded}},
+                                std::nullopt);
+  LoadedMesh m = read_mesh_key(f, false);
+  s.source = m.source;
+  if (m.surface && !m.surface->triangles.empty()) {
+    s.mesh = std::move(*m.surface);
+  } else if (m.volume && !m.volume->tets.empty()) {
+    try {
+      s.mesh = mesh::extract_boundary(*m.volume).surface;
+    } catch (const InputError& e) {
+      f.fail("mesh", std::string("invalid tetrahedral mesh: ") + e.what());
+    }
+  } else {
+    f.fail("mesh", m.source + " holds no triangles");
+  }
+  // Vertices may sit on the body's boundary up to round-off and a mesher's tolerance; the
+  // default allows 0.1% of the body's size.
+  const double tolerance = f.number("tolerance", 1e-3 * b.volume->bounds().size().norm(), Range::non_negative());
+  f.finish();
+  auto mapping = std::make_shared<physics::BarycentricMapping>(*b.volume, s.mesh.vertices);
+  if (mapping->max_outside_distance() > tolerance)
+    for (std::size_t v = 0; v < s.mesh.vertices.size(); ++v)
+      if (mapping->outside_distance(v) > tolerance) {
+        const Vec3& p = s.mesh.vertices[v];
+        f.fail("mesh", fmt::format("mapped surface '{}' ({}): vertex {} at ({:g}, {:g}, {:g}) m lies {:g} m outside "
+                                   "body '{}''s tetrahedra (tolerance {:g} m; set 'tolerance' or move the mesh)",
+                                   s.name, s.source, v, p.x(), p.y(), p.z(), mapping->outside_distance(v), b.name,
+                                   tolerance));
+      }
+  s.mapping = std::move(mapping);
+  return s;
+}
+
 Probe read_probe(Reader& f, std::size_t index) {
   Probe p;
   p.name = f.string("name", fmt::format("probe{}", index));
@@ -408,6 +449,15 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
     if (!probe_names.insert(p.name).second) f.fail("name", "duplicate probe name '" + p.name + "'");
     b.probes.push_back(std::move(p));
   }
+  index = 0;
+  for (Reader& f : r.table_array("mapped")) {
+    if (!b.volumetric())
+      f.fail_here("mapped surfaces ride on tetrahedra; a '" + std::string(to_string(b.kind)) + "' body has none");
+    MappedSurface s = read_mapped_surface(f, b, index++);
+    for (const auto& other : b.mapped)
+      if (other.name == s.name) f.fail("name", "duplicate mapped surface name '" + s.name + "'");
+    b.mapped.push_back(std::move(s));
+  }
   b.load_steps = r.integer("load_steps", 1, 1, 100000);
 
   b.integrator = r.choice<Integrator>("integrator",
@@ -425,6 +475,15 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
   b.mass_matrix = r.choice<MassMatrix>("mass_matrix",
                                        {{"lumped", MassMatrix::lumped}, {"consistent", MassMatrix::consistent}},
                                        MassMatrix::lumped);
+  if (b.mass_matrix == MassMatrix::consistent) {
+    if (b.kind != BodyKind::fem) r.fail("mass_matrix", "a consistent mass is for 'fem' bodies; spring networks carry lumped masses");
+    if (b.integrator != Integrator::implicit_euler && b.integrator != Integrator::static_solve)
+      r.fail("mass_matrix", "a consistent mass needs integrator = \"implicit_euler\" (or \"static\"): explicit"
+                            " integrators divide by a lumped mass");
+  }
+  b.newton_iterations = r.integer("newton_iterations", 1, 1, 100);
+  if (b.newton_iterations > 1 && b.integrator != Integrator::implicit_euler)
+    r.fail("newton_iterations", "only implicit_euler steps iterate Newton; remove the key or use implicit_euler");
 
   if (b.kind == BodyKind::surface_mass_spring) {
     b.thickness = r.number("thickness", 0.001, Range::open_closed(0.0, 1.0));
@@ -443,6 +502,7 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
       b.springs.push_back(it->second);
     }
   }
+  b.nodules = read_nodules(r, b);
   r.finish();
   return b;
 }

@@ -73,6 +73,15 @@ const char* to_string(Integrator i) {
 const char* to_string(LinearSolver s) { return s == LinearSolver::cg ? "cg" : "cholesky"; }
 const char* to_string(MassMatrix m) { return m == MassMatrix::lumped ? "lumped" : "consistent"; }
 
+const char* to_string(MappedRole r) {
+  switch (r) {
+    case MappedRole::visual: return "visual";
+    case MappedRole::collision: return "collision";
+    case MappedRole::embedded: return "embedded";
+  }
+  return "?";
+}
+
 const char* to_string(SpringType s) {
   switch (s) {
     case SpringType::longitudinal: return "longitudinal";

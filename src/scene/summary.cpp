@@ -71,10 +71,14 @@ std::string body_lines(const Model& model, const Body& b) {
                      p.nodes.size(), p.displacement.x(), p.displacement.y(), p.displacement.z());
   for (const Probe& p : b.probes)
     s += fmt::format("    probe '{}' at ({:g}, {:g}, {:g}) m\n", p.name, p.position.x(), p.position.y(), p.position.z());
+  for (const MappedSurface& m : b.mapped)
+    s += fmt::format("    mapped {} surface '{}' ({}): {} vertices, {} triangles\n", to_string(m.role), m.name, m.source,
+                     m.mesh.vertices.size(), m.mesh.triangles.size());
   if (b.kind != BodyKind::rigid) {
     s += fmt::format("    stepping: {}, dt {} s, solver {} (tolerance {:g}, at most {} iterations), {} mass",
                      to_string(b.integrator), g(b.time_step), to_string(b.solver), b.solver_tolerance,
                      b.solver_max_iterations, to_string(b.mass_matrix));
+    if (b.newton_iterations > 1) s += fmt::format(", {} Newton iterations", b.newton_iterations);
     if (!b.springs.empty()) {
       s += ", springs";
       for (const SpringType t : b.springs) s += std::string(" ") + to_string(t);

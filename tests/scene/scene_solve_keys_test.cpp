@@ -92,5 +92,123 @@ TEST(SceneSolveKeys, Errors) {
   EXPECT_NE(ramp.find("ramp_time"), std::string::npos) << ramp;
 }
 
+/// kBlock with `keys` added to the body's table.
+std::string pad_with(const std::string& keys) {
+  std::string scene = kBlock;
+  const std::string anchor = "load_steps = 4\n";
+  return scene.insert(scene.find(anchor) + anchor.size(), keys);
+}
+
+std::string body_error(const std::string& keys) {
+  try {
+    parse_scene(pad_with(keys), "body.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(SceneBodyKeys, NewtonIterationsAndConsistentMassAreRead) {
+  const Body plain = parse_scene(pad_with(""), "body.toml").bodies.at(0);
+  EXPECT_EQ(plain.newton_iterations, 1);
+  EXPECT_EQ(plain.mass_matrix, MassMatrix::lumped);
+  const Model m = parse_scene(pad_with("newton_iterations = 3\nmass_matrix = \"consistent\"\n"), "body.toml");
+  EXPECT_EQ(m.bodies.at(0).newton_iterations, 3);
+  EXPECT_EQ(m.bodies.at(0).mass_matrix, MassMatrix::consistent);
+  const std::string summary = summarize(m);
+  EXPECT_NE(summary.find("consistent mass, 3 Newton iterations"), std::string::npos) << summary;
+}
+
+TEST(SceneBodyKeys, NewtonIterationsAndConsistentMassErrors) {
+  for (const char* bad : {"newton_iterations = 0\n", "newton_iterations = 101\n", "newton_iterations = 2.5\n"}) {
+    const std::string e = body_error(bad);
+    EXPECT_NE(e.find("body.toml:"), std::string::npos) << e;
+    EXPECT_NE(e.find("newton_iterations"), std::string::npos) << e;
+  }
+  EXPECT_NE(body_error("integrator = \"symplectic_euler\"\nnewton_iterations = 3\n").find("only implicit_euler"),
+            std::string::npos);
+  const std::string explicit_mass = body_error("integrator = \"rk4\"\nmass_matrix = \"consistent\"\n");
+  EXPECT_NE(explicit_mass.find("mass_matrix"), std::string::npos) << explicit_mass;
+  EXPECT_NE(explicit_mass.find("explicit integrators divide by a lumped mass"), std::string::npos) << explicit_mass;
+  std::string springs = kBlock;
+  springs.replace(springs.find("kind = \"fem\""), 12, "kind = \"tet_mass_spring\"\nmass_matrix = \"consistent\"");
+  try {
+    parse_scene(springs, "body.toml");
+    ADD_FAILURE() << "a spring body took a consistent mass";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("for 'fem' bodies"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SceneBodyKeys, MappedSurfacesAreReadAndMappedIntoTheTetrahedra) {
+  // The pad spans [-0.05, 0.05] x [-0.01, 0.01]^2: a finer box skin on its boundary, a vessel
+  // through it along z and a fascia sheet across it.
+  const Model m = parse_scene(pad_with(R"(
+[[bodies.pad.mapped]]
+name = "skin"
+role = "visual"
+mesh = { generator = "box", size = [0.1, 0.02, 0.02], cells = 3 }
+
+[[bodies.pad.mapped]]
+name = "vessel"
+role = "embedded"
+mesh = { generator = "cylinder", radius = 0.003, height = 0.016, segments = 8, rings = 4, translate = [0.02, 0, -0.008] }
+
+[[bodies.pad.mapped]]
+role = "collision"
+mesh = { generator = "grid_plate", size = [0.08, 0.015], cells = 4 }
+)"),
+                              "mapped.toml");
+  const Body& b = m.bodies.at(0);
+  ASSERT_EQ(b.mapped.size(), 3u);
+  EXPECT_EQ(b.mapped[0].name, "skin");
+  EXPECT_EQ(b.mapped[0].role, MappedRole::visual);
+  EXPECT_EQ(b.mapped[1].role, MappedRole::embedded);
+  EXPECT_EQ(b.mapped[2].name, "mapped2");
+  EXPECT_EQ(b.mapped[2].role, MappedRole::collision);
+  VecX rest(3 * static_cast<Eigen::Index>(b.volume->vertices.size()));
+  for (std::size_t i = 0; i < b.volume->vertices.size(); ++i) rest.segment<3>(3 * static_cast<Eigen::Index>(i)) = b.volume->vertices[i];
+  for (const MappedSurface& s : b.mapped) {
+    ASSERT_TRUE(s.mapping);
+    ASSERT_EQ(s.mapping->point_count(), s.mesh.vertices.size());
+    EXPECT_FALSE(s.mesh.triangles.empty());
+    // At rest the mapping reproduces every vertex (barycentric weights sum to one).
+    std::vector<Vec3> at_rest;
+    s.mapping->apply(rest, at_rest);
+    for (std::size_t v = 0; v < at_rest.size(); ++v)
+      ASSERT_LT((at_rest[v] - s.mesh.vertices[v]).norm(), 1e-12) << s.name << " vertex " << v;
+  }
+  const std::string summary = summarize(m);
+  EXPECT_NE(summary.find("mapped embedded surface 'vessel'"), std::string::npos) << summary;
+}
+
+TEST(SceneBodyKeys, MappedSurfaceErrors) {
+  // A sphere of radius 0.02 reaches 0.01 m beyond the pad's faces.
+  const std::string outside = body_error(R"(
+[[bodies.pad.mapped]]
+name = "ball"
+role = "visual"
+mesh = { generator = "sphere", radius = 0.02, subdivisions = 1 }
+)");
+  EXPECT_NE(outside.find("body.toml:"), std::string::npos) << outside;
+  EXPECT_NE(outside.find("mapped surface 'ball'"), std::string::npos) << outside;
+  EXPECT_NE(outside.find("outside body 'pad''s tetrahedra"), std::string::npos) << outside;
+  // A generous tolerance accepts it.
+  EXPECT_NO_THROW(parse_scene(pad_with("[[bodies.pad.mapped]]\nrole = \"visual\"\ntolerance = 0.02\n"
+                                       "mesh = { generator = \"sphere\", radius = 0.02, subdivisions = 1 }\n"),
+                              "body.toml"));
+  EXPECT_NE(body_error("[[bodies.pad.mapped]]\nrole = \"skin\"\nmesh = { generator = \"sphere\", radius = 0.005 }\n")
+                .find("role"),
+            std::string::npos);
+  EXPECT_NE(body_error("[[bodies.pad.mapped]]\nmesh = { generator = \"sphere\", radius = 0.005 }\n").find("role"),
+            std::string::npos);
+  EXPECT_NE(body_error("[[bodies.pad.mapped]]\nrole = \"visual\"\n").find("mesh"), std::string::npos);
+  EXPECT_NE(body_error("[[bodies.pad.mapped]]\nname = \"a\"\nrole = \"visual\"\nmesh = { generator = \"sphere\", "
+                       "radius = 0.005 }\n[[bodies.pad.mapped]]\nname = \"a\"\nrole = \"embedded\"\n"
+                       "mesh = { generator = \"sphere\", radius = 0.004 }\n")
+                .find("duplicate mapped surface name 'a'"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace tactus::scene

@@ -57,8 +57,6 @@ void FemMaterial::validate() const {
     sum += t.weight;
   }
   if (sum >= 1.0) fail("Prony weights must sum below 1 (a positive long-term modulus), got " + std::to_string(sum));
-  if (!prony.empty() && law != FemLaw::linear && law != FemLaw::corotational)
-    fail("Prony relaxation is available for the linear and corotational laws, not " + std::string(to_string(law)));
 }
 
 LawParams LawParams::from(const FemMaterial& m) {

@@ -32,10 +32,11 @@ struct FemMaterial {
   std::optional<double> c10, c01, bulk_modulus;
   double rayleigh_mass = 0.0;       ///< alpha [1/s]: D = alpha M + beta K
   double rayleigh_stiffness = 0.0;  ///< beta [s]
-  /// Shear relaxation (linear and corotational laws: small-strain / corotated strain).
+  /// Relaxation of the stress: the small-strain (linear), corotated (corotational) or second
+  /// Piola-Kirchhoff stress (hyperelastic laws; its isochoric part Dev S unless the bulk relaxes).
   std::vector<PronyTerm> prony;
   /// Relax the bulk response with the same weights too (E(t) relaxes at constant nu);
-  /// otherwise only the deviatoric stress relaxes.
+  /// otherwise only the deviatoric (hyperelastic: isochoric) stress relaxes.
   bool prony_relaxes_bulk = false;
   /// Hyperelastic laws: below this volume ratio J the volumetric functions continue as
   /// their second-order Taylor expansion, so inverted elements get finite, restoring forces.

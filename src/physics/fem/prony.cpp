@@ -23,6 +23,8 @@ void store_sym(const Mat3& m, std::span<double> s) {
 
 }  // namespace
 
+Mat3 prony_reference(std::span<const double> q) { return load_sym(q.subspan(0, 6)); }
+
 Mat3 prony_offset(const std::vector<PronyTerm>& terms, std::span<const double> q) {
   const Mat3 ref = load_sym(q.subspan(0, 6));
   Mat3 out = Mat3::Zero();

@@ -118,8 +118,8 @@ struct StoreColumns {
 
 }  // namespace
 
-TetFem::TetFem(const mesh::TetMesh& mesh, const FemMaterial& material)
-    : material_(material), law_(LawParams::from(material)) {
+TetFem::TetFem(const mesh::TetMesh& mesh, const FemMaterial& material, FemMass mass)
+    : material_(material), law_(LawParams::from(material)), mass_kind_(mass) {
   material_.validate();
   const auto n = static_cast<Eigen::Index>(mesh.vertices.size());
   rest_.resize(3 * n);
@@ -158,8 +158,18 @@ TetFem::TetFem(const mesh::TetMesh& mesh, const FemMaterial& material)
   // Vertices no tet uses get the mean nodal mass: no force acts on them, and explicit
   // integrators must not divide by zero.
   const double mean = n > 0 ? mass_.sum() / static_cast<double>(3 * n) : 0.0;
+  if (mass_kind_ == FemMass::consistent) {
+    // M_e in at node a is rho V/20 (in_a + sum_b in_b): a fifth of the lumped mass on the
+    // node's own value plus each element's share of its nodes' sum. Unused vertices keep
+    // their lumped mass, so M stays positive definite.
+    consistent_own_ = 0.2 * mass_;
+    mass_diagonal_ = 0.4 * mass_;
+    for (Eigen::Index i = 0; i < mass_.size(); ++i)
+      if (!(mass_[i] > 0.0)) consistent_own_[i] = mass_diagonal_[i] = mean > 0.0 ? mean : 1.0;
+  }
   for (Eigen::Index i = 0; i < mass_.size(); ++i)
     if (!(mass_[i] > 0.0)) mass_[i] = mean > 0.0 ? mean : 1.0;
+  if (mass_kind_ == FemMass::lumped) mass_diagonal_ = mass_;
   q_stride_ = prony_size(material_.prony.size());
   node_start_.assign(static_cast<std::size_t>(n) + 1, 0);
   for (const auto& el : elements_)
@@ -326,6 +336,8 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
     Mat3 P;
     if (hyper) {
       hyperelastic_stress_tangent(law_, F, P, nullptr);
+      // Branch stresses are second Piola-Kirchhoff stresses: P = F (S0 + offset).
+      if (viscous) P += F * prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
       if (damped) {
         const Mat3& R = c.rotation[e];
         P += R * (beta * hooke_of_gradient(law_.lambda, law_.mu, R.transpose() * gradient_of(v, el)));
@@ -342,7 +354,7 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
     for (int a = 0; a < 4; ++a) Eigen::Map<Vec3>(out[static_cast<std::size_t>(a)].data()) = -(P * el.grad.col(a));
   };
   const bool mass_damped = material_.rayleigh_mass > 0.0 && v.size() == x.size();
-  accumulate(c, mass_damped ? -material_.rayleigh_mass : 0.0, mass_damped ? v : x, f,
+  accumulate(c, mass_damped ? nodal_mass_scale(-material_.rayleigh_mass) : 0.0, mass_damped ? v : x, f,
              [&](std::size_t begin, std::size_t end, auto sink) {
                Columns out;
                for (std::size_t e = begin; e < end; ++e) {
@@ -350,6 +362,7 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
                  sink(e, out);
                }
              });
+  if (mass_damped) add_consistent_mass(-material_.rayleigh_mass, v, f);
 }
 
 void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
@@ -399,24 +412,34 @@ void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, cons
     }
   };
   const bool mass_damped = material_.rayleigh_mass > 0.0 && v.size() == x.size();
-  accumulate(c, mass_damped ? -material_.rayleigh_mass : 0.0, mass_damped ? v : x, f, kernel);
+  accumulate(c, mass_damped ? nodal_mass_scale(-material_.rayleigh_mass) : 0.0, mass_damped ? v : x, f, kernel);
+  if (mass_damped) add_consistent_mass(-material_.rayleigh_mass, v, f);
   if (fresh) {
     c.rotation_x = x;
     c.rotations_valid = true;
   }
 }
 
-void TetFem::linearize(const VecX& x, const VecX&, const VecX&, Scratch& s) const {
+void TetFem::linearize(const VecX& x, const VecX&, const VecX& q, Scratch& s) const {
   Cache& c = cache(s);
   if (law_.law == FemLaw::linear) return;
   if (law_.law == FemLaw::corotational || material_.rayleigh_stiffness > 0.0) ensure_rotations(x, c);
   if (law_.law == FemLaw::corotational) return;
+  const bool viscous = q_stride_ > 0 && static_cast<std::size_t>(q.size()) == internal_size();
   c.tangent.resize(elements_.size());
   parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
     Mat3 P;
     for (std::size_t e = begin; e < end; ++e) {
       Mat9& A = c.tangent[e];
       hyperelastic_stress_tangent(law_, gradient_of(x, elements_[e]), P, &A);
+      if (viscous) {
+        // d(F O)/dF for the branches' constant offset O: dP_ij/dF_kl = delta_ik O_lj (a
+        // geometric stiffness, like the one of the elastic stress).
+        const Mat3 O = prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            for (int l = 0; l < 3; ++l) A(i + 3 * j, i + 3 * l) += O(l, j);
+      }
       if (material_.project_tangent) project_psd(A);
     }
   }, kElementGrain);
@@ -475,16 +498,57 @@ void TetFem::add_system_product(double a, double b, double c_stiff, const VecX& 
   const bool hyper = law_.law != FemLaw::linear && law_.law != FemLaw::corotational;
   const bool elements = hyper ? (rest_scale != 0.0 || c_stiff != 0.0) : rest_scale + c_stiff != 0.0;
   if (!elements) {
-    if (mass_scale != 0.0) out += mass_scale * mass_.cwiseProduct(in);
+    if (mass_scale != 0.0) add_mass_product(mass_scale, in, out);
     return;
   }
-  accumulate(c, mass_scale, in, out, [&](std::size_t begin, std::size_t end, auto sink) {
+  accumulate(c, nodal_mass_scale(mass_scale), in, out, [&](std::size_t begin, std::size_t end, auto sink) {
     switch (law_.law) {
       case FemLaw::linear: rest_stiffness_columns<false>(in, rest_scale + c_stiff, begin, end, c, sink); break;
       case FemLaw::corotational: rest_stiffness_columns<true>(in, rest_scale + c_stiff, begin, end, c, sink); break;
       default: tangent_columns(in, c_stiff, rest_scale, begin, end, c, sink); break;
     }
   });
+  if (mass_scale != 0.0) add_consistent_mass(mass_scale, in, out);
+}
+
+void TetFem::add_consistent_mass(double scale, const VecX& in, VecX& out) const {
+  if (mass_kind_ != FemMass::consistent) return;
+  // Serial, in element order: the sums are the same whatever the thread count.
+  out += scale * consistent_own_.cwiseProduct(in);
+  const double per_volume = scale * material_.density / 20.0;
+  for (const TetElement& el : elements_) {
+    const auto n = node_offsets(el);
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t a = 0; a < 4; ++a) sum += in.segment<3>(n[a]);
+    sum *= per_volume * el.volume;
+    for (std::size_t a = 0; a < 4; ++a) out.segment<3>(n[a]) += sum;
+  }
+}
+
+void TetFem::add_mass_product(double scale, const VecX& in, VecX& out) const {
+  if (mass_kind_ == FemMass::lumped)
+    out += scale * mass_.cwiseProduct(in);
+  else
+    add_consistent_mass(scale, in, out);
+}
+
+void TetFem::add_mass_triplets(double scale, std::vector<Triplet>& out) const {
+  if (mass_kind_ == FemMass::lumped) {
+    ForceModel::add_mass_triplets(scale, out);
+    return;
+  }
+  // rho V/20 (1 + delta_ab) on the three diagonals of each node pair's block; the vertices
+  // no element uses keep their lumped mass.
+  out.reserve(out.size() + 48 * elements_.size() + static_cast<std::size_t>(mass_.size()));
+  for (const TetElement& el : elements_) {
+    const double m = scale * material_.density * el.volume / 20.0;
+    for (std::size_t a = 0; a < 4; ++a)
+      for (std::size_t b = 0; b < 4; ++b)
+        for (int i = 0; i < 3; ++i)
+          out.emplace_back(3 * el.nodes[a] + i, 3 * el.nodes[b] + i, a == b ? 2.0 * m : m);
+  }
+  for (Eigen::Index i = 0; i < mass_.size(); ++i)
+    if (consistent_own_[i] == mass_diagonal_[i]) out.emplace_back(i, i, scale * mass_diagonal_[i]);
 }
 
 void TetFem::add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const {
@@ -523,7 +587,7 @@ void TetFem::add_diagonal(double a, double b, VecX& out, const Scratch& s) const
       }
     }
   }
-  if (b != 0.0 && material_.rayleigh_mass > 0.0) out += (b * material_.rayleigh_mass) * mass_;
+  if (b != 0.0 && material_.rayleigh_mass > 0.0) out += (b * material_.rayleigh_mass) * mass_diagonal_;
 }
 
 const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, double c_stiffness, Scratch& s) const {
@@ -533,7 +597,7 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
   const double stiffness = c_stiffness + b_damping * material_.rayleigh_stiffness;
   const double mass = a_mass + b_damping * material_.rayleigh_mass;
   for (std::size_t i = 0; i < K.diagonal.size(); ++i)
-    K.diagonal[i] = (mass * mass_.segment<3>(3 * static_cast<Eigen::Index>(i))).asDiagonal();
+    K.diagonal[i] = (mass * mass_diagonal_.segment<3>(3 * static_cast<Eigen::Index>(i))).asDiagonal();
   std::fill(K.upper.begin(), K.upper.end(), Mat3::Zero());
   // Element block (a, b) of R K0 R^T: lambda r_a r_b^T + mu r_b r_a^T + mu (r_a . r_b) I with
   // r = sqrt(V) R g (the columns of the rotated gradients). Computed from local copies into a
@@ -547,9 +611,19 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
     for (int i = 0; i < 3; ++i) block[4 * i] += diagonal;
     for (int k = 0; k < 9; ++k) out[k] += block[k];
   };
+  const bool consistent = mass_kind_ == FemMass::consistent && mass != 0.0;
   double r[4][3];
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     const TetElement& el = elements_[e];
+    if (consistent) {
+      // The consistent mass's off-diagonal blocks rho V/20 I (the diagonal ones are in mass_diagonal_).
+      const double m = mass * material_.density * el.volume / 20.0;
+      for (std::size_t p = 0; p < kPairs.size(); ++p) {
+        const std::int32_t index = pair_block_[e][p];
+        double* block = K.upper[static_cast<std::size_t>(index >= 0 ? index : -1 - index)].data();
+        for (int i = 0; i < 3; ++i) block[4 * i] += m;
+      }
+    }
     const double* g = rotated() ? cc.rotated_grad[e].data() : el.sgrad.data();  // column a at g + 3 a
     for (int k = 0; k < 12; ++k) r[k / 3][k % 3] = g[k];
     for (std::size_t n = 0; n < 4; ++n) add_block(r[n], r[n], K.diagonal[static_cast<std::size_t>(el.nodes[n])].data());
@@ -605,8 +679,7 @@ void TetFem::add_triplets(double a, double b, std::vector<Triplet>& out, const S
             out.emplace_back(3 * el.nodes[static_cast<std::size_t>(rn)] + i, 3 * el.nodes[static_cast<std::size_t>(cn)] + j,
                              k(3 * rn + i, 3 * cn + j));
   }
-  if (b != 0.0 && material_.rayleigh_mass > 0.0)
-    for (Eigen::Index i = 0; i < mass_.size(); ++i) out.emplace_back(i, i, b * material_.rayleigh_mass * mass_[i]);
+  if (b != 0.0 && material_.rayleigh_mass > 0.0) add_mass_triplets(b * material_.rayleigh_mass, out);
 }
 
 void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) const {
@@ -617,12 +690,37 @@ void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) cons
   parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t e = begin; e < end; ++e) {
       const Mat3 F = gradient_of(x, elements_[e]);
+      const std::span<double> qe(q.data() + e * q_stride_, q_stride_);
+      if (hyperelastic()) {
+        // Finite strain (Simo 1987; Holzapfel 2000 §6.10): the branches relax the
+        // instantaneous second Piola-Kirchhoff stress S0 = F^-1 P0(F), all of it or its
+        // isochoric part Dev S0 = S0 - (S0 : C) C^-1 / 3. The reference frame makes the
+        // history objective. A flat or inverted element (J <= 0) has no F^-1: its branches
+        // only decay this step.
+        const double J = F.determinant();
+        if (!(J > 1e-9)) {
+          prony_update(material_.prony, prony_reference(qe), dt, qe);
+          continue;
+        }
+        Mat3 P;
+        hyperelastic_stress_tangent(law_, F, P, nullptr);
+        const Mat3 F_inv = F.inverse();
+        Mat3 S0 = F_inv * P;
+        S0 = 0.5 * (S0 + S0.transpose());  // symmetric in exact arithmetic
+        if (!material_.prony_relaxes_bulk) {
+          const Mat3 C = F.transpose() * F;
+          const Mat3 C_inv = F_inv * F_inv.transpose();
+          S0 -= ((S0.cwiseProduct(C)).sum() / 3.0) * C_inv;
+        }
+        prony_update(material_.prony, S0, dt, qe);
+        continue;
+      }
       Mat3 grad = corot ? Mat3(c.rotation[e].transpose() * F) : F;
       grad.diagonal().array() -= 1.0;
       const Mat3 eps = 0.5 * (grad + grad.transpose());
       const Mat3 sbar =
           material_.prony_relaxes_bulk ? hooke(law_.lambda, law_.mu, eps) : Mat3(2.0 * law_.mu * deviator(eps));
-      prony_update(material_.prony, sbar, dt, std::span<double>(q.data() + e * q_stride_, q_stride_));
+      prony_update(material_.prony, sbar, dt, qe);
     }
   }, kElementGrain);
 }

@@ -1,6 +1,6 @@
 #pragma once
 // Linear tetrahedral (P1) finite elements as a ForceModel: one material over a TetMesh,
-// lumped mass, Rayleigh damping and optional Prony relaxation.
+// lumped or consistent mass, Rayleigh damping and optional Prony relaxation.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -20,15 +20,23 @@ struct TetElement {
   double volume = 0.0;                ///< rest volume [m^3]
 };
 
+/// Lumped: ρV/4 on each node of an element. Consistent: the P1 mass matrix
+/// M_e = ρV/20 (1 + δ_ab) I3 over the element's node pairs (a, b).
+enum class FemMass { lumped, consistent };
+
 class TetFem final : public ForceModel {
  public:
   /// Throws InputError for an invalid material, an out-of-range node index, or an inverted
   /// or zero-volume rest element (named by its index).
-  TetFem(const mesh::TetMesh& mesh, const FemMaterial& material);
+  TetFem(const mesh::TetMesh& mesh, const FemMaterial& material, FemMass mass = FemMass::lumped);
 
   [[nodiscard]] std::size_t node_count() const override { return static_cast<std::size_t>(rest_.size() / 3); }
   [[nodiscard]] const VecX& rest_positions() const override { return rest_; }
   [[nodiscard]] const VecX& lumped_mass() const override { return mass_; }
+  [[nodiscard]] bool mass_is_diagonal() const override { return mass_kind_ == FemMass::lumped; }
+  void add_mass_product(double scale, const VecX& in, VecX& out) const override;
+  void add_mass_triplets(double scale, std::vector<Triplet>& out) const override;
+  [[nodiscard]] FemMass mass_kind() const { return mass_kind_; }
   [[nodiscard]] std::size_t internal_size() const override { return elements_.size() * q_stride_; }
   [[nodiscard]] std::unique_ptr<Scratch> make_scratch() const override;
 
@@ -37,7 +45,7 @@ class TetFem final : public ForceModel {
   /// Linear: K0. Corotational: R K0 R^T per element (the usual corotational stiffness,
   /// without the derivative of R). Hyperelastic: the (projected) tangent at the linearization.
   void add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const override;
-  /// D = alpha M + beta R K0 R^T (R = I for the linear law): Rayleigh damping on the rotated
+  /// D = alpha M + beta R K0 R^T (R = I for the linear law, M the body's mass matrix): Rayleigh damping on the rotated
   /// rest stiffness, positive semi-definite for every law and state.
   void add_damping_product(const VecX& dv, VecX& out, const Scratch& s) const override;
   /// One element pass: with D = alpha M + beta K_rest, a·M + b·D + c·K is
@@ -90,11 +98,21 @@ class TetFem final : public ForceModel {
   void gather(const Cache& c, double mass_scale, const VecX& in, VecX& out) const;
   void element_matrix(std::size_t e, double a, double b, const Cache& c, Eigen::Matrix<double, 12, 12>& k) const;
   [[nodiscard]] bool rotated() const { return law_.law != FemLaw::linear; }
+  [[nodiscard]] bool hyperelastic() const { return law_.law != FemLaw::linear && law_.law != FemLaw::corotational; }
+  /// The share of a mass term accumulate() adds node by node: all of it for the lumped mass;
+  /// none for the consistent one, which add_mass_product() adds after the element pass.
+  [[nodiscard]] double nodal_mass_scale(double scale) const { return mass_kind_ == FemMass::lumped ? scale : 0.0; }
+  /// out += scale·M·in for the consistent mass only (nothing for the lumped one).
+  void add_consistent_mass(double scale, const VecX& in, VecX& out) const;
 
   FemMaterial material_;
   LawParams law_;
+  FemMass mass_kind_ = FemMass::lumped;
   std::vector<TetElement> elements_;
   VecX rest_, mass_;
+  /// The mass matrix's diagonal (the lumped mass, or 2/5 of it for the consistent one) and,
+  /// consistent mass only, the part of M in that add_consistent_mass applies node by node.
+  VecX mass_diagonal_, consistent_own_;
   std::size_t q_stride_ = 0;
   /// Node -> element columns (4 e + local index), in element order: node_slot_ from
   /// node_start_[i] to node_start_[i + 1].

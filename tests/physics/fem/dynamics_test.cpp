@@ -206,5 +206,140 @@ TEST(FemViscoelastic, ShearRelaxationFollowsATwoTermPronySeries) {
   EXPECT_NEAR(r.front(), scale, 1e-9 * scale);
 }
 
+const std::vector<FemLaw>& hyperelastic_laws() {
+  static const std::vector<FemLaw> laws{FemLaw::stvk, FemLaw::neo_hookean, FemLaw::mooney_rivlin};
+  return laws;
+}
+
+TEST(FemViscoelastic, HyperelasticLawsRelaxAsTheStandardLinearSolidAtSmallStrain) {
+  // The same held uniaxial-stress step strain as the linear test, at eps = 1e-4 so that every
+  // law's instantaneous response is Hooke's to O(eps) (bound 1e-3 of the force); the
+  // relaxation then follows E(t) = E0 (g_inf + g exp(-t/tau)) with the Simo-Hughes bound above.
+  const double E0 = 1e5, nu = 0.3, g = 0.6, tau = 0.1, dt = 1e-3, eps = 1e-4, L = 0.01;
+  for (FemLaw law : hyperelastic_laws()) {
+    FemMaterial mat = material(law, E0, nu);
+    mat.prony = {{g, tau}};
+    mat.prony_relaxes_bulk = true;
+    const auto r = held_block_reaction(mat, Vec3(1 + eps, 1 - nu * eps, 1 - nu * eps).asDiagonal(), dt, 500, 0);
+    const double scale = E0 * eps * L * L;
+    EXPECT_NEAR(r.front(), scale, 1e-3 * scale) << to_string(law);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      const double t = static_cast<double>(i) * dt;
+      worst = std::max(worst, std::abs(r[i] - scale * (1 - g + g * std::exp(-t / tau))) / scale);
+    }
+    EXPECT_LT(worst, 0.6 * g * dt / tau + 1e-3) << to_string(law);
+  }
+}
+
+TEST(FemViscoelastic, EveryLawRelaxesByGInfinityAtLargeStrain) {
+  // A held finite deformation (30% stretch, shear and a rotation): the branches relax the
+  // whole instantaneous stress, so after 25 tau (two terms, e^-25 ~ 1e-11 left) every nodal
+  // force is g_inf times its instantaneous value. Bound 1e-9 of the largest force.
+  const double g1 = 0.3, g2 = 0.45, g_inf = 1 - g1 - g2;
+  Mat3 F = fem_test::rotation(0.5, Vec3(1, 1, 0)) * Vec3(1.3, 0.85, 0.95).asDiagonal();
+  F(0, 2) += 0.2;
+  for (FemLaw law : fem_test::all_laws()) {
+    FemMaterial mat = material(law, 1e5, 0.4);
+    mat.prony = {{g1, 0.02}, {g2, 0.1}};
+    mat.prony_relaxes_bulk = true;
+    const mesh::TetMesh m = mesh::box_volume(Vec3(0.01, 0.01, 0.01), 2, 2, 2);
+    Body b;
+    b.model = std::make_shared<TetFem>(m, mat);
+    b.fixed_dofs.assign(3 * m.vertices.size(), 1);
+    BodyState s = make_state(b);
+    s.x = fem_test::deformed(s.x, F);
+    VecX instantaneous, relaxed;
+    b.model->forces(s.x, s.v, s.q, instantaneous, *s.model_scratch);
+    for (int i = 0; i < 250; ++i) step(b, s, 0.01);
+    b.model->forces(s.x, s.v, s.q, relaxed, *s.model_scratch);
+    EXPECT_LT((relaxed - g_inf * instantaneous).cwiseAbs().maxCoeff(), 1e-9 * instantaneous.cwiseAbs().maxCoeff())
+        << to_string(law);
+  }
+}
+
+TEST(FemViscoelastic, HyperelasticTangentIncludesTheBranchStress) {
+  // With branch stresses O the force is -V F (S0 + O) g_a; its exact (unprojected) tangent
+  // must match central differences of the force (step 1e-7: error O(h^2) ~ 1e-12 of K dx,
+  // round-off ~ 1e-9; bound 1e-6).
+  const mesh::TetMesh m = mesh::box_volume(Vec3(0.02, 0.02, 0.02), 1, 1, 1);
+  for (FemLaw law : hyperelastic_laws()) {
+    FemMaterial mat = material(law, 1e4, 0.35);
+    mat.prony = {{0.4, 0.05}};
+    mat.project_tangent = false;
+    const TetFem fem(m, mat);
+    auto s = fem.make_scratch();
+    VecX x = fem_test::deformed(fem.rest_positions(), fem_test::rotation(0.3, Vec3(0, 1, 1)) *
+                                                        Vec3(1.15, 0.9, 1.05).asDiagonal());
+    // Branch history of a real relaxation: one step from rest to x.
+    VecX q = VecX::Zero(static_cast<Eigen::Index>(fem.internal_size()));
+    fem.update_internal(x, 0.01, q, *s);
+    x = fem_test::deformed(fem.rest_positions(), Vec3(1.05, 1.0, 0.98).asDiagonal());
+    const VecX v = VecX::Zero(x.size());
+    VecX dx(x.size());
+    for (Eigen::Index i = 0; i < dx.size(); ++i) dx[i] = std::sin(1.7 * static_cast<double>(i) + 0.3);
+    fem.linearize(x, v, q, *s);
+    VecX k = VecX::Zero(x.size());
+    fem.add_stiffness_product(dx, k, *s);
+    const double h = 1e-7;
+    VecX fp(x.size()), fm(x.size());
+    fem.forces(x + h * dx, v, q, fp, *s);
+    fem.forces(x - h * dx, v, q, fm, *s);
+    EXPECT_LT((k + (fp - fm) / (2 * h)).norm(), 1e-6 * k.norm()) << to_string(law);
+    // And the offset is really there: the force differs from the elastic one.
+    VecX elastic(x.size()), viscous(x.size());
+    fem.forces(x, v, VecX(), elastic, *s);
+    fem.forces(x, v, q, viscous, *s);
+    EXPECT_GT((viscous - elastic).norm(), 1e-3 * elastic.norm()) << to_string(law);
+  }
+}
+
+TEST(FemViscoelastic, HyperelasticBlockCreepsUnderConstantLoadToTheRelaxedElasticSolution) {
+  // A block clamped at its base carries a constant tensile load on its top face. Quasi-static
+  // creep: equilibrium at each time, then the branches relax over dt. At t = 0+ the block
+  // is the elastic block under the load; as t -> infinity the stress is g_inf S0(F), so the
+  // block is the elastic block under load / g_inf, a solve with no history. Required: a
+  // monotone rise between the two (creep), both ends within 1e-6 of the displacement
+  // (static tolerances 1e-10; e^-40 of the history left).
+  const double g = 0.5, tau = 0.1, size = 0.01;
+  const mesh::TetMesh m = mesh::box_volume(Vec3(size, size, size), 2, 2, 2);
+  const auto top = fem_test::nodes_at(m, 2, size / 2);
+  for (FemLaw law : hyperelastic_laws()) {
+    FemMaterial mat = material(law, 1e4, 0.3);
+    auto tip = [&](const FemMaterial& mm, double load_scale, int steps, std::vector<double>* history) {
+      Body b;
+      b.model = std::make_shared<TetFem>(m, mm);
+      b.fix_nodes(fem_test::nodes_at(m, 2, -size / 2));
+      b.settings.solver = LinearSolver::cholesky;
+      VecX f = VecX::Zero(b.model->rest_positions().size());
+      for (auto n : top) f[3 * n + 2] = load_scale * 0.1 / static_cast<double>(top.size());  // 1 kPa
+      BodyState s = make_state(b);
+      auto lift = [&] {
+        double sum = 0.0;
+        for (auto n : top) sum += s.x[3 * n + 2] - b.model->rest_positions()[3 * n + 2];
+        return sum / static_cast<double>(top.size());
+      };
+      EXPECT_TRUE(solve_static(b, s, f, 50, 1e-10).converged) << to_string(law);
+      if (history) history->push_back(lift());
+      for (int i = 0; i < steps; ++i) {
+        b.model->update_internal(s.x, tau / 10, s.q, *s.model_scratch);
+        EXPECT_TRUE(solve_static(b, s, f, 50, 1e-10).converged) << to_string(law) << " step " << i;
+        if (history) history->push_back(lift());
+      }
+      return lift();
+    };
+    const double instantaneous = tip(mat, 1.0, 0, nullptr);
+    const double relaxed = tip(mat, 1.0 / (1 - g), 0, nullptr);
+    mat.prony = {{g, tau}};
+    mat.prony_relaxes_bulk = true;
+    std::vector<double> history;
+    tip(mat, 1.0, 400, &history);
+    EXPECT_GT(relaxed, 1.5 * instantaneous) << to_string(law);  // the creep is large
+    EXPECT_NEAR(history.front(), instantaneous, 1e-6 * instantaneous) << to_string(law);
+    EXPECT_NEAR(history.back(), relaxed, 1e-6 * relaxed) << to_string(law);
+    for (std::size_t i = 1; i < history.size(); ++i) ASSERT_GE(history[i], history[i - 1] - 1e-12) << to_string(law);
+  }
+}
+
 }  // namespace
 }  // namespace tactus::physics
