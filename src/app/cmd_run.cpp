@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "runtime/devices.hpp"
+#include "runtime/force_map.hpp"
 #include "runtime/recording_csv.hpp"
 #include "runtime/recording_reader.hpp"
 #include "runtime/report.hpp"
@@ -67,6 +68,7 @@ struct RunFlags {
   std::optional<int> priority;
   std::optional<int> cpu;
   std::optional<double> spin_us;
+  std::string force_map;  ///< PNG of the first device's force map (run only)
 };
 
 void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
@@ -107,12 +109,16 @@ int run_with(const RunFlags& f, bool bench) {
     const std::string file = f.device.substr(prefix.size());
     o.replay = runtime::recorded_motion(runtime::read_recording(file), file);
   }
+  o.keep_frames = !f.force_map.empty();
   if (!bench) std::fputs(scene::summarize(scene.model).c_str(), stdout);
   install_interrupt_handlers();
   const runtime::SessionReport report = runtime::run_session(scene.model, o);
   std::fputs(runtime::format_report(report).c_str(), stdout);
   if (o.record) log::info("recording written to {}", o.record->string());
   if (!f.json.empty()) write_text(f.json, runtime::report_json(report));
+  if (!f.force_map.empty())
+    std::fputs(runtime::write_force_map_png(runtime::build_force_map(scene.model, 0, report.frames), f.force_map).c_str(),
+               stdout);
   return 0;
 }
 
@@ -121,6 +127,7 @@ int run_with(const RunFlags& f, bool bench) {
 Action add_run(CLI::App& app) {
   auto f = std::make_shared<RunFlags>();
   add_run_flags(app, *f, false);
+  app.add_option("--force-map", f->force_map, "Write the first device's palpation force map to this PNG");
   return [f] { return run_with(*f, false); };
 }
 

@@ -10,7 +10,8 @@ namespace tactus::runtime {
 Recorder::Recorder(const scene::Model& m, const SessionOptions& o, std::vector<DeviceChannels*> devices,
                    SpscRing<SimulationStep>& steps, SessionReport& report)
     : devices_(std::move(devices)), steps_(steps), report_(report), keep_(o.keep_frames),
-      record_steps_(m.recording.timings), record_events_(m.recording.events) {
+      record_steps_(m.recording.timings), record_events_(m.recording.events),
+      palpation_(PalpationTracker::for_model(m)) {
   if (!o.record) return;
   RecordingHeader h;
   h.scene_name = m.name;
@@ -37,6 +38,7 @@ bool Recorder::drain() {
       ++report_.recorded_frames;
       if (writer_) writer_->append(f);
       if (keep_) report_.frames.push_back(f);
+      if (palpation_) palpation_->add(f);
       auto& dev = report_.devices[f.device];
       dev.max_force_sent = std::max(dev.max_force_sent, f.force.norm());
       dev.contact_frames += f.contact;
@@ -57,6 +59,11 @@ bool Recorder::drain() {
 
 void Recorder::close() {
   drain();
+  if (palpation_) {
+    report_.palpation = palpation_->result();
+    if (writer_ && record_events_)
+      for (const Event& e : feedback_events(*report_.palpation)) writer_->append(e);
+  }
   if (writer_) {
     writer_->close();
     report_.recording_bytes = writer_->bytes_written();

@@ -37,6 +37,7 @@ class Recorder {
   // Frames are always whole (pose, force and contact together: a replay needs them).
   bool record_steps_, record_events_;
   std::optional<RecordingWriter> writer_;
+  std::optional<PalpationTracker> palpation_;  ///< scenes with nodules
 };
 
 }  // namespace tactus::runtime

@@ -70,6 +70,7 @@ std::string format_report(const SessionReport& r) {
   if (r.recording_bytes > 0)
     out += fmt::format("recording: {} frames, {} bytes\n", r.recorded_frames, r.recording_bytes);
   for (const auto& note : r.realtime_notes) out += "  " + note + "\n";
+  if (r.palpation) out += format_feedback(*r.palpation);
   return out;
 }
 
@@ -107,8 +108,9 @@ std::string report_json(const SessionReport& r) {
     out += fmt::format("{}{}: {}", first ? "" : ", ", quoted(kind), n);
     first = false;
   }
-  out += fmt::format("}},\n  \"recorded_frames\": {},\n  \"recording_bytes\": {}\n}}\n", r.recorded_frames,
-                     r.recording_bytes);
+  out += fmt::format("}},\n  \"recorded_frames\": {},\n  \"recording_bytes\": {}", r.recorded_frames, r.recording_bytes);
+  if (r.palpation) out += ",\n  \"palpation\": " + feedback_json(*r.palpation);
+  out += "\n}\n";
   return out;
 }
 

@@ -17,6 +17,7 @@
 #include "haptics/safety.hpp"
 #include "runtime/devices.hpp"
 #include "runtime/loop_stats.hpp"
+#include "runtime/palpation_feedback.hpp"
 #include "runtime/recording.hpp"
 #include "scene/model.hpp"
 
@@ -73,6 +74,7 @@ struct SessionReport {
   std::uint64_t recording_bytes = 0;
   std::uint64_t dropped_steps = 0;
   std::vector<HapticFrame> frames;  ///< only with SessionOptions::keep_frames
+  std::optional<PalpationFeedback> palpation;  ///< scenes with nodules (docs/scenes.md)
 };
 
 /// Runs the scene. Throws InputError for a scene the runtime cannot run (named in the

@@ -1,0 +1,226 @@
+// The nodule palpation trainer end to end (scenes/nodule.toml, lockstep): the force map
+// shows each nodule where it is, the trainee feedback matches the frames, and the recording
+// keeps it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/error.hpp"
+#include "runtime/force_map.hpp"
+#include "runtime/recording_reader.hpp"
+#include "runtime/session.hpp"
+#include "scene/scene.hpp"
+
+namespace tactus::runtime {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_file(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / "tactus_palpation_test";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+/// One lockstep run of the bundled scene.
+struct NoduleRun {
+  scene::Model model;
+  SessionReport report;
+  Recording recording;
+};
+
+const NoduleRun& nodule_run() {
+  static const NoduleRun run = [] {
+    NoduleRun r;
+    r.model = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "scenes/nodule.toml");
+    SessionOptions o;
+    o.scheduling = Scheduling::lockstep;
+    o.keep_frames = true;
+    o.record = temp_file("nodule.tacrec");
+    r.report = run_session(r.model, o);
+    r.recording = read_recording(*o.record);
+    return r;
+  }();
+  return run;
+}
+
+double raster_spacing(const scene::Model& m) {
+  const auto& scripted = std::get<scene::ScriptedDevice>(m.devices.at(0).source);
+  return std::get<haptics::RasterPath>(scripted.trajectory).spacing;
+}
+
+// The scene runs once (it takes seconds, minutes under sanitizers); each part below checks
+// one thing about that run.
+
+void check_force_map(const NoduleRun& run) {
+  const scene::Body& skin = run.model.bodies.at(0);
+  ASSERT_EQ(skin.nodules.size(), 2u);
+  const ForceMap map = build_force_map(run.model, 0, run.report.frames);
+  const double spacing = raster_spacing(run.model);
+  EXPECT_DOUBLE_EQ(map.cell, spacing);
+
+  double finger = 0.0;
+  for (const auto& t : run.model.tools) finger = std::get<scene::SphereTool>(t.shape).radius;
+  std::vector<double> nodule_peaks;
+  for (const scene::Nodule& n : skin.nodules) {
+    // The largest cell near the nodule (within its radius and two lines more).
+    double best = -1.0;
+    Vec2 where = Vec2::Zero();
+    for (int row = 0; row < map.rows; ++row)
+      for (int column = 0; column < map.columns; ++column) {
+        const Vec2 c = map.cell_center(column, row);
+        const std::size_t i = map.index(column, row);
+        if ((c - n.center.head<2>()).norm() <= n.radius + 2.0 * spacing && map.samples[i] > 0 && map.mean[i] > best) {
+          best = map.mean[i];
+          where = c;
+        }
+      }
+    ASSERT_GT(best, 0.0) << n.name;
+    EXPECT_LE((where - n.center.head<2>()).norm(), spacing + 1e-12)
+        << n.name << ": peak at " << where.transpose() << ", nodule at " << n.center.head<2>().transpose();
+    nodule_peaks.push_back(best);
+  }
+  // Bare skin, away from both nodules (beyond nodule + finger + a line) and from the rim of
+  // the scan: lower everywhere than over either nodule.
+  double bare_max = 0.0, bare_sum = 0.0;
+  int bare_cells = 0;
+  for (int row = 1; row + 1 < map.rows; ++row)
+    for (int column = 1; column + 1 < map.columns; ++column) {
+      const Vec2 c = map.cell_center(column, row);
+      bool near = false;
+      for (const scene::Nodule& n : skin.nodules)
+        near = near || (c - n.center.head<2>()).norm() <= n.radius + finger + spacing;
+      const std::size_t i = map.index(column, row);
+      if (near || map.samples[i] == 0) continue;
+      bare_max = std::max(bare_max, map.mean[i]);
+      bare_sum += map.mean[i];
+      ++bare_cells;
+    }
+  ASSERT_GT(bare_cells, 20);
+  const double bare_mean = bare_sum / bare_cells;
+  for (const double peak : nodule_peaks) {
+    EXPECT_GT(peak, bare_max);
+    EXPECT_GT(peak, 1.5 * bare_mean);
+  }
+  // The rigid nodule is felt harder than the soft one.
+  EXPECT_GT(nodule_peaks[0], nodule_peaks[1]);
+}
+
+void check_png(const NoduleRun& run) {
+  const ForceMap map = build_force_map(run.model, 0, run.report.frames);
+  const fs::path png = temp_file("map.png");
+  fs::remove(png);
+  const std::string legend = write_force_map_png(map, png);
+  EXPECT_NE(legend.find("viridis"), std::string::npos);
+  std::ifstream in(png, std::ios::binary);
+  std::string head(24, '\0');
+  in.read(head.data(), 24);
+  ASSERT_TRUE(in);
+  EXPECT_EQ(head.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  // IHDR width and height, big-endian.
+  auto be32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(head[at + k]);
+    return v;
+  };
+  const std::uint32_t scale = static_cast<std::uint32_t>(std::max(1, 256 / std::max(map.columns, map.rows)));
+  EXPECT_EQ(be32(16), static_cast<std::uint32_t>(map.columns) * scale);
+  EXPECT_EQ(be32(20), static_cast<std::uint32_t>(map.rows) * scale);
+  EXPECT_THROW(write_force_map_png(map, temp_file("no_such_folder") / "x" / "map.png"), InputError);
+}
+
+void check_feedback(const NoduleRun& run) {
+  ASSERT_TRUE(run.report.palpation.has_value());
+  const PalpationFeedback& f = *run.report.palpation;
+
+  std::uint64_t contact = 0, over = 0;
+  double peak = 0.0, sum = 0.0;
+  for (const HapticFrame& fr : run.report.frames) {
+    if (!fr.contact) continue;
+    ++contact;
+    const double force = fr.force.norm();
+    peak = std::max(peak, force);
+    sum += force;
+    over += force > run.model.feedback.safe_force;
+  }
+  ASSERT_GT(contact, 1000u);
+  EXPECT_EQ(f.contact_frames, contact);
+  EXPECT_DOUBLE_EQ(f.peak_force, peak);
+  EXPECT_NEAR(f.mean_force, sum / static_cast<double>(contact), 1e-12);
+  EXPECT_EQ(f.safe_force, run.model.feedback.safe_force);
+  EXPECT_EQ(f.over_limit_frames, over);
+  EXPECT_NEAR(f.over_limit_time, static_cast<double>(over) / run.model.rates.haptic, 1e-12);
+
+  // The scan covers the middle of the patch, not its held rim.
+  EXPECT_GT(f.coverage, 0.5);
+  EXPECT_LT(f.coverage, 0.95);
+
+  // First contact over each nodule: the scan runs line by line upwards from y = min, so it
+  // reaches the soft nodule (y < 0) before the hard one; at that time the finger is over it.
+  ASSERT_EQ(f.nodules.size(), 2u);
+  ASSERT_TRUE(f.nodules[0].time && f.nodules[1].time);
+  EXPECT_EQ(f.nodules[0].nodule, "hard");
+  EXPECT_LT(*f.nodules[1].time, *f.nodules[0].time);
+  const auto& scripted = std::get<scene::ScriptedDevice>(run.model.devices.at(0).source);
+  const auto& skin = run.model.bodies.at(0);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const Vec3 p = haptics::position_at(scripted.trajectory, *f.nodules[i].time);
+    EXPECT_LE((p.head<2>() - skin.nodules[i].center.head<2>()).norm(), skin.nodules[i].radius + 1e-9);
+  }
+}
+
+void check_recording(const NoduleRun& run) {
+  ASSERT_TRUE(run.recording.complete);
+  ASSERT_TRUE(run.report.palpation.has_value());
+  const PalpationFeedback& f = *run.report.palpation;
+  auto note = [&](const std::string& text) -> const Event* {
+    for (const Event& e : run.recording.events)
+      if (e.kind == EventKind::note && e.text.find(text) != std::string::npos) return &e;
+    return nullptr;
+  };
+  const Event* coverage = note("palpation coverage");
+  ASSERT_NE(coverage, nullptr);
+  EXPECT_EQ(coverage->value, f.coverage);
+  const Event* peak = note("palpation peak force");
+  ASSERT_NE(peak, nullptr);
+  EXPECT_EQ(peak->value, f.peak_force);
+  const Event* soft = note("nodule skin.soft");
+  ASSERT_NE(soft, nullptr);
+  EXPECT_EQ(soft->value, *f.nodules[1].time);
+  EXPECT_NE(note("time above the safe force"), nullptr);
+}
+
+TEST(Palpation, NoduleSceneEndToEnd) {
+  const NoduleRun& run = nodule_run();
+  {
+    SCOPED_TRACE("force map: each nodule stands out where it is");
+    check_force_map(run);
+  }
+  {
+    SCOPED_TRACE("force map image");
+    check_png(run);
+  }
+  {
+    SCOPED_TRACE("trainee feedback against the frames");
+    check_feedback(run);
+  }
+  {
+    SCOPED_TRACE("feedback stored in the recording");
+    check_recording(run);
+  }
+}
+
+TEST(Palpation, ScenesWithoutNodulesGetNoFeedback) {
+  SessionOptions o;
+  o.scheduling = Scheduling::lockstep;
+  o.duration = 0.05;
+  const SessionReport r = run_session(scene::default_scene(), o);
+  EXPECT_FALSE(r.palpation.has_value());
+}
+
+}  // namespace
+}  // namespace tactus::runtime
