@@ -125,6 +125,23 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
   double extent = 0.0;
   for (const auto& sp : s.config.spheres) extent = std::max(extent, sp.offset.norm() + sp.radius);
   s.reach = 2.0 * extent + 0.01;
+
+  switch (a->local_model) {
+    case scene::LocalModel::plane: s.config.local_model = contact::LocalModelKind::plane; break;
+    case scene::LocalModel::compliance: s.config.local_model = contact::LocalModelKind::compliance; break;
+    case scene::LocalModel::mass_spring: s.config.local_model = contact::LocalModelKind::mass_spring; break;
+  }
+  if (a->local_model == scene::LocalModel::mass_spring)
+    for (std::size_t b : s.bodies)
+      if (m.bodies[b].kind != scene::BodyKind::rigid && !m.bodies[b].material)
+        throw InputError(SourceLocation{m.source, {}, {}, {}},
+                         fmt::format("algorithm '{}': local_model = \"mass_spring\" fits its springs to the body's "
+                                     "material, and body '{}' has none",
+                                     a->name, m.bodies[b].name));
+  // The patch covers the tool and where it can move until the next simulation step (seed 002
+  // §IV: the cursor's position and its finite velocity bound the contact region).
+  s.patch_radius = extent + a->max_tool_speed / m.rates.simulation;
+  s.config.force_smoothing = a->force_smoothing;
   return s;
 }
 

@@ -14,6 +14,8 @@ struct DeviceSetup {
   std::vector<std::size_t> bodies;  ///< bodies the device's algorithm touches
   double reach = 0.0;               ///< surfaces farther than this from the tool give no contact [m]
   int curvature_rings = 0;          ///< q-ring of the curvature vote; 0 = none needed
+  /// Radius of the local patch's bounding sphere around the tool origin (patch models) [m].
+  double patch_radius = 0.0;
 };
 
 /// Throws InputError for a tool or algorithm the runtime cannot render yet.

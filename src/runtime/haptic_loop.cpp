@@ -9,12 +9,107 @@ namespace tactus::runtime {
 HapticLoop::HapticLoop(HapticConfig config, std::unique_ptr<haptics::Device> device,
                        DeviceChannels& channels)
     : config_(std::move(config)), device_(std::move(device)), channels_(channels),
-      safety_(config_.safety), planes_(config_.plane_blend) {
+      safety_(config_.safety), planes_(config_.plane_blend), smoother_(config_.force_smoothing) {
   stats_.rate = config_.rate;
+  if (config_.local_model != contact::LocalModelKind::plane && channels_.patch)
+    local_.emplace(config_.local_model, config_.patch_capacity);
 }
 
 void HapticLoop::emit(double t, EventKind kind, double value) {
   channels_.events.try_push(LoopEvent{t, kind, config_.device, value});
+}
+
+double HapticLoop::law_force(double depth, double mean_curvature) const {
+  return config_.hertz       ? config_.hertz->evaluate(depth, mean_curvature).force
+         : config_.fingerpad ? config_.fingerpad->force(depth)
+                             : config_.stiffness * depth;
+}
+
+HapticLoop::Rendered HapticLoop::render_plane(const LocalContact& contact, contact::ProxyState& proxy,
+                                              const Vec3& position, const Quat& orientation, double t, double dt,
+                                              bool use_interpolator) {
+  Rendered out;
+  out.point = contact.point;
+  if (config_.proxy && !config_.spheres.empty()) {
+    // God-object: the proxy slides on the local contact plane (blended towards each new one
+    // over plane_blend, when that is set).
+    const Vec3 arm = orientation * config_.spheres.front().offset;
+    const Vec3 goal = position + arm;
+    contact::ProxyResult r;
+    const bool has_plane = use_interpolator ? planes_.has_plane() : true;
+    if (contact.valid && has_plane) {
+      const contact::ConstraintPlane plane =
+          use_interpolator ? planes_.at(t) : contact::ConstraintPlane{contact.normal, contact.normal.dot(contact.point)};
+      r = contact::update_proxy(*config_.proxy, proxy, goal, velocity_, dt,
+                                contact::HalfSpaceQuery(plane.normal, plane.offset));
+    } else {
+      r = contact::update_proxy(*config_.proxy, proxy, goal, velocity_, dt, no_surface_);
+    }
+    out.touching = r.in_contact;
+    out.force = r.force;
+    out.torque = arm.cross(out.force);
+  } else if (contact.valid) {
+    // Penetration of each contact sphere into the local contact plane.
+    const double normal_speed = contact.normal.dot(velocity_);
+    for (const HapticConfig::Sphere& sphere : config_.spheres) {
+      const Vec3 arm = orientation * sphere.offset;
+      const double depth = sphere.radius - contact.normal.dot(position + arm - contact.point);
+      if (!(depth > 0.0)) continue;
+      out.touching = true;
+      const double fn = std::max(0.0, law_force(depth, contact.mean_curvature) - config_.damping * normal_speed);
+      out.force += fn * contact.normal;
+      out.torque += arm.cross(fn * contact.normal);
+    }
+  }
+  return out;
+}
+
+HapticLoop::Rendered HapticLoop::render_patch(const LocalContact& contact, contact::ProxyState& proxy,
+                                              const Vec3& position, const Quat& orientation, double dt) {
+  Rendered out;
+  const contact::SurfaceQuery& surface = local_->valid() ? local_->surface() : no_surface_;
+  if (config_.proxy && !config_.spheres.empty()) {
+    const Vec3 arm = orientation * config_.spheres.front().offset;
+    const contact::ProxyResult r = contact::update_proxy(*config_.proxy, proxy, position + arm, velocity_, dt, surface);
+    out.touching = r.in_contact;
+    out.force = r.force;
+    out.torque = arm.cross(out.force);
+    if (r.in_contact && r.triangle >= 0) {
+      out.point = r.contact_point;
+      out.law_force = std::max(0.0, r.force.dot(r.contact_normal));
+      out.on_patch = {r.triangle, r.barycentric, r.contact_normal, out.law_force, config_.proxy->stiffness};
+    }
+    return out;
+  }
+  if (!local_->valid()) return out;
+  // Every sphere against the patch's current triangles; the deepest one's contact drives the
+  // patch with the sum of the normal forces.
+  double deepest = 0.0;
+  for (const HapticConfig::Sphere& sphere : config_.spheres) {
+    const Vec3 arm = orientation * sphere.offset;
+    const Vec3 centre = position + arm;
+    const contact::ClosestSurfacePoint p = surface.closest_point(centre);
+    if (!p.found) continue;
+    const double signed_distance = p.behind ? -p.distance : p.distance;
+    const double depth = sphere.radius - signed_distance;
+    if (!(depth > 0.0)) continue;
+    const Vec3 normal = !p.behind && p.distance > 1e-12 ? Vec3((centre - p.point) / p.distance) : p.normal;
+    const double elastic = law_force(depth, contact.mean_curvature);
+    const double fn = std::max(0.0, elastic - config_.damping * normal.dot(velocity_));
+    out.touching = true;
+    out.force += fn * normal;
+    out.torque += arm.cross(fn * normal);
+    out.law_force += fn;
+    if (depth > deepest) {
+      deepest = depth;
+      out.point = p.point;
+      constexpr double kProbe = 1e-6;  // [m]: the law's slope by a forward difference
+      const double slope = (law_force(depth + kProbe, contact.mean_curvature) - elastic) / kProbe;
+      out.on_patch = {p.triangle, p.barycentric, normal, 0.0, std::max(0.0, slope)};
+    }
+  }
+  out.on_patch.force = out.law_force;
+  return out;
 }
 
 void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
@@ -35,52 +130,58 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
 
   const bool fresh = channels_.contact.update();
   const LocalContact& contact = channels_.contact.read();
-
-  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-  bool touching = false;
-  if (config_.proxy && !config_.spheres.empty()) {
-    // God-object: the proxy slides on the local contact plane (blended towards each new one
-    // over plane_blend, when that is set).
-    const Vec3 arm = orientation * config_.spheres.front().offset;
-    const Vec3 goal = position + arm;
-    if (!proxy_started_) {
-      proxy_state_ = contact::make_proxy_state(goal);
-      proxy_started_ = true;
-    }
-    if (fresh && contact.valid) planes_.set_target({contact.normal, contact.normal.dot(contact.point)}, t);
-    contact::ProxyResult r;
-    if (contact.valid && planes_.has_plane()) {
-      const contact::ConstraintPlane plane = planes_.at(t);
-      r = contact::update_proxy(*config_.proxy, proxy_state_, goal, velocity_, dt,
-                                contact::HalfSpaceQuery(plane.normal, plane.offset));
-    } else {
-      r = contact::update_proxy(*config_.proxy, proxy_state_, goal, velocity_, dt, no_surface_);
-    }
-    touching = r.in_contact;
-    force = r.force;
-    torque = arm.cross(force);
-  } else if (contact.valid) {
-    // Penetration of each contact sphere into the local contact plane.
-    const double normal_speed = contact.normal.dot(velocity_);
-    for (const HapticConfig::Sphere& sphere : config_.spheres) {
-      const Vec3 arm = orientation * sphere.offset;
-      const double depth = sphere.radius - contact.normal.dot(position + arm - contact.point);
-      if (!(depth > 0.0)) continue;
-      touching = true;
-      const double elastic = config_.hertz       ? config_.hertz->evaluate(depth, contact.mean_curvature).force
-                             : config_.fingerpad ? config_.fingerpad->force(depth)
-                                                 : config_.stiffness * depth;
-      const double fn = std::max(0.0, elastic - config_.damping * normal_speed);
-      force += fn * contact.normal;
-      torque += arm.cross(fn * contact.normal);
-    }
+  if (config_.proxy && !proxy_started_ && !config_.spheres.empty()) {
+    proxy_state_ = contact::make_proxy_state(position + orientation * config_.spheres.front().offset);
+    proxy_started_ = true;
   }
+
+  Rendered rendered;
+  double surface_time = contact.surface_time;
+  if (local_) {
+    // A patch model: deformed between simulation steps at this rate.
+    const bool fresh_patch = channels_.patch->update();
+    if (fresh_patch) {
+      // The step is smoothed only from one model to the next, not from none at start.
+      const bool smooth = smoother_.enabled() && local_->valid();
+      Vec3 before = Vec3::Zero();
+      if (smooth) {
+        local_->extrapolate(t);
+        contact::ProxyState trial = proxy_state_;
+        before = render_patch(contact, trial, position, orientation, dt).force;
+      }
+      local_->reset(channels_.patch->read(), t);
+      // The proxy remembers triangles by index, and indices name other triangles in a new patch.
+      proxy_state_.side_triangle = -1;
+      proxy_state_.side = 0;
+      proxy_state_.anchor_triangle = -1;
+      rendered = render_patch(contact, proxy_state_, position, orientation, dt);
+      if (smooth) smoother_.model_changed(before, rendered.force);
+    } else {
+      local_->extrapolate(t);
+      rendered = render_patch(contact, proxy_state_, position, orientation, dt);
+    }
+    surface_time = local_->patch().time;
+  } else {
+    if (config_.proxy && fresh && contact.valid) planes_.set_target({contact.normal, contact.normal.dot(contact.point)}, t);
+    if (fresh && smoother_.enabled() && shown_contact_.valid) {
+      contact::ProxyState trial = proxy_state_;
+      const Vec3 before = render_plane(shown_contact_, trial, position, orientation, t, dt, false).force;
+      rendered = render_plane(contact, proxy_state_, position, orientation, t, dt, config_.plane_blend > 0.0);
+      smoother_.model_changed(before, rendered.force);
+    } else {
+      rendered = render_plane(contact, proxy_state_, position, orientation, t, dt, config_.plane_blend > 0.0);
+    }
+    shown_contact_ = contact;
+  }
+  const Vec3 force = smoother_.apply(rendered.force, position, velocity_, dt);
+  const Vec3 torque = rendered.torque;
+  const bool touching = rendered.touching;
 
   haptics::SafetyInput in;
   in.force = config_.map.force_to_device(force);
   in.torque = config_.map.force_to_device(torque);
   in.contact = touching;
-  in.last_simulation_update = contact.surface_time;
+  in.last_simulation_update = surface_time;
   in.device_alive = device_->alive();
   in.emergency_stop = emergency_stop_.load(std::memory_order_relaxed);
   const haptics::SafetyOutput out = safety_.apply(in, t);
@@ -88,18 +189,44 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   device_to_force_.record(now_ns() - pose_read);
 
   // The tissue feels what the hand feels: the reaction of the force actually sent.
+  const Vec3 sent = config_.map.rotation * out.force;
   ContactLoad& load = channels_.load.write_buffer();
-  load.active = touching && contact.valid;
-  load.body = contact.body;
-  load.triangle = contact.triangle;
-  load.barycentric = contact.barycentric;
-  load.force = -(config_.map.rotation * out.force);
+  if (local_) {
+    const contact::LocalPatch& patch = local_->patch();
+    contact::PatchContact on_patch = rendered.on_patch;
+    const bool on = touching && patch.valid && on_patch.triangle >= 0 && on_patch.triangle < patch.triangle_count;
+    load.active = on;
+    load.body = patch.body;
+    load.triangle = on ? patch.surface_triangle[static_cast<std::size_t>(on_patch.triangle)] : -1;
+    load.barycentric = on_patch.barycentric;
+    // The patch moves under the force sent (ramped, clamped), its law's slope scaled alike.
+    if (on) {
+      const double sent_normal = std::max(0.0, sent.dot(on_patch.normal));
+      if (rendered.law_force > 0.0) on_patch.stiffness *= std::min(1.0, sent_normal / rendered.law_force);
+      on_patch.force = sent_normal;
+    } else {
+      on_patch.triangle = -1;
+    }
+    local_->advance(on_patch, dt);
+  } else {
+    load.active = touching && contact.valid;
+    load.body = contact.body;
+    load.triangle = contact.triangle;
+    load.barycentric = contact.barycentric;
+  }
+  load.force = -sent;
   channels_.load.publish();
 
   ToolState& tool = channels_.tool.write_buffer();
   tool.position = position;
   tool.valid = true;
   channels_.tool.publish();
+  if (local_) {
+    ToolState& to_simulation = channels_.tool_to_simulation.write_buffer();
+    to_simulation.position = position;
+    to_simulation.valid = true;
+    channels_.tool_to_simulation.publish();
+  }
 
   if (touching != in_contact_) {
     emit(t, touching ? EventKind::contact_begin : EventKind::contact_end, out.force.norm());
@@ -124,7 +251,7 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   frame.orientation = pose.orientation;
   frame.force = out.force;
   frame.torque = out.torque;
-  frame.proxy = contact.valid ? contact.point : Vec3::Zero();
+  frame.proxy = local_ ? (touching ? rendered.point : Vec3::Zero()) : (contact.valid ? contact.point : Vec3::Zero());
   frame.compute_ns = static_cast<std::uint32_t>(std::clamp<Nanos>(compute, 0, std::numeric_limits<std::uint32_t>::max()));
   frame.late_ns = real_time ? static_cast<std::int32_t>(std::clamp<Nanos>(start - deadline, std::numeric_limits<std::int32_t>::min(),
                                                                          std::numeric_limits<std::int32_t>::max()))

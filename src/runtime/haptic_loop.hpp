@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "contact/hertz.hpp"
+#include "contact/local_model.hpp"
 #include "contact/proxy.hpp"
 #include "contact/surface_query.hpp"
 #include "core/spsc_ring.hpp"
@@ -16,6 +17,7 @@
 #include "haptics/device.hpp"
 #include "haptics/safety.hpp"
 #include "runtime/exchange.hpp"
+#include "runtime/force_smoothing.hpp"
 #include "runtime/loop_stats.hpp"
 #include "runtime/recording.hpp"
 
@@ -29,16 +31,33 @@ struct LoopEvent {
   double value = 0.0;
 };
 
+/// What the simulation builds for a device whose local model is a patch.
+struct PatchRequest {
+  contact::LocalModelKind kind = contact::LocalModelKind::plane;
+  contact::PatchCapacity capacity;
+  double radius = 0.0;              ///< of the bounding sphere around the tool origin [m]
+  std::vector<std::size_t> bodies;  ///< bodies the device's algorithm touches
+};
+
 /// Channels between one device's haptic loop and the other loops.
 struct DeviceChannels {
   explicit DeviceChannels(std::size_t ring_capacity)
-      : tool(ToolState{}), contact(LocalContact{}), load(ContactLoad{}),
+      : tool(ToolState{}), tool_to_simulation(ToolState{}), contact(LocalContact{}), load(ContactLoad{}),
         frames(ring_capacity), events(1024) {}
-  TripleBuffer<ToolState> tool;        ///< haptic → interaction
-  TripleBuffer<LocalContact> contact;  ///< interaction → haptic
-  TripleBuffer<ContactLoad> load;      ///< haptic → simulation
-  SpscRing<HapticFrame> frames;        ///< haptic → recorder
-  SpscRing<LoopEvent> events;          ///< haptic → recorder
+  /// Before any loop runs: the simulation publishes a patch of this kind with every step.
+  void request_patches(PatchRequest request) {
+    patch_request = std::move(request);
+    patch = std::make_unique<TripleBuffer<contact::LocalPatch>>(
+        contact::LocalPatch(patch_request.kind, patch_request.capacity));
+  }
+  TripleBuffer<ToolState> tool;                ///< haptic → interaction
+  TripleBuffer<ToolState> tool_to_simulation;  ///< haptic → simulation (where to cut the patch)
+  TripleBuffer<LocalContact> contact;          ///< interaction → haptic
+  TripleBuffer<ContactLoad> load;              ///< haptic → simulation
+  SpscRing<HapticFrame> frames;                ///< haptic → recorder
+  SpscRing<LoopEvent> events;                  ///< haptic → recorder
+  PatchRequest patch_request;
+  std::unique_ptr<TripleBuffer<contact::LocalPatch>> patch;  ///< simulation → haptic; null: plane
 };
 
 struct HapticConfig {
@@ -63,6 +82,12 @@ struct HapticConfig {
   /// The proxy's plane moves to each new local model over this time, so a simulation update
   /// is not felt as a force step (seed 003 §3.5) [s].
   double plane_blend = 0.0;
+  /// The local model between simulation steps: the plane of DeviceChannels::contact, or the
+  /// patch of DeviceChannels::patch (which must then be requested with this kind).
+  contact::LocalModelKind local_model = contact::LocalModelKind::plane;
+  contact::PatchCapacity patch_capacity;
+  /// Time constant of the passive smoothing of force steps at model updates [s]; 0 = off.
+  double force_smoothing = 0.0;
   double damping = 0.0;      ///< normal damping [N·s/m]
   /// Low-pass time constant of the tool velocity estimate used by the damping [s].
   double velocity_filter = 0.002;
@@ -88,7 +113,20 @@ class HapticLoop {
   [[nodiscard]] const haptics::Device& device() const { return *device_; }
 
  private:
+  /// The force of one frame against one local model, and where it acts on the tissue.
+  struct Rendered {
+    Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+    bool touching = false;
+    Vec3 point = Vec3::Zero();        ///< contact point on the surface
+    contact::PatchContact on_patch;   ///< patch models only
+    double law_force = 0.0;           ///< normal force of the contact law [N]
+  };
   void emit(double t, EventKind kind, double value);
+  Rendered render_plane(const LocalContact& contact, contact::ProxyState& proxy, const Vec3& position,
+                        const Quat& orientation, double t, double dt, bool use_interpolator);
+  Rendered render_patch(const LocalContact& contact, contact::ProxyState& proxy, const Vec3& position,
+                        const Quat& orientation, double dt);
+  double law_force(double depth, double mean_curvature) const;
 
   HapticConfig config_;
   std::unique_ptr<haptics::Device> device_;
@@ -104,6 +142,9 @@ class HapticLoop {
   contact::ProxyState proxy_state_;
   contact::PlaneInterpolator planes_;
   contact::BruteForceSurfaceQuery no_surface_{{}, {}};
+  std::optional<contact::LocalModel> local_;  ///< patch models only
+  LocalContact shown_contact_;  ///< the plane rendered last frame (to measure an update's step)
+  ForceSmoother smoother_;
   bool proxy_started_ = false;
   Vec3 last_position_ = Vec3::Zero();
   Vec3 velocity_ = Vec3::Zero();

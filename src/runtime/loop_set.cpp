@@ -22,6 +22,8 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
       device = make_device(m, i, static_cast<unsigned>(i));
     loops.channels.push_back(std::make_unique<DeviceChannels>(kFrameRingCapacity));
     DeviceChannels& ch = *loops.channels.back();
+    if (!setup.config.spheres.empty() && setup.config.local_model != contact::LocalModelKind::plane)
+      ch.request_patches({setup.config.local_model, setup.config.patch_capacity, setup.patch_radius, setup.bodies});
     if (!setup.config.spheres.empty()) targets.push_back({&ch, setup.bodies, setup.reach, setup.curvature_rings});
     loops.haptic.push_back(std::make_unique<HapticLoop>(std::move(setup.config), std::move(device), ch));
   }

@@ -15,7 +15,7 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
     : model_(model), devices_(std::move(devices)), steps_ring_(1 << 14) {
   stats_.name = "simulation";
   stats_.rate = model.rates.simulation;
-  parts_ = {{"contact loads", {}}, {"integrate", {}}, {"publish surfaces", {}}};
+  parts_ = {{"contact loads", {}}, {"integrate", {}}, {"publish surfaces", {}}, {"local models", {}}};
   const double period = 1.0 / model.rates.simulation;
   for (std::size_t i = 0; i < model.bodies.size(); ++i) {
     const scene::Body& b = model.bodies[i];
@@ -40,6 +40,18 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
       for (std::size_t n = 0; n < sb.surface_to_node.size(); ++n) sb.surface_to_node[n] = static_cast<mesh::Index>(n);
     }
     bodies_.push_back(std::move(sb));
+  }
+  for (DeviceChannels* d : devices_) {
+    if (!d->patch) continue;
+    PatchSource source;
+    source.channels = d;
+    source.builders.resize(model.bodies.size());
+    for (const std::size_t b : d->patch_request.bodies)
+      if (b < model.bodies.size())
+        source.builders[b] = std::make_unique<contact::PatchBuilder>(model.bodies[b].surface.vertices.size(),
+                                                                     model.bodies[b].surface.triangles,
+                                                                     d->patch_request.capacity);
+    patch_sources_.push_back(std::move(source));
   }
 }
 
@@ -74,6 +86,70 @@ void SimulationLoop::publish(double t) {
   }
 }
 
+void SimulationLoop::publish_patches(double t) {
+  const double period = 1.0 / stats_.rate;
+  for (SimBody& sb : bodies_) {
+    sb.surface.resize(sb.surface_to_node.size());
+    sb.surface_before.resize(sb.surface_to_node.size());
+    const bool moved = sb.x_before.size() == sb.state.x.size();
+    for (std::size_t v = 0; v < sb.surface.size(); ++v) {
+      const auto n = 3 * static_cast<Eigen::Index>(sb.surface_to_node[v]);
+      sb.surface[v] = sb.state.x.segment<3>(n);
+      sb.surface_before[v] = moved ? Vec3(sb.x_before.segment<3>(n)) : sb.surface[v];
+    }
+  }
+  for (PatchSource& source : patch_sources_) {
+    DeviceChannels& d = *source.channels;
+    d.tool_to_simulation.update();
+    const ToolState& tool = d.tool_to_simulation.read();
+    contact::LocalPatch& out = d.patch->write_buffer();
+    out.valid = false;
+    out.time = t;
+    out.free_count = out.node_count = out.triangle_count = 0;
+    // The body with the surface vertex nearest the tool, within the patch's sphere.
+    std::size_t best_body = bodies_.size();
+    double best = d.patch_request.radius * d.patch_request.radius;
+    if (tool.valid)
+      for (std::size_t b = 0; b < bodies_.size(); ++b) {
+        if (!source.builders[b]) continue;
+        for (const Vec3& p : bodies_[b].surface) {
+          const double d2 = (p - tool.position).squaredNorm();
+          if (d2 <= best) best = d2, best_body = b;
+        }
+      }
+    if (best_body < bodies_.size()) {
+      const SimBody& sb = bodies_[best_body];
+      const scene::Body& body = model_.bodies[sb.index];
+      contact::PatchBuilder::Inputs in;
+      in.kind = d.patch_request.kind;
+      in.body = static_cast<std::int32_t>(best_body);
+      in.time = t;
+      in.center = tool.position;
+      in.radius = d.patch_request.radius;
+      in.surface = sb.surface;
+      in.surface_previous = sb.surface_before;
+      in.step_period = period;
+      if (source.applied.active && source.applied.body == in.body) {
+        in.load_triangle = source.applied.triangle;
+        in.load_barycentric = source.applied.barycentric;
+        in.load_force = source.applied.force;
+      }
+      if (sb.body) {
+        in.physics_body = &*sb.body;
+        in.physics_state = &sb.state;
+      }
+      in.surface_to_node = sb.surface_to_node;
+      if (body.material) {
+        const scene::Material& m = model_.materials[*body.material];
+        in.material = {m.young_modulus, m.poisson_ratio, m.density};
+      }
+      in.frame_time = 1.0 / model_.rates.haptic;
+      source.builders[best_body]->build(in, out);
+    }
+    d.patch->publish();
+  }
+}
+
 void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   const double period = 1.0 / stats_.rate;
   int iterations = 0;
@@ -88,9 +164,12 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
       assemble_loads(b, fraction, sb.f_ext);
       place_prescribed(b, sb.rest, fraction, sb.state.x);
     }
+    for (PatchSource& source : patch_sources_) source.applied = ContactLoad{};
     for (DeviceChannels* d : devices_) {
       d->load.update();
       const ContactLoad& load = d->load.read();
+      for (PatchSource& source : patch_sources_)
+        if (source.channels == d) source.applied = load;
       if (!load.active || load.body < 0 || static_cast<std::size_t>(load.body) >= bodies_.size()) continue;
       SimBody& sb = bodies_[static_cast<std::size_t>(load.body)];
       if (!sb.body) continue;
@@ -104,6 +183,7 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
 
     for (SimBody& sb : bodies_) {
       if (!sb.body) continue;
+      if (!patch_sources_.empty()) sb.x_before = sb.state.x;
       const double dt = period / sb.substeps;
       for (int k = 0; k < sb.substeps; ++k) {
         physics::step(*sb.body, sb.state, dt, sb.f_ext);
@@ -121,9 +201,13 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
   publish(t);
   const Nanos end = now_ns();
   parts_[2].time.record(end - before_publish);
+  if (!patch_sources_.empty()) {
+    publish_patches(t);
+    parts_[3].time.record(now_ns() - end);
+  }
   ++step_;
 
-  const Nanos compute = end - start;
+  const Nanos compute = now_ns() - start;
   stats_.record(deadline, start, compute, real_time);
   SimulationStep rec;
   rec.step = step_ - 1;

@@ -3,6 +3,7 @@
 // loads and the contact reactions the haptic loops handed over, then the deformed surfaces
 // are published for the interaction (and visual) loops.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -25,7 +26,8 @@ class SimulationLoop {
   /// Adds a buffer that receives a surface snapshot after each step (before the loop runs).
   void add_output(TripleBuffer<SurfaceSnapshot>& output) { outputs_.push_back(&output); }
 
-  /// Advances every body by one period (1 / rate) and publishes; `t` is the time reached.
+  /// Advances every body by one period (1 / rate) and publishes the surfaces and the devices' local
+  /// patches; `t` is the time reached.
   /// Throws std::runtime_error when a body diverges (NaN positions).
   void step(double t, Nanos deadline, Nanos start, bool real_time);
 
@@ -46,14 +48,25 @@ class SimulationLoop {
     VecX rest, f_ext;
     int substeps = 1;
     std::vector<mesh::Index> surface_to_node;
+    VecX x_before;  ///< positions before the last step (the patches' border velocities)
+    std::vector<Vec3> surface, surface_before;
+  };
+  /// A device whose local model is a patch: one builder per body it may touch, and the
+  /// contact load the last step applied for it.
+  struct PatchSource {
+    DeviceChannels* channels = nullptr;
+    std::vector<std::unique_ptr<contact::PatchBuilder>> builders;  ///< per body; null if not touched
+    ContactLoad applied;
   };
 
   void publish(double t);
+  void publish_patches(double t);
 
   const scene::Model& model_;
   std::vector<DeviceChannels*> devices_;
   std::vector<TripleBuffer<SurfaceSnapshot>*> outputs_;
   std::vector<SimBody> bodies_;
+  std::vector<PatchSource> patch_sources_;
   std::uint64_t step_ = 0;
   LoopStats stats_;
   std::vector<PartStats> parts_;  ///< loads, integrate, publish

@@ -6,6 +6,7 @@
 
 #include "core/counting_allocator.hpp"  // tests/core
 #include "haptics/devices/scripted_device.hpp"
+#include "mesh/generators.hpp"
 #include "runtime/haptic_loop.hpp"
 
 namespace tactus::runtime {
@@ -99,6 +100,66 @@ TEST(HapticLoop, AFrameAllocatesNothing) {
     }
   }
   EXPECT_EQ(counter.count(), 0u) << counter.bytes() << " bytes";
+}
+
+TEST(HapticLoop, RendersAPatchModelWithoutAllocating) {
+  // A rigid patch (no physics body: zero compliance) of a plate at z = 0: the tool 2 mm into
+  // it feels the penalty force, as from the plane, and no frame allocates, new patches or not.
+  const mesh::TriMesh plate = mesh::grid_plate(0.1, 0.1, 10, 10);
+  DeviceChannels channels(1 << 12);
+  PatchRequest request;
+  request.kind = contact::LocalModelKind::compliance;
+  request.radius = 0.012;
+  channels.request_patches(request);
+  contact::PatchBuilder builder(plate.vertices.size(), plate.triangles, request.capacity);
+  auto publish_patch = [&](double t) {
+    contact::PatchBuilder::Inputs in;
+    in.kind = request.kind;
+    in.body = 0;
+    in.time = t;
+    in.center = Vec3(0.001, 0.002, 0.008);
+    in.radius = request.radius;
+    in.surface = plate.vertices;
+    builder.build(in, channels.patch->write_buffer());
+    channels.patch->publish();
+  };
+  haptics::WaypointsPath still;
+  still.points = {{0.0, Vec3(0.001, 0.002, 0.008)}};
+  HapticConfig c;
+  c.spheres = {{Vec3::Zero(), 0.01}};
+  c.stiffness = 1000.0;
+  c.safety.max_force = 10.0;
+  c.safety.watchdog_timeout = 0.1;
+  c.local_model = request.kind;
+  c.force_smoothing = 0.005;
+  HapticLoop loop(c, std::make_unique<haptics::ScriptedDevice>(still, haptics::Tremor{}, haptics::DeviceLimits{}),
+                  channels);
+  publish_patch(0.0);
+  HapticFrame f;
+  for (int k = 0; k < 20; ++k) {
+    loop.step(k * 1e-3, 0, now_ns(), false);
+    while (channels.frames.try_pop(f)) {}
+  }
+  EXPECT_EQ(f.contact, 1);
+  EXPECT_NEAR(f.force.z(), 1000.0 * 0.002, 1e-9);
+  EXPECT_NEAR(f.force.x(), 0.0, 1e-12);
+  channels.load.update();
+  EXPECT_TRUE(channels.load.read().active);
+  EXPECT_GE(channels.load.read().triangle, 0);  // the plate's own triangle, not the patch's
+
+  testing::AllocationCounter counter;
+  std::uint64_t publishing = 0;  // the simulation's side, which may allocate (its own thread)
+  for (int k = 20; k <= 2000; ++k) {
+    loop.step(k * 1e-3, 0, now_ns(), false);
+    if (k % 10 == 0) {
+      const testing::AllocationCounter publish;
+      publish_patch(k * 1e-3);
+      publishing += publish.count();
+      while (channels.frames.try_pop(f)) {}
+    }
+  }
+  EXPECT_EQ(counter.count() - publishing, 0u);
+  EXPECT_NEAR(f.force.z(), 1000.0 * 0.002, 1e-9);
 }
 
 TEST(HapticLoop, AStalledSimulationFadesTheForceOut) {

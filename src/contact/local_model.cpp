@@ -1,0 +1,382 @@
+#include "contact/local_model.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include "contact/closest_point.hpp"
+#include "core/error.hpp"
+
+namespace tactus::contact {
+namespace {
+
+constexpr double kMaxExtrapolation = 0.1;  // [s]: past this the watchdog fades the force anyway
+
+Eigen::Index dof(int node) { return 3 * static_cast<Eigen::Index>(node); }
+
+}  // namespace
+
+const char* local_model_name(LocalModelKind kind) {
+  switch (kind) {
+    case LocalModelKind::plane: return "plane";
+    case LocalModelKind::compliance: return "compliance";
+    case LocalModelKind::mass_spring: return "mass_spring";
+  }
+  return "?";
+}
+
+LocalPatch::LocalPatch(LocalModelKind k, const PatchCapacity& c) : kind(k) {
+  const auto nodes = static_cast<std::size_t>(c.nodes);
+  const Eigen::Index free_dofs = 3 * static_cast<Eigen::Index>(c.free_nodes);
+  position.assign(nodes, Vec3::Zero());
+  velocity.assign(nodes, Vec3::Zero());
+  triangles.assign(static_cast<std::size_t>(c.triangles), mesh::Triangle{0, 0, 0});
+  surface_triangle.assign(static_cast<std::size_t>(c.triangles), -1);
+  release = VecX::Zero(free_dofs);
+  applied = VecX::Zero(free_dofs);
+  response = MatX::Zero(free_dofs, free_dofs);
+  // The mass-spring arrays only where they are used: a compliance patch copies less.
+  const Eigen::Index ms = k == LocalModelKind::mass_spring ? free_dofs : 0;
+  stiffness = MatX::Zero(ms, ms);
+  system_inverse = MatX::Zero(ms, ms);
+  mass = VecX::Zero(ms);
+  border_drift = VecX::Zero(ms);
+}
+
+// --- PatchBuilder (simulation thread) ------------------------------------------------------
+
+PatchBuilder::PatchBuilder(std::size_t vertex_count, std::span<const mesh::Triangle> triangles,
+                           PatchCapacity capacity)
+    : vertex_count_(vertex_count), triangles_(triangles.begin(), triangles.end()),
+      vertex_triangles_(vertex_count), capacity_(capacity), local_of_(vertex_count, -1) {
+  if (capacity.free_nodes <= 0 || capacity.nodes < capacity.free_nodes || capacity.triangles <= 0)
+    throw InputError(fmt::format("local model: capacity of {} free nodes, {} nodes and {} triangles is not usable",
+                                 capacity.free_nodes, capacity.nodes, capacity.triangles));
+  for (std::size_t t = 0; t < triangles_.size(); ++t)
+    for (const mesh::Index v : triangles_[t]) {
+      if (v < 0 || static_cast<std::size_t>(v) >= vertex_count)
+        throw InputError(fmt::format("local model: triangle {} refers to vertex {}, but there are {} vertices", t, v,
+                                     vertex_count));
+      vertex_triangles_[static_cast<std::size_t>(v)].push_back(static_cast<std::int32_t>(t));
+    }
+}
+
+void PatchBuilder::select(const Inputs& in, LocalPatch& out) {
+  for (const std::int32_t v : patch_vertex_) local_of_[static_cast<std::size_t>(v)] = -1;
+  patch_vertex_.clear();
+  // Free: the corners of every triangle the sphere touches (a coarse mesh may have no vertex
+  // inside the sphere at all), nearest first while the capacity lasts.
+  candidates_.clear();
+  const double r2 = in.radius * in.radius;
+  for (const mesh::Triangle& tri : triangles_) {
+    const Vec3& a = in.surface[static_cast<std::size_t>(tri[0])];
+    const Vec3& b = in.surface[static_cast<std::size_t>(tri[1])];
+    const Vec3& c = in.surface[static_cast<std::size_t>(tri[2])];
+    if ((closest_point_on_triangle(in.center, a, b, c).point - in.center).squaredNorm() > r2) continue;
+    for (const mesh::Index v : tri) {
+      if (local_of_[static_cast<std::size_t>(v)] == -2) continue;
+      local_of_[static_cast<std::size_t>(v)] = -2;  // a candidate already
+      candidates_.emplace_back((in.surface[static_cast<std::size_t>(v)] - in.center).squaredNorm(), v);
+    }
+  }
+  for (const auto& c : candidates_) local_of_[static_cast<std::size_t>(c.second)] = -1;
+  std::sort(candidates_.begin(), candidates_.end());
+  if (candidates_.size() > static_cast<std::size_t>(capacity_.free_nodes))
+    candidates_.resize(static_cast<std::size_t>(capacity_.free_nodes));
+
+  auto add_node = [&](std::int32_t v) {
+    local_of_[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(patch_vertex_.size());
+    patch_vertex_.push_back(v);
+  };
+  for (const auto& c : candidates_) add_node(c.second);  // free nodes first, nearest first
+  out.free_count = static_cast<int>(patch_vertex_.size());
+
+  // Every triangle with a free corner, while the capacity lasts; its other corners are border.
+  int tri_count = 0;
+  for (int f = 0; f < out.free_count; ++f) {
+    for (const std::int32_t t : vertex_triangles_[static_cast<std::size_t>(patch_vertex_[static_cast<std::size_t>(f)])]) {
+      const mesh::Triangle& tri = triangles_[static_cast<std::size_t>(t)];
+      // Taken already when a free corner with a lower index took it.
+      bool taken = false;
+      for (const mesh::Index v : tri) {
+        const std::int32_t l = local_of_[static_cast<std::size_t>(v)];
+        if (l >= 0 && l < f) taken = true;
+      }
+      if (taken) continue;
+      int new_nodes = 0;
+      for (const mesh::Index v : tri) new_nodes += local_of_[static_cast<std::size_t>(v)] < 0 ? 1 : 0;
+      if (tri_count >= capacity_.triangles || static_cast<int>(patch_vertex_.size()) + new_nodes > capacity_.nodes)
+        continue;
+      mesh::Triangle local{};
+      for (int k = 0; k < 3; ++k) {
+        const mesh::Index v = tri[static_cast<std::size_t>(k)];
+        if (local_of_[static_cast<std::size_t>(v)] < 0) add_node(v);
+        local[static_cast<std::size_t>(k)] = local_of_[static_cast<std::size_t>(v)];
+      }
+      out.triangles[static_cast<std::size_t>(tri_count)] = local;
+      out.surface_triangle[static_cast<std::size_t>(tri_count)] = t;
+      ++tri_count;
+    }
+  }
+  out.triangle_count = tri_count;
+  out.node_count = static_cast<int>(patch_vertex_.size());
+
+  const bool moving = in.surface_previous.size() == in.surface.size() && in.step_period > 0.0;
+  for (int n = 0; n < out.node_count; ++n) {
+    const auto v = static_cast<std::size_t>(patch_vertex_[static_cast<std::size_t>(n)]);
+    out.position[static_cast<std::size_t>(n)] = in.surface[v];
+    out.velocity[static_cast<std::size_t>(n)] =
+        moving ? Vec3((in.surface[v] - in.surface_previous[v]) / in.step_period) : Vec3::Zero();
+  }
+
+  // The contact load of the step on the free nodes: the shape already carries it.
+  out.applied.setZero();
+  if (in.load_triangle >= 0 && static_cast<std::size_t>(in.load_triangle) < triangles_.size()) {
+    const mesh::Triangle& tri = triangles_[static_cast<std::size_t>(in.load_triangle)];
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t l = local_of_[static_cast<std::size_t>(tri[static_cast<std::size_t>(k)])];
+      if (l >= 0 && l < out.free_count) out.applied.segment<3>(dof(l)) += in.load_barycentric[k] * in.load_force;
+    }
+  }
+}
+
+void PatchBuilder::condense_compliance(const Inputs& in, LocalPatch& out) {
+  const Eigen::Index f3_all = dof(out.free_count);
+  if (!in.physics_body || !in.physics_state) {  // a rigid body does not yield
+    out.response.topLeftCorner(f3_all, f3_all).setZero();
+    out.release.head(f3_all).setZero();
+    return;
+  }
+  if (in.surface_to_node.size() != vertex_count_)
+    throw std::runtime_error("local model: the compliance model needs the body's surface-to-node map");
+  const physics::Body& body = *in.physics_body;
+  const physics::BodyState& state = *in.physics_state;
+  const physics::ForceModel& model = *body.model;
+  if (!scratch_) scratch_ = model.make_scratch();
+  model.linearize(state.x, state.v, state.q, *scratch_);
+  triplets_.clear();
+  model.add_triplets(1.0, 0.0, triplets_, *scratch_);
+  const VecX& m = model.lumped_mass();
+  const auto n = static_cast<Eigen::Index>(m.size());
+  auto fixed = [&](Eigen::Index i) {
+    return static_cast<std::size_t>(i) < body.fixed_dofs.size() && body.fixed_dofs[static_cast<std::size_t>(i)] != 0;
+  };
+  // Fixed dofs drop out (identity rows). The inertia over one step period is kept (M/T²): it
+  // is the tissue's resistance over the time the patch lives, and keeps a body that is not
+  // held anywhere solvable.
+  std::size_t keep = 0;
+  for (const auto& t : triplets_)
+    if (!fixed(t.row()) && !fixed(t.col())) triplets_[keep++] = t;
+  triplets_.resize(keep);
+  const double inertia = in.step_period > 0.0 ? 1.0 / (in.step_period * in.step_period) : 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) triplets_.emplace_back(i, i, fixed(i) ? 1.0 : inertia * m[i]);
+  stiffness_.resize(n, n);
+  stiffness_.setFromTriplets(triplets_.begin(), triplets_.end());
+  if (!pattern_analyzed_) {
+    solver_.analyzePattern(stiffness_);
+    pattern_analyzed_ = true;
+  }
+  solver_.factorize(stiffness_);
+  if (solver_.info() != Eigen::Success)
+    throw std::runtime_error("local model: the condensed stiffness is not positive definite");
+
+  const int free = out.free_count;
+  unit_.setZero(n);
+  for (int j = 0; j < free; ++j) {
+    const auto node_j = static_cast<Eigen::Index>(in.surface_to_node[static_cast<std::size_t>(patch_vertex_[static_cast<std::size_t>(j)])]);
+    for (int a = 0; a < 3; ++a) {
+      const Eigen::Index col = dof(j) + a;
+      if (fixed(3 * node_j + a)) {
+        out.response.col(col).setZero();
+        continue;
+      }
+      unit_[3 * node_j + a] = 1.0;
+      solution_ = solver_.solve(unit_);
+      unit_[3 * node_j + a] = 0.0;
+      for (int i = 0; i < free; ++i) {
+        const auto node_i = static_cast<Eigen::Index>(in.surface_to_node[static_cast<std::size_t>(patch_vertex_[static_cast<std::size_t>(i)])]);
+        for (int b = 0; b < 3; ++b) out.response(dof(i) + b, col) = fixed(3 * node_i + b) ? 0.0 : solution_[3 * node_i + b];
+      }
+    }
+  }
+  const Eigen::Index f3 = dof(free);
+  // Symmetric by construction; average away the round-off so the response stays passive.
+  out.response.topLeftCorner(f3, f3) = 0.5 * (out.response.topLeftCorner(f3, f3) + out.response.topLeftCorner(f3, f3).transpose()).eval();
+  out.release.head(f3).noalias() = -out.response.topLeftCorner(f3, f3) * out.applied.head(f3);
+}
+
+void PatchBuilder::fit_mass_spring(const Inputs& in, LocalPatch& out) {
+  const PatchMaterial& mat = in.material;
+  if (!(mat.young_modulus > 0.0) || !(mat.density > 0.0) || !(in.frame_time > 0.0))
+    throw std::runtime_error("local model: the mass_spring model needs a material and a haptic period");
+  const int nodes = out.node_count, free = out.free_count;
+  const double shear = mat.young_modulus / (2.0 * (1.0 + mat.poisson_ratio));
+  const double plane_strain = mat.young_modulus / (1.0 - mat.poisson_ratio * mat.poisson_ratio);
+  full_.setZero(dof(nodes), dof(nodes));
+  area_.assign(static_cast<std::size_t>(nodes), 0.0);
+  // An edge spring as stiff as a shear block of its own length, G·L; each triangle gives half
+  // of it (an inner edge has two triangles).
+  auto add_half_spring = [&](int i, int j) {
+    const Vec3 e = out.position[static_cast<std::size_t>(j)] - out.position[static_cast<std::size_t>(i)];
+    const double length = e.norm();
+    if (!(length > 0.0)) return;
+    const Mat3 block = 0.5 * shear * length * (e / length) * (e / length).transpose();
+    full_.block<3, 3>(dof(i), dof(i)) += block;
+    full_.block<3, 3>(dof(j), dof(j)) += block;
+    full_.block<3, 3>(dof(i), dof(j)) -= block;
+    full_.block<3, 3>(dof(j), dof(i)) -= block;
+  };
+  for (int t = 0; t < out.triangle_count; ++t) {
+    const mesh::Triangle& tri = out.triangles[static_cast<std::size_t>(t)];
+    const Vec3& a = out.position[static_cast<std::size_t>(tri[0])];
+    const Vec3& b = out.position[static_cast<std::size_t>(tri[1])];
+    const Vec3& c = out.position[static_cast<std::size_t>(tri[2])];
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    for (const mesh::Index v : tri) area_[static_cast<std::size_t>(v)] += area / 3.0;
+    for (int k = 0; k < 3; ++k) {
+      const int i = tri[static_cast<std::size_t>(k)], j = tri[static_cast<std::size_t>((k + 1) % 3)];
+      if (i < free || j < free) add_half_spring(i, j);  // springs between border nodes do nothing
+    }
+  }
+  // The tissue under each free node: the Boussinesq stiffness of a rigid punch as large as
+  // the node's share of the surface, 2a·E/(1 − ν²); its mass a column as deep as it is wide.
+  const Eigen::Index f3 = dof(free);
+  for (int i = 0; i < free; ++i) {
+    const double area = area_[static_cast<std::size_t>(i)];
+    const double a = std::sqrt(area / std::numbers::pi);
+    full_.block<3, 3>(dof(i), dof(i)) += 2.0 * a * plane_strain * Mat3::Identity();
+    out.mass.segment<3>(dof(i)).setConstant(mat.density * area * std::sqrt(area));
+  }
+  const double h = in.frame_time;
+  out.frame_time = h;
+  out.stiffness.topLeftCorner(f3, f3) = full_.topLeftCorner(f3, f3);
+  // Border at constant velocity: force on the free nodes per second of it, K_FB·v_B.
+  border_velocity_.setZero(dof(nodes) - f3);
+  for (int n = free; n < nodes; ++n) border_velocity_.segment<3>(dof(n) - f3) = out.velocity[static_cast<std::size_t>(n)];
+  out.border_drift.head(f3).noalias() = full_.topRightCorner(f3, dof(nodes) - f3) * border_velocity_;
+  // Implicit Euler: (M/h + h·K_FF) v' = M v/h − K_FF u − K_FB (x_B' − p_B) + f.
+  system_ = h * full_.topLeftCorner(f3, f3);
+  system_.diagonal() += out.mass.head(f3) / h;
+  const Eigen::LLT<MatX> llt(system_);
+  if (llt.info() != Eigen::Success) throw std::runtime_error("local model: the mass-spring system is not positive definite");
+  out.system_inverse.topLeftCorner(f3, f3) = llt.solve(MatX::Identity(f3, f3));
+  out.response.topLeftCorner(f3, f3) = h * out.system_inverse.topLeftCorner(f3, f3);
+  out.release.head(f3).setZero();
+}
+
+void PatchBuilder::build(const Inputs& in, LocalPatch& out) {
+  out.kind = in.kind;
+  out.body = in.body;
+  out.time = in.time;
+  out.center = in.center;
+  out.radius = in.radius;
+  out.valid = false;
+  if (in.surface.size() != vertex_count_) {
+    out.free_count = out.node_count = out.triangle_count = 0;
+    return;
+  }
+  select(in, out);
+  if (out.free_count == 0 || out.triangle_count == 0) {
+    out.free_count = out.node_count = out.triangle_count = 0;
+    return;
+  }
+  if (in.kind == LocalModelKind::compliance) condense_compliance(in, out);
+  else if (in.kind == LocalModelKind::mass_spring) fit_mass_spring(in, out);
+  out.valid = true;
+}
+
+// --- LocalModel (haptic thread) ------------------------------------------------------------
+
+LocalModel::LocalModel(LocalModelKind kind, const PatchCapacity& capacity)
+    : patch_(kind, capacity), current_(static_cast<std::size_t>(capacity.nodes), Vec3::Zero()) {
+  const Eigen::Index f3 = 3 * static_cast<Eigen::Index>(capacity.free_nodes);
+  u_ = VecX::Zero(f3);
+  v_ = VecX::Zero(f3);
+  rhs_ = VecX::Zero(f3);
+  next_ = VecX::Zero(f3);
+  column_ = VecX::Zero(f3);
+}
+
+void LocalModel::reset(const LocalPatch& patch, double now) {
+  patch_ = patch;  // same sizes on both sides: the buffers are reused, nothing allocates
+  u_.setZero();
+  v_.setZero();
+  now_ = now;
+  since_ = std::clamp(now - patch_.time, 0.0, kMaxExtrapolation);
+  query_ = BruteForceSurfaceQuery(positions(), {patch_.triangles.data(), static_cast<std::size_t>(patch_.triangle_count)});
+  place_nodes();
+}
+
+void LocalModel::extrapolate(double now) {
+  now_ = now;
+  since_ = std::clamp(now - patch_.time, 0.0, kMaxExtrapolation);
+  place_nodes();
+}
+
+void LocalModel::place_nodes() {
+  const bool drift = patch_.kind == LocalModelKind::mass_spring;
+  for (int n = 0; n < patch_.node_count; ++n) {
+    const auto i = static_cast<std::size_t>(n);
+    if (n < patch_.free_count) current_[i] = patch_.position[i] + u_.segment<3>(dof(n));
+    else current_[i] = drift ? Vec3(patch_.position[i] + since_ * patch_.velocity[i]) : patch_.position[i];
+  }
+}
+
+double LocalModel::advance(const PatchContact& contact, double dt) {
+  if (!patch_.valid) return contact.force;
+  const int free = patch_.free_count;
+  const Eigen::Index f3 = dof(free);
+  auto a = next_.head(f3);
+  if (patch_.kind == LocalModelKind::mass_spring) {
+    // The response was built for the patch's frame time; a frame of another length (a late
+    // frame in real time) advances by that frame time all the same.
+    (void)dt;
+    const double h = patch_.frame_time;
+    rhs_.head(f3) = patch_.mass.head(f3).cwiseProduct(v_.head(f3)) / h - patch_.applied.head(f3) -
+                    (since_ + h) * patch_.border_drift.head(f3);
+    rhs_.head(f3).noalias() -= patch_.stiffness.topLeftCorner(f3, f3) * u_.head(f3);
+    a = u_.head(f3);
+    a.noalias() += h * patch_.system_inverse.topLeftCorner(f3, f3) * rhs_.head(f3);
+  } else {
+    a = patch_.release.head(f3);
+  }
+
+  double force = 0.0;
+  if (contact.triangle >= 0 && contact.triangle < patch_.triangle_count) {
+    const mesh::Triangle& tri = patch_.triangles[static_cast<std::size_t>(contact.triangle)];
+    // column = B·Jᵀn: the free nodes' response to a unit normal force at the contact point.
+    column_.head(f3).setZero();
+    for (int k = 0; k < 3; ++k) {
+      const int i = tri[static_cast<std::size_t>(k)];
+      if (i < free)
+        column_.head(f3).noalias() += contact.barycentric[k] * (patch_.response.middleCols<3>(dof(i)).topRows(f3) * contact.normal);
+    }
+    double c = 0.0, s_a = 0.0, s = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const int i = tri[static_cast<std::size_t>(k)];
+      if (i >= free) continue;
+      const double w = contact.barycentric[k];
+      c += w * contact.normal.dot(column_.segment<3>(dof(i)));
+      s_a += w * contact.normal.dot(a.segment<3>(dof(i)));
+      s += w * contact.normal.dot(u_.segment<3>(dof(i)));
+    }
+    // The contact point moves s_a − c·F along the normal; the law answers with
+    // F = F₀ + k·(that − s), linearized: one scalar equation, solved exactly.
+    const double k = std::max(0.0, contact.stiffness);
+    force = std::max(0.0, (contact.force + k * (s_a - s)) / (1.0 + k * std::max(0.0, c)));
+    if (!std::isfinite(force)) force = 0.0;
+    a.noalias() -= force * column_.head(f3);
+  }
+  if (patch_.kind == LocalModelKind::mass_spring) v_.head(f3) = (a - u_.head(f3)) / patch_.frame_time;
+  u_.head(f3) = a;
+  place_nodes();
+  return force;
+}
+
+}  // namespace tactus::contact

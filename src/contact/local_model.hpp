@@ -1,0 +1,202 @@
+#pragma once
+// Local contact models for the haptic rate (seed 002 §IV, DESIGN "The loops"): the simulation
+// publishes, with each step, a small patch of the surface inside a bounding sphere around the
+// tool, and between steps the haptic loop deforms that patch under the contact force so that
+// the dent and the edges are felt at the haptic rate, not only a plane.
+//
+// The patch's nodes are split into free nodes (inside the sphere: they move under the
+// contact) and border nodes (the other corners of the patch's triangles: they move at the
+// constant velocity of the last two snapshots). Two dynamics for the free nodes:
+//   - compliance: u = C·(f − f_applied), C the free nodes' compliance condensed from the
+//     body's global stiffness at the last step (quasi-static, exact for a linear body);
+//   - mass_spring: springs along the patch edges (rest lengths from the published shape,
+//     stiffness from the material), a support spring per node standing in for the tissue
+//     beneath, lumped masses, stepped at the haptic rate by implicit Euler.
+// Both are linear in the contact force, so the haptic loop advances them with a matrix-vector
+// product and solves the contact force implicitly with one scalar equation: stable for any
+// contact stiffness, no factorization and no allocation per frame.
+//
+// PatchBuilder runs in the simulation thread (it allocates); LocalModel in the haptic thread
+// (it never allocates after construction).
+#include <Eigen/SparseCholesky>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "contact/surface_query.hpp"
+#include "core/math.hpp"
+#include "mesh/tri_mesh.hpp"
+#include "physics/body.hpp"
+
+namespace tactus::contact {
+
+enum class LocalModelKind : std::uint8_t {
+  plane,        ///< a contact plane through the closest point (built by the interaction loop)
+  compliance,   ///< condensed compliance of the patch nodes
+  mass_spring,  ///< local mass-spring patch with a border at constant velocity
+};
+
+/// "plane", "compliance", "mass_spring".
+[[nodiscard]] const char* local_model_name(LocalModelKind kind);
+
+/// How big a patch may grow; fixed when the channels are built, so no loop reallocates.
+struct PatchCapacity {
+  int free_nodes = 24;  ///< nodes that move under the contact (3·free_nodes rows of C)
+  int nodes = 96;       ///< free plus border nodes
+  int triangles = 160;
+};
+
+/// Material of the tissue under the patch (mass_spring fits its springs to it).
+struct PatchMaterial {
+  double young_modulus = 0.0;  ///< [Pa]
+  double poisson_ratio = 0.45;
+  double density = 1000.0;     ///< [kg/m³]
+};
+
+/// One published local model. Every array is sized to the capacity once; the counts say how
+/// much of it is in use, so copying one patch onto another never allocates.
+struct LocalPatch {
+  LocalPatch() = default;
+  LocalPatch(LocalModelKind kind, const PatchCapacity& capacity);
+
+  LocalModelKind kind = LocalModelKind::compliance;
+  bool valid = false;        ///< false: no surface near the tool (render no contact)
+  std::int32_t body = -1;    ///< index into Model::bodies
+  double time = 0.0;         ///< simulation time of the shape [s]
+  Vec3 center = Vec3::Zero();
+  double radius = 0.0;       ///< of the bounding sphere [m]
+  int free_count = 0;        ///< free nodes are the first free_count nodes
+  int node_count = 0;
+  int triangle_count = 0;
+
+  std::vector<Vec3> position;  ///< published shape, per node [m]
+  std::vector<Vec3> velocity;  ///< from the last two snapshots, per node [m/s]
+  std::vector<mesh::Triangle> triangles;         ///< corners as patch node indices
+  std::vector<std::int32_t> surface_triangle;    ///< the body's surface triangle of each
+  /// Free-node displacement when the contact force is released to zero: −C·f_applied
+  /// (compliance), where f_applied is the contact load the last step applied (3·free).
+  VecX release;
+  /// The contact load the last step applied to each free node (3·free) [N].
+  VecX applied;
+  /// Linear response of the free nodes to a change of nodal force over one haptic frame,
+  /// 3F×3F: C itself (compliance) or h·A⁻¹ with A = M/h + D + h·K (mass_spring) [m/N].
+  MatX response;
+  /// mass_spring only: the stiffness among free nodes K_FF (3F×3F), the inverse of A, lumped
+  /// masses (3F) and the force on the free nodes per second of border motion, K_FB·v_B (3F).
+  MatX stiffness;
+  MatX system_inverse;
+  VecX mass;
+  VecX border_drift;
+  double frame_time = 0.0;  ///< h, the haptic period the mass_spring system was built for [s]
+};
+
+/// Builds patches of one body's surface. Construction allocates its buffers; build() may
+/// allocate too (it runs in the simulation thread, never in the haptic loop).
+class PatchBuilder {
+ public:
+  /// `triangles` is the body's surface; `capacity` the size of every patch it fills.
+  /// Throws InputError when a triangle refers to a vertex that does not exist or the
+  /// capacity is not positive.
+  PatchBuilder(std::size_t vertex_count, std::span<const mesh::Triangle> triangles, PatchCapacity capacity);
+
+  struct Inputs {
+    LocalModelKind kind = LocalModelKind::compliance;
+    std::int32_t body = -1;
+    double time = 0.0;
+    Vec3 center = Vec3::Zero();
+    double radius = 0.0;
+    std::span<const Vec3> surface;           ///< surface vertex positions now
+    std::span<const Vec3> surface_previous;  ///< one step earlier (empty: at rest)
+    double step_period = 0.0;                ///< time between the two [s]
+    /// Contact load the step applied: triangle, barycentric weights and force on the tissue.
+    std::int32_t load_triangle = -1;
+    Vec3 load_barycentric = Vec3::Zero();
+    Vec3 load_force = Vec3::Zero();
+    /// compliance: the body, its state after the step and its surface vertex → node map.
+    const physics::Body* physics_body = nullptr;
+    const physics::BodyState* physics_state = nullptr;
+    std::span<const std::int32_t> surface_to_node;
+    /// mass_spring: the material and the haptic period.
+    PatchMaterial material;
+    double frame_time = 1e-3;
+  };
+
+  /// Fills `out` (made with this builder's capacity): the surface vertices within `radius`
+  /// of `center`, nearest first up to the capacity, are the free nodes; every triangle with
+  /// a free corner is in the patch. No vertex within the radius gives an invalid patch.
+  /// Throws std::runtime_error when the condensed stiffness cannot be factorized.
+  void build(const Inputs& in, LocalPatch& out);
+
+ private:
+  void select(const Inputs& in, LocalPatch& out);
+  void condense_compliance(const Inputs& in, LocalPatch& out);
+  void fit_mass_spring(const Inputs& in, LocalPatch& out);
+
+  std::size_t vertex_count_;
+  std::vector<mesh::Triangle> triangles_;
+  std::vector<std::vector<std::int32_t>> vertex_triangles_;  ///< per vertex, its triangles
+  PatchCapacity capacity_;
+  std::vector<std::int32_t> local_of_;  ///< surface vertex → patch node (−1: not in the patch)
+  std::vector<std::pair<double, std::int32_t>> candidates_;
+  std::vector<std::int32_t> patch_vertex_;  ///< patch node → surface vertex
+  // compliance: the body's stiffness and its factorization (pattern analyzed once)
+  std::unique_ptr<physics::Scratch> scratch_;
+  std::vector<physics::Triplet> triplets_;
+  physics::SparseMatrix stiffness_;
+  Eigen::SimplicialLDLT<physics::SparseMatrix> solver_;
+  bool pattern_analyzed_ = false;
+  VecX unit_, solution_;
+  // mass_spring
+  MatX full_, system_;
+  std::vector<double> area_;
+  VecX border_velocity_;
+};
+
+/// The contact on a patch for one frame: where, which way, how hard and how stiff.
+struct PatchContact {
+  std::int32_t triangle = -1;  ///< patch triangle (−1: no contact)
+  Vec3 barycentric = Vec3::Zero();
+  Vec3 normal = Vec3::UnitZ();  ///< out of the tissue, toward the tool
+  double force = 0.0;           ///< normal force on the tool [N] (the tissue gets −force·normal)
+  double stiffness = 0.0;       ///< d force / d penetration of the contact law [N/m]
+};
+
+/// The haptic-side state of a local model: the patch's current shape. Holds its own copy of
+/// the newest patch (copied without allocation), so the previous model can still be
+/// evaluated when a new one arrives.
+class LocalModel {
+ public:
+  LocalModel(LocalModelKind kind, const PatchCapacity& capacity);
+
+  /// Takes a newly published patch: the shape restarts from it at time `now` [s].
+  void reset(const LocalPatch& patch, double now);
+  /// Moves the border (and, for compliance, nothing else) to time `now`.
+  void extrapolate(double now);
+  /// Advances the free nodes over one frame of length `dt` under the contact (triangle −1:
+  /// none), solving the contact force implicitly; returns the force the model settled at.
+  double advance(const PatchContact& contact, double dt);
+
+  [[nodiscard]] bool valid() const { return patch_.valid; }
+  [[nodiscard]] const LocalPatch& patch() const { return patch_; }
+  /// The current shape (valid until the next call that changes it).
+  [[nodiscard]] const SurfaceQuery& surface() const { return query_; }
+  [[nodiscard]] std::span<const Vec3> positions() const {
+    return {current_.data(), static_cast<std::size_t>(patch_.node_count)};
+  }
+  /// Free-node displacement from the published shape (3·free) [m].
+  [[nodiscard]] const VecX& displacement() const { return u_; }
+
+ private:
+  void place_nodes();
+
+  LocalPatch patch_;
+  std::vector<Vec3> current_;
+  VecX u_, v_, rhs_, next_, column_;
+  double since_ = 0.0;  ///< time since the patch's shape [s]
+  double now_ = 0.0;
+  BruteForceSurfaceQuery query_{{}, {}};
+};
+
+}  // namespace tactus::contact
