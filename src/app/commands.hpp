@@ -16,5 +16,6 @@ Action add_solve(CLI::App& app);
 Action add_bench(CLI::App& app);
 Action add_replay(CLI::App& app);
 Action add_export(CLI::App& app);
+Action add_precompute(CLI::App& app);
 
 }  // namespace tactus::app

@@ -103,6 +103,8 @@ Model read_model(Reader& root, const std::string& source_name) {
   if (auto t = root.table("algorithms"))
     for (auto& [name, r] : t->named_tables()) m.algorithms.push_back(detail::read_algorithm(r, name, m));
   m.recording = read_recording(root);
+  m.feedback = detail::read_feedback(root);
+  if (auto t = root.table("precompute")) m.precompute = detail::read_precompute(*t, m);
   root.finish();
   return m;
 }

@@ -15,6 +15,10 @@ Body read_body(Reader& r, const std::string& name, const Model& model);
 Device read_device(Reader& r, const std::string& name);
 Tool read_tool(Reader& r, const std::string& name, const Model& model);
 Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model);
+precompute::SpaceSettings read_precompute(Reader& r, const Model& model);
+/// bodies.<name>.nodules of a body whose mesh and fixed regions are read (load_nodules.cpp).
+std::vector<Nodule> read_nodules(Reader& r, const Body& body);
+Feedback read_feedback(Reader& root);
 
 /// A path from the scene, resolved against the scene's folder; checks that the file
 /// exists (or that file access is allowed at all).

@@ -16,6 +16,8 @@
 #include "mesh/generators.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "mesh/tri_mesh.hpp"
+#include "physics/mapping.hpp"
+#include "precompute/settings.hpp"
 
 namespace tactus::scene {
 
@@ -121,10 +123,36 @@ struct PrescribedMotion {
   double ramp_time = 0.0;            ///< [s]; dynamic runs ramp linearly, static runs use load_steps
 };
 
+enum class MappedRole { visual, collision, embedded };
+
+/// A surface carried by a tetrahedral body (seed 003 §3.1): a finer visual skin, a separate
+/// collision surface, or a structure embedded in the volume (a vessel tube, a fascia sheet).
+/// Each vertex follows the tetrahedron that holds it at rest by barycentric weights; forces
+/// on the vertices go back to the body's nodes by the transpose.
+struct MappedSurface {
+  std::string name;
+  MappedRole role = MappedRole::visual;
+  std::string source;  ///< the mesh file or generator call
+  mesh::TriMesh mesh;  ///< rest positions
+  /// The mapping into the body's tet mesh, computed at load time.
+  std::shared_ptr<const physics::BarycentricMapping> mapping;
+};
+
 /// A named point in the rest configuration whose displacement is reported.
 struct Probe {
   std::string name;
   Vec3 position = Vec3::Zero();  ///< [m]
+};
+
+/// A sphere under a surface sheet that the sheet touches only from outside (seed 004): rigid
+/// (nodes are projected onto it) or soft (it pushes back with its Hertz pressure).
+struct Nodule {
+  std::string name;
+  Vec3 center = Vec3::Zero();  ///< [m]
+  double radius = 0.0;         ///< [m]
+  bool rigid = true;
+  double young_modulus = 0.0;  ///< [Pa], soft only
+  double poisson_ratio = 0.45; ///< soft only
 };
 
 struct Body {
@@ -150,6 +178,8 @@ struct Body {
   std::vector<NodeLoad> loads;
   std::vector<PrescribedMotion> prescribed;
   std::vector<Probe> probes;
+  std::vector<MappedSurface> mapped;  ///< volumetric bodies only
+  std::vector<Nodule> nodules;  ///< surface_mass_spring only
   int load_steps = 1;  ///< static solves apply loads and prescribed motions in this many steps
 
   // Time stepping (deformable bodies).
@@ -159,6 +189,8 @@ struct Body {
   double solver_tolerance = 1e-4;  ///< CG relative residual
   int solver_max_iterations = 200;
   MassMatrix mass_matrix = MassMatrix::lumped;
+  /// Newton iterations of each implicit Euler step (1 = the linearized step).
+  int newton_iterations = 1;
   std::vector<SpringType> springs;  ///< surface_mass_spring only
   /// surface_mass_spring only: sheet thickness [m]; with the material it sets the spring
   /// stiffnesses and the areal density (docs/scene-format.md gives the rules).
@@ -314,12 +346,23 @@ struct NeedleParams {
 using AlgorithmParams = std::variant<ProxyParams, HertzFingerParams, FingerpadParams,
                                      MultiSurfaceParams, PulseParams, NeedleParams>;
 
+/// What the haptic loop renders between simulation steps (docs/runtime.md): a contact plane
+/// through the closest point, the patch nodes' condensed compliance, or a local mass-spring
+/// patch whose border moves at constant velocity (seed 002 §IV).
+enum class LocalModel { plane, compliance, mass_spring };
+
 struct Algorithm {
   std::string name;
   std::size_t tool = 0;              ///< index into Model::tools
   std::vector<std::size_t> bodies;   ///< indices into Model::bodies; empty = every body
   bool enabled = true;
   AlgorithmParams params;
+  LocalModel local_model = LocalModel::plane;
+  /// Fastest tool motion the local patch must cover between two simulation steps [m/s].
+  double max_tool_speed = 0.2;
+  /// Time constant over which a force step at a model update is smoothed out, passively [s];
+  /// 0 = off.
+  double force_smoothing = 0.0;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -332,6 +375,11 @@ struct Recording {
   bool contacts = true;
   bool timings = true;
   bool events = true;
+};
+
+/// Trainee feedback of palpation runs (docs/scenes.md).
+struct Feedback {
+  double safe_force = 0.0;  ///< [N]; pressing harder is reported; 0 = no limit
 };
 
 // ---------------------------------------------------------------------------------------
@@ -349,6 +397,9 @@ struct Model {
   std::vector<Tool> tools;
   std::vector<Algorithm> algorithms;
   Recording recording;
+  Feedback feedback;
+  /// [precompute]: the configuration space `tactus precompute` builds (absent: none).
+  std::optional<precompute::SpaceSettings> precompute;
 
   [[nodiscard]] const Material* find_material(std::string_view name) const;
   [[nodiscard]] const Body* find_body(std::string_view name) const;
@@ -366,6 +417,7 @@ const char* to_string(BodyKind k);
 const char* to_string(Integrator i);
 const char* to_string(LinearSolver s);
 const char* to_string(MassMatrix m);
+const char* to_string(MappedRole r);
 const char* to_string(SpringType s);
 const char* tool_type_name(const ToolShape& s);
 const char* device_type_name(const DeviceSource& s);

@@ -1,0 +1,216 @@
+// `tactus precompute SCENE -o SPACE.h5`: builds the configuration space of the scene's
+// [precompute] table on the local cores, or over MPI ranks under mpirun / srun, with a
+// checkpoint journal that --resume continues (docs/precompute.md).
+#include <fmt/format.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "app/commands.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/parallel.hpp"
+#include "core/progress.hpp"
+#include "physics/fem/tet_fem.hpp"
+#include "precompute/builder.hpp"
+#include "precompute/distributed.hpp"
+#include "precompute/journal.hpp"
+#include "precompute/model_identity.hpp"
+#include "precompute/space_file.hpp"
+#include "runtime/bodies.hpp"
+#include "scene/scene.hpp"
+
+namespace tactus::app {
+namespace {
+
+namespace pc = precompute;
+
+struct PrecomputeArgs {
+  std::string scene, output;
+  bool resume = false;
+  unsigned threads = 0;
+  std::size_t stop_after = 0;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string duration_text(double seconds) {
+  if (!(seconds >= 0.0) || seconds > 1e7) return "?";
+  const auto s = static_cast<long>(seconds + 0.5);
+  if (s >= 3600) return fmt::format("{}h{:02}m", s / 3600, (s / 60) % 60);
+  if (s >= 60) return fmt::format("{}m{:02}s", s / 60, s % 60);
+  return fmt::format("{}s", s);
+}
+
+double process_cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+/// Points done, rate and time left: redrawn on a terminal, a line per tenth otherwise.
+class ProgressLine {
+ public:
+  ProgressLine(std::size_t total, std::size_t already) : total_(total), already_(already) {}
+  void update(std::size_t done) {
+    const auto now = std::chrono::steady_clock::now();
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double rate = elapsed > 0.0 ? static_cast<double>(done - std::min(done, already_)) / elapsed : 0.0;
+    const double left = rate > 0.0 ? static_cast<double>(total_ - done) / rate : -1.0;
+    const std::string text =
+        fmt::format("precompute: {}/{} points, {:.2f} points/s, {} left", done, total_, rate, duration_text(left));
+    if (terminal_) {
+      if (now - last_ < std::chrono::milliseconds(100) && done < total_) return;
+      last_ = now;
+      std::fprintf(stderr, "\r%s   ", text.c_str());
+      std::fflush(stderr);
+    } else if (10 * done / std::max<std::size_t>(total_, 1) > 10 * reported_ / std::max<std::size_t>(total_, 1)) {
+      reported_ = done;
+      log::info("{}", text);
+    }
+  }
+  void finish() {
+    if (terminal_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  std::size_t total_, already_, reported_ = 0;
+  bool terminal_ = Progress::terminal_attached();
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
+};
+
+void print_summary(const pc::Space& space, const pc::BuildStats& stats, double cpu_seconds, std::size_t resumed,
+                   const std::string& where) {
+  std::printf("configuration space: %zu points (%d x %d x %d, spacing %.4g m)\n", space.grid.size(),
+              space.grid.counts[0], space.grid.counts[1], space.grid.counts[2], space.grid.spacing);
+  std::printf("  solved %zu, failed %zu, unreachable %zu%s\n", space.count(pc::PointStatus::solved),
+              space.count(pc::PointStatus::failed), space.count(pc::PointStatus::unreachable),
+              resumed ? fmt::format(" ({} taken from the journal)", resumed).c_str() : "");
+  std::map<std::string, int> reasons;
+  for (std::size_t p = 0; p < space.grid.size(); ++p)
+    if (space.status[p] == pc::PointStatus::failed || space.status[p] == pc::PointStatus::unreachable) {
+      // Group by the message with its numbers left out.
+      static const std::regex number(R"(\d[\d.]*(e[+-]?\d+)?)");
+      ++reasons[std::regex_replace(space.reason[p], number, "#")];
+    }
+  for (const auto& [reason, n] : reasons) std::printf("    %d x %s\n", n, reason.c_str());
+  const double per_point = stats.computed ? stats.solve_seconds / static_cast<double>(stats.computed) : 0.0;
+  std::printf("  %zu solves in %.2f s wall on %u %s: %.3f solver-seconds per point, %.3f CPU-seconds per point\n",
+              stats.computed, stats.wall_seconds, stats.workers, where.c_str(), per_point,
+              stats.computed ? cpu_seconds / static_cast<double>(stats.computed) : 0.0);
+  if (stats.wall_seconds > 0.0)
+    std::printf("  parallel efficiency %.0f%% (solver time / (workers x wall time))\n",
+                100.0 * stats.solve_seconds / (stats.workers * stats.wall_seconds));
+}
+
+int run_precompute(const PrecomputeArgs& a) {
+  pc::distributed::Session session;
+  const scene::Model model = scene::load_scene(a.scene);
+  if (!model.precompute)
+    throw InputError(SourceLocation{a.scene, {}, {}, {}}, "the scene has no [precompute] table (docs/scene-format.md)");
+  const pc::SpaceSettings& settings = *model.precompute;
+  std::size_t index = 0;
+  while (model.bodies[index].name != settings.body) ++index;
+  const physics::Body body = runtime::make_physics_body(model, index);
+
+  pc::Space space;
+  space.settings = settings;
+  const Vec3 contact = body.model->rest_positions().segment<3>(3 * static_cast<Eigen::Index>(settings.contact_node));
+  space.grid = pc::Grid::through(contact, settings.bounds_min, settings.bounds_max, settings.spacing);
+  space.start = space.grid.nearest(contact);
+  space.identity = pc::identify(body, settings, space.grid);
+  space.scene_text = read_text(a.scene);
+  space.rest_positions = body.model->rest_positions();
+  if (const auto* fem = dynamic_cast<const physics::TetFem*>(body.model.get()))
+    for (const auto& e : fem->elements()) space.elements.push_back(e.nodes);
+  space.allocate(body.model->node_count());
+  // The inner element loops run on one thread: the parallelism is across configurations.
+  set_thread_limit(1);
+  auto make_solver = [&] { return std::make_unique<pc::ConfigurationSolver>(body, settings); };
+
+  if (session.rank() > 0) {
+    auto solver = make_solver();
+    pc::distributed::serve(*solver, space, session);
+    return 0;
+  }
+
+  const std::filesystem::path output(a.output);
+  const std::filesystem::path journal_path = output.string() + ".journal";
+  std::error_code ec;
+  std::optional<pc::Journal> journal;
+  if (std::filesystem::exists(journal_path, ec)) {
+    if (!a.resume)
+      throw InputError(SourceLocation{journal_path.string(), {}, {}, {}},
+                       "an interrupted build left this journal: pass --resume to continue it, or delete it");
+    journal.emplace(pc::Journal::resume(journal_path, space));
+    log::info("resuming: {} of {} points from the journal", journal->recovered(), space.grid.size());
+  } else {
+    if (a.resume) log::info("no journal at {}: building from the start", journal_path.string());
+    journal.emplace(pc::Journal::create(journal_path, space));
+  }
+  const std::size_t resumed = journal->recovered();
+
+  ProgressLine progress(space.grid.size(), resumed);
+  pc::BuildOptions options;
+  options.threads = a.threads ? a.threads : std::max(1u, std::thread::hardware_concurrency());
+  options.stop_after = a.stop_after;
+  options.on_result = [&](const pc::PointResult& r) { journal->append(r); };
+  options.on_progress = [&](std::size_t done, std::size_t) { progress.update(done); };
+  const double cpu0 = process_cpu_seconds();
+  pc::BuildStats stats;
+  std::string where;
+  if (session.size() > 1) {
+    stats = pc::distributed::schedule(space, options, session);
+    where = fmt::format("solver ranks (MPI, {} ranks in all)", session.size());
+  } else {
+    stats = pc::build_local(space, make_solver, options);
+    where = stats.workers == 1 ? "thread" : "threads";
+  }
+  progress.finish();
+  // Under MPI the solves ran on the other ranks: their CPU time is the solver time.
+  const double cpu = session.size() > 1 ? stats.solve_seconds : process_cpu_seconds() - cpu0;
+  print_summary(space, stats, cpu, resumed, where);
+  if (stats.stopped) {
+    std::printf("stopped after %zu solves as asked; continue with --resume\n", stats.computed);
+    return 3;
+  }
+  pc::write_space(output, space);
+  journal->close();
+  std::filesystem::remove(journal_path, ec);
+  std::printf("wrote %s\n", output.string().c_str());
+  return 0;
+}
+
+}  // namespace
+
+Action add_precompute(CLI::App& app) {
+  auto a = std::make_shared<PrecomputeArgs>();
+  app.add_option("scene", a->scene, "Scene file (TOML) with a [precompute] table")->required()->check(CLI::ExistingFile);
+  app.add_option("-o,--output", a->output, "Configuration space file (HDF5)")->required();
+  app.add_flag("--resume", a->resume, "Continue an interrupted build from its journal (OUTPUT.journal)");
+  app.add_option("--threads", a->threads, "Worker threads without MPI (default: every core)")
+      ->check(CLI::Range(1u, 4096u));
+  // For tests of resume: behave as if killed after this many solves.
+  app.add_option("--stop-after", a->stop_after, "")->group("");
+  app.footer("Under mpirun or srun with N > 1 ranks, rank 0 schedules and ranks 1..N-1 solve. "
+             "Design, file layout and cluster use: docs/precompute.md");
+  return [a] { return run_precompute(*a); };
+}
+
+}  // namespace tactus::app

@@ -1,0 +1,50 @@
+#pragma once
+// Building a configuration space on this machine: a pool of worker threads, each with its
+// own ConfigurationSolver, takes the wavefront's ready transitions.
+#include <cstddef>
+#include <functional>
+#include <memory>
+
+#include "precompute/configuration_solver.hpp"
+#include "precompute/space.hpp"
+
+namespace tactus::precompute {
+
+using SolverFactory = std::function<std::unique_ptr<ConfigurationSolver>()>;
+
+struct BuildOptions {
+  unsigned threads = 1;
+  /// Stop handing out work after this many new results (0 = never): what a killed job leaves
+  /// behind, for testing resume.
+  std::size_t stop_after = 0;
+  /// Every new outcome (unreachable points included), one at a time, in completion order:
+  /// the checkpoint journal appends it here.
+  std::function<void(const PointResult&)> on_result;
+  /// Points resolved so far (resumed ones included) and the total.
+  std::function<void(std::size_t resolved, std::size_t total)> on_progress;
+};
+
+struct BuildStats {
+  std::size_t computed = 0;     ///< solves run by this build (not resumed ones)
+  std::size_t unreachable = 0;  ///< marked unreachable by this build
+  double wall_seconds = 0.0;
+  double solve_seconds = 0.0;   ///< sum of the solves' wall times over all workers
+  unsigned workers = 1;
+  bool stopped = false;         ///< stop_after cut the build short
+};
+
+/// Where point p's transition starts and ends: the patch positions of its source and of p.
+Vec3 patch_position(const Space& space, std::size_t point);
+
+/// Fills the pending points of `space` (allocated; a resumed build holds earlier outcomes).
+/// The first worker exception is rethrown after every worker has stopped.
+BuildStats build_local(Space& space, const SolverFactory& make_solver, const BuildOptions& options);
+
+/// Runs one task on `solver`: the start point from rest, any other from its source.
+PointResult run_task(ConfigurationSolver& solver, const Space& space, std::size_t point, std::int64_t source,
+                     const VecX& source_displacement);
+
+/// The outcome recorded for a point every candidate source of which failed.
+PointResult unreachable_result(std::size_t point);
+
+}  // namespace tactus::precompute

@@ -1,0 +1,126 @@
+#include "precompute/configuration_solver.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+#include <stdexcept>
+
+#include "core/error.hpp"
+
+namespace tactus::precompute {
+
+ConfigurationSolver::ConfigurationSolver(const physics::Body& body, const SpaceSettings& settings)
+    : body_(body), settings_(settings) {
+  const auto nodes = body_.model->node_count();
+  if (settings_.patch_nodes.empty()) settings_.patch_nodes = {settings_.contact_node};
+  body_.fixed_dofs.resize(3 * nodes, 0);
+  for (auto n : settings_.patch_nodes) {
+    if (n < 0 || static_cast<std::size_t>(n) >= nodes)
+      throw InputError(fmt::format("contact patch node {} is not a node of the body ({} nodes)", n, nodes));
+    if (body_.fixed_dofs[3 * static_cast<std::size_t>(n)])
+      throw InputError(fmt::format("contact patch node {} lies in a fixed region; choose another contact point", n));
+  }
+  body_.fix_nodes(settings_.patch_nodes);
+  body_.settings.solver = physics::LinearSolver::cholesky;
+  if (!settings_.gravity) body_.gravity = Vec3::Zero();
+  contact_rest_ = body_.model->rest_positions().segment<3>(3 * static_cast<Eigen::Index>(settings_.contact_node));
+  state_ = physics::make_state(body_);
+  force_ = VecX::Zero(state_.x.size());
+}
+
+void ConfigurationSolver::place_patch(const Vec3& contact) {
+  const VecX& rest = body_.model->rest_positions();
+  const Vec3 shift = contact - contact_rest_;
+  for (auto n : settings_.patch_nodes) {
+    const auto i = 3 * static_cast<Eigen::Index>(n);
+    state_.x.segment<3>(i) = rest.segment<3>(i) + shift;
+  }
+}
+
+Vec3 ConfigurationSolver::reaction() {
+  body_.model->forces(state_.x, state_.v, state_.q, force_, *state_.model_scratch);
+  const VecX& mass = body_.model->lumped_mass();
+  Vec3 f = Vec3::Zero();
+  for (auto n : settings_.patch_nodes) {
+    const auto i = 3 * static_cast<Eigen::Index>(n);
+    f += force_.segment<3>(i);
+    if (settings_.gravity) f += mass.segment<3>(i).cwiseProduct(body_.gravity);
+  }
+  return f;
+}
+
+double ConfigurationSolver::free_residual() {
+  body_.model->forces(state_.x, state_.v, state_.q, force_, *state_.model_scratch);
+  const VecX& mass = body_.model->lumped_mass();
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i < force_.size(); ++i) {
+    if (body_.fixed_dofs[static_cast<std::size_t>(i)]) continue;
+    const double f = force_[i] + mass[i] * body_.gravity[i % 3];
+    sum += f * f;
+  }
+  return std::sqrt(sum);
+}
+
+PointResult ConfigurationSolver::solve_start(std::size_t point, const Vec3& target) {
+  return run(point, -1, nullptr, contact_rest_, target, 1);
+}
+
+PointResult ConfigurationSolver::transition(std::size_t point, std::int64_t source, const VecX& source_displacement,
+                                            const Vec3& from, const Vec3& target) {
+  return run(point, source, &source_displacement, from, target, settings_.load_steps);
+}
+
+PointResult ConfigurationSolver::solve_direct(const Vec3& target, int steps) {
+  return run(0, -1, nullptr, contact_rest_, target, steps);
+}
+
+PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, const VecX* start, const Vec3& from,
+                                     const Vec3& target, int steps) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PointResult r;
+  r.point = point;
+  r.source = source;
+  const VecX& rest = body_.model->rest_positions();
+  // Every solve starts from the same state whatever this solver did before, so a point's
+  // result depends only on its source (any worker, any rank, any order gives the same bits).
+  state_.x = start ? VecX(rest + *start) : rest;
+  state_.v.setZero();
+  state_.q.setZero();
+  r.status = PointStatus::solved;
+  for (int s = 1; s <= steps && r.status == PointStatus::solved; ++s) {
+    const double fraction = static_cast<double>(s) / steps;
+    place_patch(from + fraction * (target - from));
+    try {
+      const auto res = physics::solve_static(body_, state_, {}, settings_.max_iterations, settings_.tolerance);
+      r.iterations += res.iterations;
+      r.residual = std::max(r.residual, res.residual);
+      if (!res.converged && !(free_residual() <= kAbsoluteForceTolerance)) {
+        r.status = PointStatus::failed;
+        r.reason = fmt::format("load step {}/{}: {} at relative residual {:.3g} after {} Newton iterations", s, steps,
+                               res.stagnated ? "line search stagnated" : "no convergence", res.residual,
+                               res.iterations);
+      } else if (!state_.x.allFinite()) {
+        r.status = PointStatus::failed;
+        r.reason = fmt::format("load step {}/{}: non-finite positions", s, steps);
+      }
+    } catch (const std::runtime_error& e) {
+      r.status = PointStatus::failed;
+      r.reason = fmt::format("load step {}/{}: {}", s, steps, e.what());
+    }
+  }
+  newton_iterations_ += r.iterations;
+  if (r.status == PointStatus::solved) {
+    r.force = reaction();
+    if (!r.force.allFinite()) {
+      r.status = PointStatus::failed;
+      r.reason = "non-finite reaction force";
+      r.force.setZero();
+    } else {
+      r.displacement = state_.x - rest;
+    }
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace tactus::precompute

@@ -1,0 +1,61 @@
+#pragma once
+// One solver of configurations: static equilibria of a body with its contact patch held at a
+// grid point. A configuration is reached by a transition from an already solved neighbour:
+// the patch moves along the grid edge in load steps, each a Newton solve warm-started from
+// the last. The solver keeps one BodyState for its whole life, so the sparse Cholesky
+// factorization's symbolic analysis (done on the first solve) is reused by every later one.
+#include <cstdint>
+
+#include "physics/body.hpp"
+#include "precompute/settings.hpp"
+#include "precompute/space.hpp"
+
+namespace tactus::precompute {
+
+/// A load step that stops short of the relative tolerance still counts as converged when
+/// the out-of-balance force on the free nodes is below this [N]: steps far smaller than the
+/// grid spacing (round-off between grid positions) start from a residual so small that the
+/// relative criterion cannot be met.
+inline constexpr double kAbsoluteForceTolerance = 1e-9;
+
+class ConfigurationSolver {
+ public:
+  /// `body`: the scene body (its fixed dofs are the fixed regions). The solver adds the
+  /// patch nodes as prescribed dofs, solves with sparse Cholesky, and drops gravity unless
+  /// settings.gravity. Throws InputError for a patch node out of range or already fixed.
+  ConfigurationSolver(const physics::Body& body, const SpaceSettings& settings);
+
+  /// The start configuration: the patch at `target` (its rest position: the undeformed
+  /// contact point), reached from the rest shape.
+  PointResult solve_start(std::size_t point, const Vec3& target);
+  /// The configuration at `target`, reached from the solved configuration `source` (its
+  /// displacement and its patch position `from`) in settings.load_steps load steps.
+  PointResult transition(std::size_t point, std::int64_t source, const VecX& source_displacement, const Vec3& from,
+                         const Vec3& target);
+  /// A path from rest straight to `target` in `steps` load steps (the reference solution of
+  /// the accuracy study, independent of the grid).
+  PointResult solve_direct(const Vec3& target, int steps);
+
+  /// Rest position of the contact node.
+  [[nodiscard]] const Vec3& contact_rest() const { return contact_rest_; }
+  [[nodiscard]] const physics::Body& body() const { return body_; }
+  /// Total Newton iterations and factorizations so far.
+  [[nodiscard]] long long newton_iterations() const { return newton_iterations_; }
+
+ private:
+  PointResult run(std::size_t point, std::int64_t source, const VecX* start, const Vec3& from, const Vec3& target,
+                  int steps);
+  void place_patch(const Vec3& contact);
+  [[nodiscard]] Vec3 reaction();
+  /// |internal force + weight| over the free dofs at the current state [N].
+  [[nodiscard]] double free_residual();
+
+  physics::Body body_;
+  SpaceSettings settings_;
+  physics::BodyState state_;
+  Vec3 contact_rest_ = Vec3::Zero();
+  VecX force_;
+  long long newton_iterations_ = 0;
+};
+
+}  // namespace tactus::precompute

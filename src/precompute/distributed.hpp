@@ -1,0 +1,41 @@
+#pragma once
+// Building a space over MPI ranks: rank 0 schedules the wavefront's ready transitions to the
+// solver ranks as they become idle (dynamic load balance: solves differ in cost), gathers the
+// results and records them; ranks 1.. solve. Without MPI in the build, everything here
+// reports a single process.
+#include "precompute/builder.hpp"
+
+namespace tactus::precompute::distributed {
+
+/// Whether this build has MPI support (TACTUS_WITH_MPI).
+bool available();
+/// The job size the launcher (mpirun, srun) announced in the environment; 1 when the
+/// process was not started by one.
+int launched_size();
+
+/// MPI for the life of the object, initialized only when launched_size() > 1. Throws
+/// InputError when launched with several ranks by a build without MPI (each rank would
+/// build the whole space on its own). Aborts the job when destroyed during an exception, so
+/// that no rank waits for ever on a failed one.
+class Session {
+ public:
+  Session();
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+  [[nodiscard]] int rank() const { return rank_; }
+  [[nodiscard]] int size() const { return size_; }
+
+ private:
+  int rank_ = 0;
+  int size_ = 1;
+  bool initialized_ = false;
+};
+
+/// Rank 0: hands out every pending point of `space` to ranks 1..size-1 and records the
+/// results (options.threads is ignored).
+BuildStats schedule(Space& space, const BuildOptions& options, const Session& session);
+/// Ranks 1..: solves the tasks rank 0 sends until it says stop.
+void serve(ConfigurationSolver& solver, const Space& space, const Session& session);
+
+}  // namespace tactus::precompute::distributed

@@ -1,0 +1,65 @@
+#include "precompute/model_identity.hpp"
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "physics/fem/tet_fem.hpp"
+
+namespace tactus::precompute {
+
+std::string hash_text(std::uint64_t h) { return fmt::format("{:016x}", h); }
+
+ModelIdentity identify(const physics::Body& body, const SpaceSettings& settings, const Grid& grid) {
+  ModelIdentity id;
+  const VecX& rest = body.model->rest_positions();
+  id.node_count = body.model->node_count();
+  Fnv1a mesh;
+  mesh.add(rest.data(), static_cast<std::size_t>(rest.size()) * sizeof(double));
+  const auto* fem = dynamic_cast<const physics::TetFem*>(body.model.get());
+  if (fem) {
+    id.element_count = fem->elements().size();
+    for (const auto& e : fem->elements()) mesh.add(e.nodes.data(), sizeof e.nodes);
+  }
+  id.mesh_hash = mesh.value();
+
+  Fnv1a model;
+  model.add_value(id.mesh_hash);
+  if (fem) {
+    const auto& m = fem->material();
+    model.add_value(static_cast<int>(m.law));
+    for (double v : {m.young_modulus, m.poisson_ratio, m.density, m.c10.value_or(-1.0), m.c01.value_or(-1.0),
+                     m.bulk_modulus.value_or(-1.0), m.inversion_threshold})
+      model.add_value(v);
+    model.add_value(m.project_tangent);
+  }
+  model.add(body.fixed_dofs.data(), body.fixed_dofs.size());
+  if (settings.gravity) model.add(body.gravity.data(), 3 * sizeof(double));
+  model.add_value(settings.contact_node);
+  model.add(settings.patch_nodes.data(), settings.patch_nodes.size() * sizeof(std::int32_t));
+  model.add_value(settings.load_steps);
+  model.add_value(settings.max_iterations);
+  model.add_value(settings.tolerance);
+  model.add_value(settings.gravity);
+  model.add(grid.origin.data(), 3 * sizeof(double));
+  model.add_value(grid.spacing);
+  model.add(grid.counts.data(), sizeof grid.counts);
+  id.model_hash = model.value();
+  return id;
+}
+
+void check_identity(const ModelIdentity& space, const ModelIdentity& model, const std::string& space_file) {
+  const SourceLocation at{space_file, {}, {}, {}};
+  if (space.node_count != model.node_count || space.element_count != model.element_count)
+    throw InputError(at, fmt::format("the space was built for another mesh ({} nodes, {} elements); this model has "
+                                     "{} nodes, {} elements",
+                                     space.node_count, space.element_count, model.node_count, model.element_count));
+  if (space.mesh_hash != model.mesh_hash)
+    throw InputError(at, fmt::format("the space was built for another mesh (mesh hash {}, this model's {})",
+                                     hash_text(space.mesh_hash), hash_text(model.mesh_hash)));
+  if (space.model_hash != model.model_hash)
+    throw InputError(at, fmt::format("the space was built for this mesh with another material, fixed region, "
+                                     "contact patch, grid or solver setting (model hash {}, this model's {})",
+                                     hash_text(space.model_hash), hash_text(model.model_hash)));
+}
+
+}  // namespace tactus::precompute

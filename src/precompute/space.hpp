@@ -1,0 +1,70 @@
+#pragma once
+// A configuration space in memory: per grid point its status, the reaction force at the
+// interaction point and the nodal displacements, plus what identifies the model it was
+// built from.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/math.hpp"
+#include "precompute/grid.hpp"
+#include "precompute/settings.hpp"
+
+namespace tactus::precompute {
+
+enum class PointStatus : std::uint8_t {
+  pending = 0,      ///< not computed (yet)
+  solved = 1,       ///< converged static equilibrium
+  failed = 2,       ///< the transition's solve did not converge (reason recorded)
+  unreachable = 3,  ///< every neighbour it could be reached from failed
+};
+const char* to_string(PointStatus s);
+
+/// The outcome of one configuration (one grid point).
+struct PointResult {
+  std::size_t point = 0;
+  PointStatus status = PointStatus::pending;
+  std::int64_t source = -1;  ///< the point it was reached from; -1 for the start point
+  int iterations = 0;        ///< Newton iterations over all load steps
+  double residual = 0.0;     ///< worst final relative residual of the load steps
+  double seconds = 0.0;      ///< wall time of the solve on its worker
+  Vec3 force = Vec3::Zero(); ///< force the body exerts on the tool [N]
+  std::string reason;        ///< why it failed (empty when solved)
+  VecX displacement;         ///< 3N, x − rest (solved points only)
+};
+
+/// Identifies the model a space belongs to (docs/precompute.md, "Model identity").
+struct ModelIdentity {
+  std::uint64_t mesh_hash = 0;   ///< rest positions and elements
+  std::uint64_t model_hash = 0;  ///< mesh + material + fixed dofs + contact patch + settings
+  std::size_t node_count = 0;
+  std::size_t element_count = 0;
+};
+
+struct Space {
+  Grid grid;
+  SpaceSettings settings;
+  ModelIdentity identity;
+  std::size_t start = 0;  ///< the grid point of the undeformed contact point
+  std::string scene_text;  ///< the scene file it was built from (informative)
+  VecX rest_positions;     ///< 3N, the mesh it was built on
+  std::vector<std::array<std::int32_t, 4>> elements;
+
+  std::vector<PointStatus> status;
+  std::vector<Vec3> force;
+  std::vector<std::int64_t> source;
+  std::vector<std::int32_t> iterations;
+  std::vector<double> residual, seconds;
+  std::vector<std::string> reason;
+  /// Column p: point p's displacement (3N); zero for points not solved.
+  Eigen::MatrixXd displacement;
+
+  /// Sizes every per-point array for grid.size() points of 3 · node_count dofs, all pending.
+  void allocate(std::size_t node_count);
+  void store(const PointResult& r);
+  [[nodiscard]] std::size_t count(PointStatus s) const;
+  [[nodiscard]] bool solved(std::size_t p) const { return status[p] == PointStatus::solved; }
+};
+
+}  // namespace tactus::precompute

@@ -1,0 +1,339 @@
+#include "precompute/space_file.hpp"
+
+#include <hdf5.h>
+
+#include <fmt/format.h>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "precompute/model_identity.hpp"
+
+namespace tactus::precompute {
+
+namespace {
+
+constexpr const char* kFormat = "tactus-configuration-space";
+constexpr int kVersion = 1;
+
+/// Closes an HDF5 identifier with the right function.
+class Handle {
+ public:
+  using Closer = herr_t (*)(hid_t);
+  Handle(hid_t id, Closer closer) : id_(id), closer_(closer) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() {
+    if (id_ >= 0) closer_(id_);
+  }
+  operator hid_t() const { return id_; }  // NOLINT: used as the id it wraps
+  [[nodiscard]] bool valid() const { return id_ >= 0; }
+
+ private:
+  hid_t id_;
+  Closer closer_;
+};
+
+[[noreturn]] void fail(const std::filesystem::path& p, const std::string& why) {
+  throw InputError(SourceLocation{p.string(), {}, {}, {}}, why);
+}
+
+/// Silences HDF5's own error printing while this lives (errors become InputErrors).
+struct QuietErrors {
+  H5E_auto2_t func = nullptr;
+  void* data = nullptr;
+  QuietErrors() {
+    H5Eget_auto2(H5E_DEFAULT, &func, &data);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, func, data); }
+  QuietErrors(const QuietErrors&) = delete;
+  QuietErrors& operator=(const QuietErrors&) = delete;
+};
+
+class Writer {
+ public:
+  explicit Writer(const std::filesystem::path& path) : path_(path) {}
+
+  void dataset(hid_t loc, const char* name, hid_t type, std::initializer_list<hsize_t> dims, const void* data,
+               bool compress = false) {
+    std::vector<hsize_t> d(dims);
+    Handle space(H5Screate_simple(static_cast<int>(d.size()), d.data(), nullptr), H5Sclose);
+    Handle props(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+    bool any = true;
+    for (auto x : d) any = any && x > 0;
+    if (compress && any && d.size() == 2) {
+      // One chunk per grid point: a point's shape is read without touching the others.
+      const hsize_t chunk[2] = {1, d[1]};
+      H5Pset_chunk(props, 2, chunk);
+      if (H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+        H5Pset_shuffle(props);
+        H5Pset_deflate(props, 4);
+      }
+    }
+    Handle set(H5Dcreate2(loc, name, type, space, H5P_DEFAULT, props, H5P_DEFAULT), H5Dclose);
+    check(set.valid() && (!any || H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0), name);
+  }
+
+  void strings(hid_t loc, const char* name, const std::vector<std::string>& values) {
+    std::vector<const char*> ptrs;
+    for (const auto& s : values) ptrs.push_back(s.c_str());
+    Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(type, H5T_VARIABLE);
+    H5Tset_cset(type, H5T_CSET_UTF8);
+    dataset(loc, name, type, {values.size()}, ptrs.data());
+  }
+
+  void attribute(hid_t loc, const char* name, hid_t type, const void* data, hsize_t n = 1) {
+    Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+    Handle a(H5Acreate2(loc, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+    check(a.valid() && H5Awrite(a, type, data) >= 0, name);
+  }
+  void attribute(hid_t loc, const char* name, const std::string& value) {
+    Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(type, H5T_VARIABLE);
+    H5Tset_cset(type, H5T_CSET_UTF8);
+    const char* p = value.c_str();
+    attribute(loc, name, type, &p);
+  }
+
+  void check(bool ok, const char* what) const {
+    if (!ok) fail(path_, std::string("cannot write '") + what + "' to the space file");
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+class Reader {
+ public:
+  explicit Reader(const std::filesystem::path& path) : path_(path) {}
+
+  /// The dataset's dimensions; fails unless its rank is `rank`.
+  std::vector<hsize_t> dims(hid_t loc, const char* name, int rank) const {
+    Handle set(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose);
+    if (!set.valid()) fail(path_, fmt::format("missing dataset '{}'", name));
+    Handle space(H5Dget_space(set), H5Sclose);
+    if (H5Sget_simple_extent_ndims(space) != rank) fail(path_, fmt::format("dataset '{}' has the wrong rank", name));
+    std::vector<hsize_t> d(static_cast<std::size_t>(rank));
+    H5Sget_simple_extent_dims(space, d.data(), nullptr);
+    return d;
+  }
+
+  /// Reads a dataset of exactly `count` values of `type` into out.
+  void dataset(hid_t loc, const char* name, hid_t type, std::size_t count, void* out) const {
+    Handle set(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose);
+    if (!set.valid()) fail(path_, fmt::format("missing dataset '{}'", name));
+    Handle space(H5Dget_space(set), H5Sclose);
+    const auto n = H5Sget_simple_extent_npoints(space);
+    if (n < 0 || static_cast<std::size_t>(n) != count)
+      fail(path_, fmt::format("dataset '{}' has {} values, expected {}", name, n, count));
+    if (count > 0 && H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0)
+      fail(path_, fmt::format("cannot read dataset '{}'", name));
+  }
+
+  std::vector<std::string> strings(hid_t loc, const char* name, std::size_t count) const {
+    Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(type, H5T_VARIABLE);
+    H5Tset_cset(type, H5T_CSET_UTF8);
+    std::vector<char*> ptrs(count, nullptr);
+    dataset(loc, name, type, count, ptrs.data());
+    std::vector<std::string> out;
+    for (char* p : ptrs) out.emplace_back(p ? p : "");
+    if (count > 0) {
+      Handle set(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose);
+      Handle space(H5Dget_space(set), H5Sclose);
+      H5Dvlen_reclaim(type, space, H5P_DEFAULT, ptrs.data());
+    }
+    return out;
+  }
+
+  template <class T>
+  T scalar(hid_t loc, const char* name, hid_t type) const {
+    T v{};
+    array(loc, name, type, &v, 1);
+    return v;
+  }
+  void array(hid_t loc, const char* name, hid_t type, void* out, hsize_t n) const {
+    Handle a(H5Aopen(loc, name, H5P_DEFAULT), H5Aclose);
+    if (!a.valid()) fail(path_, fmt::format("missing attribute '{}'", name));
+    Handle space(H5Aget_space(a), H5Sclose);
+    if (H5Sget_simple_extent_npoints(space) != static_cast<hssize_t>(n))
+      fail(path_, fmt::format("attribute '{}' has the wrong size", name));
+    if (H5Aread(a, type, out) < 0) fail(path_, fmt::format("cannot read attribute '{}'", name));
+  }
+  std::string text(hid_t loc, const char* name) const {
+    Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(type, H5T_VARIABLE);
+    H5Tset_cset(type, H5T_CSET_UTF8);
+    char* p = nullptr;
+    array(loc, name, type, &p, 1);
+    std::string s = p ? p : "";
+    H5free_memory(p);
+    return s;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+}  // namespace
+
+void write_space(const std::filesystem::path& path, const Space& space) {
+  QuietErrors quiet;
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  Writer w(path);
+  {
+    Handle file(H5Fcreate(tmp.string().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    if (!file.valid()) fail(path, "cannot create the space file");
+    const std::size_t points = space.grid.size();
+    const auto dofs = static_cast<hsize_t>(space.displacement.rows());
+    const auto& s = space.settings;
+
+    w.attribute(file, "format", kFormat);
+    w.attribute(file, "version", H5T_NATIVE_INT, &kVersion);
+    w.attribute(file, "model_hash", H5T_NATIVE_UINT64, &space.identity.model_hash);
+    w.attribute(file, "mesh_hash", H5T_NATIVE_UINT64, &space.identity.mesh_hash);
+    const std::uint64_t counts[2] = {space.identity.node_count, space.identity.element_count};
+    w.attribute(file, "node_and_element_count", H5T_NATIVE_UINT64, counts, 2);
+    const std::uint64_t start = space.start;
+    w.attribute(file, "start_point", H5T_NATIVE_UINT64, &start);
+
+    Handle grid(H5Gcreate2(file, "grid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    w.dataset(grid, "origin", H5T_NATIVE_DOUBLE, {3}, space.grid.origin.data());
+    w.dataset(grid, "spacing", H5T_NATIVE_DOUBLE, {1}, &space.grid.spacing);
+    w.dataset(grid, "counts", H5T_NATIVE_INT, {3}, space.grid.counts.data());
+
+    Handle settings(H5Gcreate2(file, "settings", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    w.attribute(settings, "body", s.body);
+    w.attribute(settings, "interpolation", std::string(to_string(s.interpolation)));
+    w.attribute(settings, "contact_node", H5T_NATIVE_INT32, &s.contact_node);
+    w.attribute(settings, "patch_radius", H5T_NATIVE_DOUBLE, &s.patch_radius);
+    w.attribute(settings, "bounds_min", H5T_NATIVE_DOUBLE, s.bounds_min.data(), 3);
+    w.attribute(settings, "bounds_max", H5T_NATIVE_DOUBLE, s.bounds_max.data(), 3);
+    w.attribute(settings, "load_steps", H5T_NATIVE_INT, &s.load_steps);
+    w.attribute(settings, "max_iterations", H5T_NATIVE_INT, &s.max_iterations);
+    w.attribute(settings, "tolerance", H5T_NATIVE_DOUBLE, &s.tolerance);
+    const int gravity = s.gravity ? 1 : 0;
+    w.attribute(settings, "gravity", H5T_NATIVE_INT, &gravity);
+
+    Handle pts(H5Gcreate2(file, "points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    w.dataset(pts, "status", H5T_NATIVE_UINT8, {points}, space.status.data());
+    w.dataset(pts, "source", H5T_NATIVE_INT64, {points}, space.source.data());
+    w.dataset(pts, "iterations", H5T_NATIVE_INT32, {points}, space.iterations.data());
+    w.dataset(pts, "residual", H5T_NATIVE_DOUBLE, {points}, space.residual.data());
+    w.dataset(pts, "seconds", H5T_NATIVE_DOUBLE, {points}, space.seconds.data());
+    std::vector<double> force(3 * points);
+    for (std::size_t p = 0; p < points; ++p)
+      for (std::size_t k = 0; k < 3; ++k) force[3 * p + k] = space.force[p][static_cast<Eigen::Index>(k)];
+    w.dataset(pts, "force", H5T_NATIVE_DOUBLE, {points, 3}, force.data());
+    w.strings(pts, "reason", space.reason);
+    w.dataset(pts, "displacement", H5T_NATIVE_DOUBLE, {points, dofs}, space.displacement.data(), true);
+
+    Handle model(H5Gcreate2(file, "model", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    w.dataset(model, "rest_positions", H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(space.rest_positions.size() / 3), 3},
+              space.rest_positions.data());
+    w.dataset(model, "elements", H5T_NATIVE_INT32, {space.elements.size(), 4}, space.elements.data());
+    w.dataset(model, "patch_nodes", H5T_NATIVE_INT32, {s.patch_nodes.size()}, s.patch_nodes.data());
+    w.strings(model, "scene", {space.scene_text});
+    w.check(H5Fflush(file, H5F_SCOPE_GLOBAL) >= 0, "file");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) fail(path, "cannot move the finished space file into place: " + ec.message());
+}
+
+Space read_space(const std::filesystem::path& path) {
+  QuietErrors quiet;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) fail(path, "file not found");
+  if (H5Fis_hdf5(path.string().c_str()) <= 0) fail(path, "not an HDF5 file");
+  Handle file(H5Fopen(path.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!file.valid()) fail(path, "cannot open the HDF5 file");
+  Reader r(path);
+  if (r.text(file, "format") != kFormat) fail(path, "not a Tactus configuration space");
+  if (const int v = r.scalar<int>(file, "version", H5T_NATIVE_INT); v != kVersion)
+    fail(path, fmt::format("space file version {} (this build reads version {})", v, kVersion));
+
+  Space space;
+  space.identity.model_hash = r.scalar<std::uint64_t>(file, "model_hash", H5T_NATIVE_UINT64);
+  space.identity.mesh_hash = r.scalar<std::uint64_t>(file, "mesh_hash", H5T_NATIVE_UINT64);
+  std::uint64_t counts[2] = {0, 0};
+  r.array(file, "node_and_element_count", H5T_NATIVE_UINT64, counts, 2);
+  space.identity.node_count = counts[0];
+  space.identity.element_count = counts[1];
+
+  Handle grid(H5Gopen2(file, "grid", H5P_DEFAULT), H5Gclose);
+  if (!grid.valid()) fail(path, "missing group 'grid'");
+  r.dataset(grid, "origin", H5T_NATIVE_DOUBLE, 3, space.grid.origin.data());
+  r.dataset(grid, "spacing", H5T_NATIVE_DOUBLE, 1, &space.grid.spacing);
+  r.dataset(grid, "counts", H5T_NATIVE_INT, 3, space.grid.counts.data());
+  double total = 1.0;
+  for (int c : space.grid.counts) {
+    if (c < 1) fail(path, "grid counts must be positive");
+    total *= c;
+  }
+  if (!(space.grid.spacing > 0.0) || total > 1e8 || counts[0] > 100'000'000)
+    fail(path, "implausible grid or mesh size");
+  space.start = r.scalar<std::uint64_t>(file, "start_point", H5T_NATIVE_UINT64);
+  if (space.start >= space.grid.size()) fail(path, "start point outside the grid");
+
+  Handle settings(H5Gopen2(file, "settings", H5P_DEFAULT), H5Gclose);
+  if (!settings.valid()) fail(path, "missing group 'settings'");
+  auto& s = space.settings;
+  s.body = r.text(settings, "body");
+  s.interpolation = parse_interpolation(r.text(settings, "interpolation"));
+  s.contact_node = r.scalar<std::int32_t>(settings, "contact_node", H5T_NATIVE_INT32);
+  s.patch_radius = r.scalar<double>(settings, "patch_radius", H5T_NATIVE_DOUBLE);
+  r.array(settings, "bounds_min", H5T_NATIVE_DOUBLE, s.bounds_min.data(), 3);
+  r.array(settings, "bounds_max", H5T_NATIVE_DOUBLE, s.bounds_max.data(), 3);
+  s.load_steps = r.scalar<int>(settings, "load_steps", H5T_NATIVE_INT);
+  s.max_iterations = r.scalar<int>(settings, "max_iterations", H5T_NATIVE_INT);
+  s.tolerance = r.scalar<double>(settings, "tolerance", H5T_NATIVE_DOUBLE);
+  s.gravity = r.scalar<int>(settings, "gravity", H5T_NATIVE_INT) != 0;
+
+  const std::size_t nodes = space.identity.node_count;
+  if (total * 3.0 * static_cast<double>(nodes) > 4e9) fail(path, "implausible size of the displacement table");
+  space.allocate(nodes);
+  const std::size_t points = space.grid.size();
+  Handle pts(H5Gopen2(file, "points", H5P_DEFAULT), H5Gclose);
+  if (!pts.valid()) fail(path, "missing group 'points'");
+  std::vector<std::uint8_t> status(points);
+  r.dataset(pts, "status", H5T_NATIVE_UINT8, points, status.data());
+  for (std::size_t p = 0; p < points; ++p) {
+    if (status[p] > 3) fail(path, fmt::format("point {} has an unknown status {}", p, status[p]));
+    space.status[p] = static_cast<PointStatus>(status[p]);
+  }
+  r.dataset(pts, "source", H5T_NATIVE_INT64, points, space.source.data());
+  r.dataset(pts, "iterations", H5T_NATIVE_INT32, points, space.iterations.data());
+  r.dataset(pts, "residual", H5T_NATIVE_DOUBLE, points, space.residual.data());
+  r.dataset(pts, "seconds", H5T_NATIVE_DOUBLE, points, space.seconds.data());
+  std::vector<double> force(3 * points);
+  r.dataset(pts, "force", H5T_NATIVE_DOUBLE, 3 * points, force.data());
+  for (std::size_t p = 0; p < points; ++p) space.force[p] = Vec3(force[3 * p], force[3 * p + 1], force[3 * p + 2]);
+  space.reason = r.strings(pts, "reason", points);
+  r.dataset(pts, "displacement", H5T_NATIVE_DOUBLE, points * 3 * nodes, space.displacement.data());
+
+  Handle model(H5Gopen2(file, "model", H5P_DEFAULT), H5Gclose);
+  if (!model.valid()) fail(path, "missing group 'model'");
+  space.rest_positions.resize(static_cast<Eigen::Index>(3 * nodes));
+  r.dataset(model, "rest_positions", H5T_NATIVE_DOUBLE, 3 * nodes, space.rest_positions.data());
+  const auto elements = r.dims(model, "elements", 2);
+  if (elements[1] != 4 || elements[0] > 1'000'000'000) fail(path, "dataset 'elements' is not a list of tetrahedra");
+  space.elements.resize(elements[0]);
+  r.dataset(model, "elements", H5T_NATIVE_INT32, 4 * space.elements.size(), space.elements.data());
+  const auto patch = r.dims(model, "patch_nodes", 1);
+  if (patch[0] > nodes) fail(path, "more patch nodes than nodes");
+  s.patch_nodes.resize(patch[0]);
+  r.dataset(model, "patch_nodes", H5T_NATIVE_INT32, s.patch_nodes.size(), s.patch_nodes.data());
+  space.scene_text = r.strings(model, "scene", 1).front();
+  return space;
+}
+
+Space load_space(const std::filesystem::path& path, const ModelIdentity& model) {
+  Space space = read_space(path);
+  check_identity(space.identity, model, path.string());
+  return space;
+}
+
+}  // namespace tactus::precompute

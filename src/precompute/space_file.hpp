@@ -1,0 +1,21 @@
+#pragma once
+// Configuration spaces in HDF5 files (layout: docs/precompute.md).
+#include <filesystem>
+
+#include "precompute/space.hpp"
+
+namespace tactus::precompute {
+
+/// Writes `space` to `path` (through a temporary file renamed into place, so a reader never
+/// sees half a file). Throws InputError when the file cannot be written.
+void write_space(const std::filesystem::path& path, const Space& space);
+
+/// Reads a space. Throws InputError for a missing, unreadable or malformed file.
+Space read_space(const std::filesystem::path& path);
+
+/// Reads a space and checks it against `model` (the identity of the body it is meant
+/// for): throws InputError naming the difference when it was built for another mesh or
+/// other settings.
+Space load_space(const std::filesystem::path& path, const ModelIdentity& model);
+
+}  // namespace tactus::precompute

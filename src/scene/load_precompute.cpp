@@ -1,0 +1,83 @@
+// [precompute]: the configuration space `tactus precompute` builds for one FEM body.
+#include <algorithm>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "precompute/grid.hpp"
+#include "scene/loader.hpp"
+
+namespace tactus::scene::detail {
+
+precompute::SpaceSettings read_precompute(Reader& r, const Model& model) {
+  precompute::SpaceSettings s;
+  std::optional<std::size_t> index;
+  if (const auto name = r.string("body")) {
+    index = resolve_name(r, "body", *name, model.bodies, "body");
+  } else {
+    for (std::size_t i = 0; i < model.bodies.size(); ++i)
+      if (model.bodies[i].kind == BodyKind::fem) {
+        if (index) r.fail_missing("body", "the scene has several FEM bodies; name the one to precompute");
+        index = i;
+      }
+    if (!index) r.fail_here("a configuration space needs an FEM body, and the scene has none");
+  }
+  const Body& body = model.bodies[*index];
+  if (body.kind != BodyKind::fem || !body.volume)
+    r.fail("body", "body '" + body.name + "' is not an FEM body (kind = \"fem\")");
+  s.body = body.name;
+
+  // The contact node: the surface node nearest to contact_point.
+  const Vec3 contact = r.required_vec3("contact_point");
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t v = 0; v < body.surface.vertices.size(); ++v) {
+    const double d = (body.surface.vertices[v] - contact).squaredNorm();
+    if (d < best) {
+      best = d;
+      s.contact_node = static_cast<std::int32_t>(body.surface_to_volume[v]);
+    }
+  }
+  for (const auto& f : body.fixed)
+    if (std::binary_search(f.nodes.begin(), f.nodes.end(), static_cast<mesh::Index>(s.contact_node)))
+      r.fail("contact_point", fmt::format("the nearest surface node ({}) lies in fixed region '{}'", s.contact_node,
+                                          f.name));
+  const auto& vertices = body.volume->vertices;
+  const Vec3 node = vertices[static_cast<std::size_t>(s.contact_node)];
+  s.patch_radius = r.number("patch_radius", 0.0, Range::non_negative());
+  for (std::size_t v = 0; v < vertices.size(); ++v)
+    if ((vertices[v] - node).norm() <= s.patch_radius) s.patch_nodes.push_back(static_cast<std::int32_t>(v));
+  for (const auto& f : body.fixed)
+    for (auto n : s.patch_nodes)
+      if (std::binary_search(f.nodes.begin(), f.nodes.end(), static_cast<mesh::Index>(n)))
+        r.fail("patch_radius", fmt::format("the contact patch reaches fixed region '{}' (node {})", f.name, n));
+
+  s.spacing = r.required_number("spacing", Range::positive());
+  s.bounds_min = r.required_vec3("min");
+  s.bounds_max = r.required_vec3("max");
+  if (!(s.bounds_min.array() < s.bounds_max.array()).all()) r.fail("max", "max must exceed min on every axis");
+  s.load_steps = r.integer("load_steps", s.load_steps, 1, 1000);
+  s.max_iterations = r.integer("max_iterations", s.max_iterations, 1, 1000);
+  s.tolerance = r.number("tolerance", s.tolerance, Range::open_closed(0.0, 1e-2));
+  s.gravity = r.boolean("gravity", s.gravity);
+  s.interpolation = r.choice<precompute::Interpolation>("interpolation",
+                                                        {{"trilinear", precompute::Interpolation::trilinear},
+                                                         {"rbf_cubic", precompute::Interpolation::rbf_cubic},
+                                                         {"rbf_thin_plate", precompute::Interpolation::rbf_thin_plate},
+                                                         {"polynomial", precompute::Interpolation::polynomial}},
+                                                        precompute::Interpolation::trilinear);
+  precompute::Grid grid;
+  try {
+    grid = precompute::Grid::through(node, s.bounds_min, s.bounds_max, s.spacing);
+  } catch (const InputError& e) {
+    r.fail("min", e.reason());
+  }
+  for (int a = 0; a < 3; ++a)
+    if (grid.counts[static_cast<std::size_t>(a)] < 2)
+      r.fail("spacing", fmt::format("the grid has a single point along {}; make the box wider than the spacing "
+                                    "on either side of the contact node",
+                                    "xyz"[a]));
+  r.finish();
+  return s;
+}
+
+}  // namespace tactus::scene::detail

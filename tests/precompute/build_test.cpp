@@ -1,0 +1,107 @@
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "precompute/builder.hpp"
+#include "precompute/model_identity.hpp"
+#include "test_body.hpp"
+
+namespace tactus::precompute {
+namespace {
+
+Space make_space(const physics::Body& body, const SpaceSettings& s) {
+  Space space;
+  space.settings = s;
+  const Vec3 contact = body.model->rest_positions().segment<3>(3 * static_cast<Eigen::Index>(s.contact_node));
+  space.grid = Grid::through(contact, s.bounds_min, s.bounds_max, s.spacing);
+  space.start = space.grid.nearest(contact);
+  space.identity = identify(body, s, space.grid);
+  space.allocate(body.model->node_count());
+  return space;
+}
+
+Space build(const physics::Body& body, const SpaceSettings& s, unsigned threads) {
+  Space space = make_space(body, s);
+  BuildOptions o;
+  o.threads = threads;
+  const auto stats = build_local(space, [&] { return std::make_unique<ConfigurationSolver>(body, s); }, o);
+  EXPECT_EQ(stats.computed + stats.unreachable, space.grid.size());
+  return space;
+}
+
+TEST(Build, SolvesEveryPointOfASmallSpace) {
+  const physics::Body body = testing::block_body();
+  const SpaceSettings s = testing::block_settings(body);
+  const Space space = build(body, s, 1);
+  ASSERT_EQ(space.grid.size(), 36u);
+  EXPECT_EQ(space.count(PointStatus::solved), space.grid.size());
+  // The undeformed contact point: no force, no displacement.
+  EXPECT_LT(space.force[space.start].norm(), 1e-12);
+  EXPECT_LT(space.displacement.col(static_cast<Eigen::Index>(space.start)).norm(), 1e-15);
+  // Pressed straight down, the block pushes back up; pulled up, it pulls down.
+  const auto c = space.grid.cell(space.start);
+  const Vec3 pressed = space.force[space.grid.index(c[0], c[1], c[2] - 2)];
+  const Vec3 pressed_less = space.force[space.grid.index(c[0], c[1], c[2] - 1)];
+  const Vec3 pulled = space.force[space.grid.index(c[0], c[1], c[2] + 1)];
+  EXPECT_GT(pressed.z(), pressed_less.z());
+  EXPECT_GT(pressed_less.z(), 0.0);
+  EXPECT_LT(pulled.z(), 0.0);
+  // The contact node sits at its grid point in every configuration.
+  const VecX& rest = body.model->rest_positions();
+  for (std::size_t p = 0; p < space.grid.size(); ++p) {
+    const Vec3 x = rest.segment<3>(3 * s.contact_node) +
+                   space.displacement.col(static_cast<Eigen::Index>(p)).segment<3>(3 * s.contact_node);
+    EXPECT_LT((x - space.grid.point(p)).norm(), 1e-12);
+    EXPECT_LE(space.residual[p], s.tolerance * 100);
+  }
+}
+
+TEST(Build, ThreadCountDoesNotChangeTheSpace) {
+  const physics::Body body = testing::block_body();
+  const SpaceSettings s = testing::block_settings(body);
+  const Space one = build(body, s, 1);
+  const Space three = build(body, s, 3);
+  EXPECT_EQ(one.status, three.status);
+  EXPECT_EQ(one.source, three.source);
+  for (std::size_t p = 0; p < one.grid.size(); ++p) EXPECT_EQ(one.force[p], three.force[p]) << "point " << p;
+  EXPECT_TRUE(one.displacement == three.displacement);
+}
+
+TEST(Build, EquilibriumMatchesADirectSolve) {
+  // A transition path and a straight path from rest reach the same equilibrium (an elastic,
+  // path-independent law), up to the solver tolerance.
+  const physics::Body body = testing::block_body();
+  const SpaceSettings s = testing::block_settings(body);
+  const Space space = build(body, s, 1);
+  ConfigurationSolver solver(body, s);
+  const std::size_t p = space.grid.index(0, 2, 0);  // a far corner: several transitions away
+  const PointResult direct = solver.solve_direct(space.grid.point(p), 6);
+  ASSERT_EQ(direct.status, PointStatus::solved) << direct.reason;
+  EXPECT_LT((direct.force - space.force[p]).norm(), 1e-5 * direct.force.norm());
+}
+
+TEST(Build, FailedSolvesAreRecordedWithTheirReason) {
+  const physics::Body body = testing::block_body();
+  SpaceSettings s = testing::block_settings(body);
+  s.max_iterations = 1;  // no load step converges in one Newton iteration
+  s.tolerance = 1e-14;
+  const Space space = build(body, s, 1);
+  // The start point needs no iteration; its neighbours fail, the rest is unreachable.
+  EXPECT_EQ(space.status[space.start], PointStatus::solved);
+  EXPECT_GT(space.count(PointStatus::failed), 0u);
+  EXPECT_GT(space.count(PointStatus::unreachable), 0u);
+  for (std::size_t p = 0; p < space.grid.size(); ++p)
+    if (space.status[p] == PointStatus::failed) {
+      EXPECT_NE(space.reason[p].find("load step"), std::string::npos);
+    }
+}
+
+TEST(Build, PatchNodeInAFixedRegionIsAnInputError) {
+  const physics::Body body = testing::block_body();
+  SpaceSettings s = testing::block_settings(body);
+  s.patch_nodes = {0};  // a base node
+  s.contact_node = 0;
+  EXPECT_THROW(ConfigurationSolver(body, s), InputError);
+}
+
+}  // namespace
+}  // namespace tactus::precompute

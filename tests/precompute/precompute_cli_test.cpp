@@ -1,0 +1,124 @@
+// `tactus precompute` end to end: a build, a build stopped and resumed, and (with MPI) a
+// build over three ranks, all giving the same space.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "precompute/space_file.hpp"
+
+namespace tactus::precompute {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kScene = R"(
+[materials.tissue]
+model = "stvk"
+young_modulus = 5.0e3
+poisson_ratio = 0.3
+density = 1000.0
+
+[bodies.block]
+kind = "fem"
+material = "tissue"
+solver = "cholesky"
+
+[bodies.block.mesh]
+generator = "box"
+size = [0.04, 0.04, 0.02]
+cells = [4, 4, 2]
+
+[[bodies.block.fixed]]
+side = "z_min"
+
+[precompute]
+contact_point = [0.0, 0.0, 0.01]
+spacing = 0.003
+min = [-0.003, -0.003, 0.004]
+max = [0.003, 0.003, 0.013]
+)";
+
+class PrecomputeCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("tactus_precompute_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "block.toml") << kScene;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// Exit code of `[launcher] tactus -q precompute block.toml -o OUT args`.
+  int precompute(const std::string& out, const std::string& args, const std::string& launcher = "") {
+    const std::string cmd = "cd '" + dir_.string() + "' && CI=1 " + launcher + " '" + TACTUS_BINARY +
+                            "' -q precompute block.toml -o " + out + " " + args + " >>log.txt 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  std::string log() const {
+    std::ifstream in(dir_ / "log.txt");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+
+  static void expect_same(const Space& a, const Space& b) {
+    EXPECT_EQ(a.status, b.status);
+    EXPECT_EQ(a.source, b.source);
+    EXPECT_EQ(a.force, b.force);
+    EXPECT_TRUE(a.displacement == b.displacement);
+    EXPECT_EQ(a.identity.model_hash, b.identity.model_hash);
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(PrecomputeCli, BuildsTheSpace) {
+  ASSERT_EQ(precompute("space.h5", "--threads 2"), 0) << log();
+  EXPECT_FALSE(fs::exists(dir_ / "space.h5.journal"));
+  const Space s = read_space(dir_ / "space.h5");
+  EXPECT_EQ(s.grid.size(), 36u);
+  EXPECT_EQ(s.count(PointStatus::solved), 36u);
+  EXPECT_NE(s.scene_text.find("[precompute]"), std::string::npos);
+}
+
+TEST_F(PrecomputeCli, ResumeAfterAStopComputesNothingTwiceAndLosesNothing) {
+  ASSERT_EQ(precompute("whole.h5", "--threads 1"), 0) << log();
+  // Stopped after 10 solves: the journal stays, no space file yet.
+  ASSERT_EQ(precompute("part.h5", "--threads 1 --stop-after 10"), 3) << log();
+  EXPECT_TRUE(fs::exists(dir_ / "part.h5.journal"));
+  EXPECT_FALSE(fs::exists(dir_ / "part.h5"));
+  // Without --resume the journal is not silently overwritten.
+  EXPECT_EQ(precompute("part.h5", "--threads 1"), 1);
+  EXPECT_NE(log().find("--resume"), std::string::npos);
+  // Append half a record, as a kill in mid-write would.
+  { std::ofstream(dir_ / "part.h5.journal", std::ios::app | std::ios::binary) << "TPCR"; }
+  ASSERT_EQ(precompute("part.h5", "--threads 2 --resume"), 0) << log();
+  EXPECT_FALSE(fs::exists(dir_ / "part.h5.journal"));
+  const Space whole = read_space(dir_ / "whole.h5");
+  const Space part = read_space(dir_ / "part.h5");
+  expect_same(whole, part);
+}
+
+TEST_F(PrecomputeCli, SceneWithoutPrecomputeTableIsAnInputError) {
+  std::ofstream(dir_ / "block.toml") << "[scene]\nname = \"x\"\n";
+  EXPECT_EQ(precompute("space.h5", ""), 1);
+  EXPECT_NE(log().find("[precompute]"), std::string::npos);
+}
+
+#ifdef TACTUS_MPIEXEC
+TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameSpaceAsOneProcess) {
+  ASSERT_EQ(precompute("single.h5", "--threads 1"), 0) << log();
+  const std::string launcher =
+      std::string("'") + TACTUS_MPIEXEC + "' -np 3 --oversubscribe" + (::geteuid() == 0 ? " --allow-run-as-root" : "");
+  ASSERT_EQ(precompute("mpi.h5", "", launcher), 0) << log();
+  EXPECT_NE(log().find("MPI"), std::string::npos) << log();
+  expect_same(read_space(dir_ / "single.h5"), read_space(dir_ / "mpi.h5"));
+}
+#endif
+
+}  // namespace
+}  // namespace tactus::precompute

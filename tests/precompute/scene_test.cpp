@@ -1,0 +1,80 @@
+// The [precompute] table of scene files.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/error.hpp"
+#include "scene/scene.hpp"
+
+namespace tactus::precompute {
+namespace {
+
+std::string scene_with(const std::string& table) {
+  return R"(
+[materials.tissue]
+model = "stvk"
+young_modulus = 5.0e3
+poisson_ratio = 0.3
+density = 1000.0
+
+[bodies.block]
+kind = "fem"
+material = "tissue"
+
+[bodies.block.mesh]
+generator = "box"
+size = [0.04, 0.04, 0.02]
+cells = [4, 4, 2]
+
+[[bodies.block.fixed]]
+side = "z_min"
+
+[precompute]
+)" + table;
+}
+
+std::string error_of(const std::string& table) {
+  try {
+    (void)scene::parse_scene(scene_with(table), "test.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PrecomputeScene, ReadsTheTable) {
+  const auto m = scene::parse_scene(scene_with(R"(
+contact_point = [0.001, 0.0, 0.011]
+patch_radius = 0.011
+spacing = 0.005
+min = [-0.01, -0.01, 0.0]
+max = [0.01, 0.01, 0.02]
+load_steps = 3
+interpolation = "rbf_cubic"
+)"),
+                                    "test.toml");
+  ASSERT_TRUE(m.precompute);
+  const auto& s = *m.precompute;
+  EXPECT_EQ(s.body, "block");
+  const Vec3 node = m.bodies[0].volume->vertices[static_cast<std::size_t>(s.contact_node)];
+  EXPECT_TRUE(node.isApprox(Vec3(0.0, 0.0, 0.01)));
+  EXPECT_EQ(s.patch_nodes.size(), 6u);  // the node and its neighbours 1 cm away: four on the top face, one below
+  EXPECT_EQ(s.load_steps, 3);
+  EXPECT_EQ(s.interpolation, Interpolation::rbf_cubic);
+}
+
+TEST(PrecomputeScene, BadTablesAreInputErrors) {
+  const std::string grid = "spacing = 0.005\nmin = [-0.01, -0.01, 0.0]\nmax = [0.01, 0.01, 0.02]\n";
+  EXPECT_NE(error_of("spacing = 0.005\n").find("contact_point"), std::string::npos);
+  EXPECT_NE(error_of("contact_point = [0, 0, -0.01]\n" + grid).find("fixed region"), std::string::npos);
+  EXPECT_NE(error_of("contact_point = [0, 0, 0.01]\nspacing = 1e-5\nmin = [-0.01, -0.01, 0.0]\n"
+                     "max = [0.01, 0.01, 0.02]\n")
+                .find("more than"),
+            std::string::npos);
+  EXPECT_NE(error_of("contact_point = [0, 0, 0.01]\n" + grid + "interpolation = \"cubic\"\n").find("rbf_cubic"),
+            std::string::npos);
+  EXPECT_NE(error_of("contact_point = [0, 0, 0.01]\n" + grid + "spacng = 1\n").find("spacng"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tactus::precompute

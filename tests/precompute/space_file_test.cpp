@@ -1,0 +1,140 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "core/error.hpp"
+#include "precompute/builder.hpp"
+#include "precompute/journal.hpp"
+#include "precompute/model_identity.hpp"
+#include "precompute/space_file.hpp"
+#include "test_body.hpp"
+
+namespace tactus::precompute {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_file(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("tactus_precompute_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+Space built_space(const physics::Body& body, const SpaceSettings& s) {
+  Space space;
+  space.settings = s;
+  const Vec3 contact = body.model->rest_positions().segment<3>(3 * static_cast<Eigen::Index>(s.contact_node));
+  space.grid = Grid::through(contact, s.bounds_min, s.bounds_max, s.spacing);
+  space.start = space.grid.nearest(contact);
+  space.identity = identify(body, s, space.grid);
+  space.scene_text = "[precompute]\nspacing = 0.003\n";
+  space.rest_positions = body.model->rest_positions();
+  for (const auto& e : dynamic_cast<const physics::TetFem&>(*body.model).elements()) space.elements.push_back(e.nodes);
+  space.allocate(body.model->node_count());
+  BuildOptions o;
+  build_local(space, [&] { return std::make_unique<ConfigurationSolver>(body, s); }, o);
+  return space;
+}
+
+TEST(SpaceFile, RoundTripsEverything) {
+  const physics::Body body = testing::block_body();
+  const SpaceSettings s = testing::block_settings(body);
+  const Space space = built_space(body, s);
+  const fs::path path = temp_file("roundtrip.h5");
+  write_space(path, space);
+  const Space back = load_space(path, identify(body, s, space.grid));
+  EXPECT_EQ(back.grid.counts, space.grid.counts);
+  EXPECT_EQ(back.grid.origin, space.grid.origin);
+  EXPECT_EQ(back.grid.spacing, space.grid.spacing);
+  EXPECT_EQ(back.start, space.start);
+  EXPECT_EQ(back.status, space.status);
+  EXPECT_EQ(back.source, space.source);
+  EXPECT_EQ(back.force, space.force);
+  EXPECT_EQ(back.reason, space.reason);
+  EXPECT_TRUE(back.displacement == space.displacement);
+  EXPECT_EQ(back.scene_text, space.scene_text);
+  EXPECT_TRUE(back.rest_positions == space.rest_positions);
+  EXPECT_EQ(back.elements, space.elements);
+  EXPECT_EQ(back.settings.patch_nodes, s.patch_nodes);
+  EXPECT_EQ(back.settings.contact_node, s.contact_node);
+  fs::remove_all(path.parent_path());
+}
+
+TEST(SpaceFile, RefusesAnotherMesh) {
+  const physics::Body body = testing::block_body();
+  const SpaceSettings s = testing::block_settings(body);
+  const Space space = built_space(body, s);
+  const fs::path path = temp_file("refuse.h5");
+  write_space(path, space);
+  // Another mesh: a finer box.
+  physics::Body other = testing::block_body();
+  other.model = std::make_shared<physics::TetFem>(mesh::box_volume(Vec3(0.04, 0.04, 0.02), 4, 4, 3),
+                                                  physics::FemMaterial{});
+  try {
+    (void)load_space(path, identify(other, s, space.grid));
+    FAIL() << "loaded a space for another mesh";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("another mesh"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+  }
+  // Same mesh, another material.
+  const physics::Body stiffer = testing::block_body(9.0e3);
+  EXPECT_THROW((void)load_space(path, identify(stiffer, s, space.grid)), InputError);
+  fs::remove_all(path.parent_path());
+}
+
+TEST(SpaceFile, MalformedFilesAreInputErrors) {
+  const fs::path path = temp_file("bad.h5");
+  std::ofstream(path) << "not hdf5";
+  EXPECT_THROW((void)read_space(path), InputError);
+  EXPECT_THROW((void)read_space(temp_file("missing.h5")), InputError);
+  fs::remove_all(path.parent_path());
+}
+
+TEST(Journal, RecoversCompleteRecordsAndDropsACutOne) {
+  const physics::Body body = testing::block_body();
+  const SpaceSettings s = testing::block_settings(body);
+  const Space full = built_space(body, s);
+  const fs::path path = temp_file("space.h5.journal");
+  Space partial = full;
+  partial.allocate(body.model->node_count());
+  {
+    Journal j = Journal::create(path, partial);
+    for (std::size_t p = 0; p < 5; ++p) {
+      PointResult r;
+      r.point = p;
+      r.status = full.status[p];
+      r.source = full.source[p];
+      r.force = full.force[p];
+      r.reason = full.reason[p];
+      r.displacement = full.displacement.col(static_cast<Eigen::Index>(p));
+      j.append(r);
+    }
+  }
+  // A kill in the middle of the sixth record.
+  const auto size = fs::file_size(path);
+  { std::ofstream(path, std::ios::app | std::ios::binary) << "TPCR and then nothing"; }
+  Space resumed = partial;
+  {
+    Journal j = Journal::resume(path, resumed);
+    EXPECT_EQ(j.recovered(), 5u);
+  }
+  EXPECT_EQ(fs::file_size(path), size);
+  for (std::size_t p = 0; p < 5; ++p) {
+    EXPECT_EQ(resumed.status[p], full.status[p]);
+    EXPECT_EQ(resumed.force[p], full.force[p]);
+    EXPECT_TRUE(resumed.displacement.col(static_cast<Eigen::Index>(p)) ==
+                full.displacement.col(static_cast<Eigen::Index>(p)));
+  }
+  EXPECT_EQ(resumed.status[5], PointStatus::pending);
+  // Another model's journal is refused.
+  Space other = partial;
+  other.identity.model_hash ^= 1;
+  EXPECT_THROW(Journal::resume(path, other), InputError);
+  fs::remove_all(path.parent_path());
+}
+
+}  // namespace
+}  // namespace tactus::precompute

@@ -1,0 +1,42 @@
+#pragma once
+// A small StVK block held at its base, its top centre node the contact node: spaces of a few
+// dozen points solve in well under a second.
+#include <memory>
+
+#include "mesh/generators.hpp"
+#include "physics/body.hpp"
+#include "physics/fem/tet_fem.hpp"
+#include "precompute/settings.hpp"
+
+namespace tactus::precompute::testing {
+
+inline physics::Body block_body(double young = 5.0e3) {
+  const mesh::TetMesh mesh = mesh::box_volume(Vec3(0.04, 0.04, 0.02), 4, 4, 2);
+  physics::FemMaterial material;
+  material.law = physics::FemLaw::stvk;
+  material.young_modulus = young;
+  material.poisson_ratio = 0.3;
+  physics::Body body;
+  body.model = std::make_shared<physics::TetFem>(mesh, material);
+  std::vector<std::int32_t> base;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    if (mesh.vertices[v].z() < -0.0099) base.push_back(static_cast<std::int32_t>(v));
+  body.fix_nodes(base);
+  return body;
+}
+
+/// Settings for block_body(): the top centre node, a 3 x 3 x 4 grid of 3 mm.
+inline SpaceSettings block_settings(const physics::Body& body) {
+  SpaceSettings s;
+  s.body = "block";
+  const VecX& rest = body.model->rest_positions();
+  for (Eigen::Index n = 0; n < rest.size() / 3; ++n)
+    if (rest.segment<3>(3 * n).isApprox(Vec3(0, 0, 0.01), 1e-9)) s.contact_node = static_cast<std::int32_t>(n);
+  s.patch_nodes = {s.contact_node};
+  s.spacing = 0.003;
+  s.bounds_min = Vec3(-0.003, -0.003, 0.004);
+  s.bounds_max = Vec3(0.003, 0.003, 0.013);
+  return s;
+}
+
+}  // namespace tactus::precompute::testing
