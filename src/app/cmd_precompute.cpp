@@ -11,7 +11,6 @@
 #include <fstream>
 #include <map>
 #include <optional>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -32,6 +31,30 @@
 
 namespace tactus::app {
 namespace {
+
+/// The message with each number (digits, a decimal point, an exponent) replaced by '#', so
+/// failures that differ only in their values group together.
+std::string without_numbers(const std::string& text) {
+  auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  std::string out;
+  for (std::size_t i = 0; i < text.size();) {
+    if (!digit(text[i])) {
+      out += text[i++];
+      continue;
+    }
+    while (i < text.size() && (digit(text[i]) || text[i] == '.')) ++i;
+    if (i + 1 < text.size() && text[i] == 'e') {
+      std::size_t j = i + 1;
+      if (text[j] == '+' || text[j] == '-') ++j;
+      if (j < text.size() && digit(text[j])) {
+        while (j < text.size() && digit(text[j])) ++j;
+        i = j;
+      }
+    }
+    out += '#';
+  }
+  return out;
+}
 
 namespace pc = precompute;
 
@@ -105,9 +128,7 @@ void print_summary(const pc::Space& space, const pc::BuildStats& stats, double c
   std::map<std::string, int> reasons;
   for (std::size_t p = 0; p < space.grid.size(); ++p)
     if (space.status[p] == pc::PointStatus::failed || space.status[p] == pc::PointStatus::unreachable) {
-      // Group by the message with its numbers left out.
-      static const std::regex number(R"(\d[\d.]*(e[+-]?\d+)?)");
-      ++reasons[std::regex_replace(space.reason[p], number, "#")];
+      ++reasons[without_numbers(space.reason[p])];
     }
   for (const auto& [reason, n] : reasons) std::printf("    %d x %s\n", n, reason.c_str());
   const double per_point = stats.computed ? stats.solve_seconds / static_cast<double>(stats.computed) : 0.0;
