@@ -117,8 +117,11 @@ struct SlabRay {
 
   [[nodiscard]] bool meets(const BvhNode& n, int k) const { return meets(child_lo(n, k), child_hi(n, k)); }
 
-  [[nodiscard]] bool meets(const Vec3& lo, const Vec3& hi) const {
-    double t0 = 0.0, t1 = t_max;
+  [[nodiscard]] bool meets(const Vec3& lo, const Vec3& hi) const { return entry(lo, hi, t_max) != kInf; }
+
+  /// When the ray enters the widened box within [0, until]; +inf when it misses.
+  [[nodiscard]] double entry(const Vec3& lo, const Vec3& hi, double until) const {
+    double t0 = 0.0, t1 = until;
     for (int i = 0; i < 3; ++i) {
       double a = (lo[i] - margin - origin[i]) * inverse_direction[i];
       double b = (hi[i] + margin - origin[i]) * inverse_direction[i];
@@ -128,7 +131,7 @@ struct SlabRay {
       t0 = a > t0 ? a : t0;
       t1 = b < t1 ? b : t1;
     }
-    return t0 <= t1;
+    return t0 <= t1 ? t0 : kInf;
   }
 };
 
@@ -684,20 +687,10 @@ SweepHit TriangleBvh::sweep_sphere(const Vec3& from, const Vec3& to, double radi
   // Node boxes grow by the radius and a margin above the face test's tolerance (a contact
   // up to 1e-9 barycentric units outside a face) and rounding.
   const double grow = radius + kSweepMargin * (abs_max_ + std::max(abs_max(from), abs_max(to)) + radius);
-  Vec3 inverse;
-  for (int i = 0; i < 3; ++i) inverse[i] = d[i] != 0.0 ? 1.0 / d[i] : kInf;
-  // Entry time of the centre into a grown box within [0, t_max]; +inf when it misses.
-  const auto entry = [&](const Vec3& box_lo, const Vec3& box_hi, double t_max) {
-    double t0 = 0.0, t1 = t_max;
-    for (int i = 0; i < 3; ++i) {
-      double a = (box_lo[i] - grow - from[i]) * inverse[i];
-      double b = (box_hi[i] + grow - from[i]) * inverse[i];
-      if (a > b) std::swap(a, b);
-      // 0 · ∞ is NaN (see SlabRay): the comparisons keep the bound and the box is visited.
-      t0 = a > t0 ? a : t0;
-      t1 = b < t1 ? b : t1;
-    }
-    return t0 <= t1 ? t0 : kInf;
+  // Entry time of the centre into a grown box.
+  const SlabRay centre(from, d, 1.0, grow);
+  const auto entry = [&](const Vec3& box_lo, const Vec3& box_hi, double until) {
+    return centre.entry(box_lo, box_hi, until);
   };
   const double root_entry = entry(tree_.root_lo, tree_.root_hi, 1.0);
   if (!(root_entry <= 1.0)) return best;
