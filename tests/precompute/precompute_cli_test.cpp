@@ -10,38 +10,18 @@
 #include <string>
 
 #include "precompute/space_file.hpp"
+#include "test_body.hpp"
 
 namespace tactus::precompute {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kScene = R"(
-[materials.tissue]
-model = "stvk"
-young_modulus = 5.0e3
-poisson_ratio = 0.3
-density = 1000.0
-
-[bodies.block]
-kind = "fem"
-material = "tissue"
-solver = "cholesky"
-
-[bodies.block.mesh]
-generator = "box"
-size = [0.04, 0.04, 0.02]
-cells = [4, 4, 2]
-
-[[bodies.block.fixed]]
-side = "z_min"
-
-[precompute]
-contact_point = [0.0, 0.0, 0.01]
+const std::string kScene = testing::block_scene(R"(contact_point = [0.0, 0.0, 0.01]
 spacing = 0.003
 min = [-0.003, -0.003, 0.004]
 max = [0.003, 0.003, 0.013]
-)";
+)");
 
 class PrecomputeCli : public ::testing::Test {
  protected:

@@ -5,33 +5,12 @@
 
 #include "core/error.hpp"
 #include "scene/scene.hpp"
+#include "test_body.hpp"
 
 namespace tactus::precompute {
 namespace {
 
-std::string scene_with(const std::string& table) {
-  return R"(
-[materials.tissue]
-model = "stvk"
-young_modulus = 5.0e3
-poisson_ratio = 0.3
-density = 1000.0
-
-[bodies.block]
-kind = "fem"
-material = "tissue"
-
-[bodies.block.mesh]
-generator = "box"
-size = [0.04, 0.04, 0.02]
-cells = [4, 4, 2]
-
-[[bodies.block.fixed]]
-side = "z_min"
-
-[precompute]
-)" + table;
-}
+std::string scene_with(const std::string& table) { return testing::block_scene(table); }
 
 std::string error_of(const std::string& table) {
   try {

@@ -2,6 +2,7 @@
 // A small StVK block held at its base, its top centre node the contact node: spaces of a few
 // dozen points solve in well under a second.
 #include <memory>
+#include <string>
 
 #include "mesh/generators.hpp"
 #include "physics/body.hpp"
@@ -37,6 +38,33 @@ inline SpaceSettings block_settings(const physics::Body& body) {
   s.bounds_min = Vec3(-0.003, -0.003, 0.004);
   s.bounds_max = Vec3(0.003, 0.003, 0.013);
   return s;
+}
+
+/// The same block as a scene file, followed by `precompute_table` (the keys of its
+/// [precompute] table).
+inline std::string block_scene(const std::string& precompute_table) {
+  return R"(
+[materials.tissue]
+model = "stvk"
+young_modulus = 5.0e3
+poisson_ratio = 0.3
+density = 1000.0
+
+[bodies.block]
+kind = "fem"
+material = "tissue"
+solver = "cholesky"
+
+[bodies.block.mesh]
+generator = "box"
+size = [0.04, 0.04, 0.02]
+cells = [4, 4, 2]
+
+[[bodies.block.fixed]]
+side = "z_min"
+
+[precompute]
+)" + precompute_table;
 }
 
 }  // namespace tactus::precompute::testing
