@@ -22,7 +22,7 @@ struct Result {
 };
 
 std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
+  std::ifstream in(p, std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
@@ -267,6 +267,29 @@ TEST_F(Cli, SolveRejectsABadProbeFile) {
                      (dir_ / "probes.csv").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("probes.csv:2: expected numbers"), std::string::npos) << r.err;
+}
+
+// `tactus run --force-map` on the nodule trainer: a PNG, its legend and the trainee feedback.
+TEST_F(Cli, NoduleSceneWritesForceMapAndFeedback) {
+  const fs::path scene = fs::path(TACTUS_SOURCE_DIR) / "scenes/nodule.toml";
+  const fs::path png = dir_ / "map.png";
+  const fs::path json = dir_ / "run.json";
+  // The first lines of the scan are enough to draw the map and give feedback.
+  const Result r = run("run '" + scene.string() + "' --lockstep --duration 2 --force-map '" + png.string() +
+                       "' --json '" + json.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(png).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_NE(r.out.find("force map"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("viridis from 0 N"), std::string::npos);
+  EXPECT_NE(r.out.find("palpation feedback:"), std::string::npos);
+  EXPECT_NE(r.out.find("first contact over nodule skin.soft"), std::string::npos);
+  EXPECT_NE(slurp(json).find("\"palpation\": {\"coverage\": "), std::string::npos);
+
+  // A PNG that cannot be written is the user's error: exit 1 and a clear line.
+  const Result bad = run("run '" + scene.string() + "' --lockstep --duration 0.2 --force-map '" +
+                         (dir_ / "missing" / "map.png").string() + "'");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("could not write the PNG file"), std::string::npos) << bad.err;
 }
 
 }  // namespace
