@@ -11,8 +11,8 @@ HapticLoop::HapticLoop(HapticConfig config, std::unique_ptr<haptics::Device> dev
     : config_(std::move(config)), device_(std::move(device)), channels_(channels),
       safety_(config_.safety), planes_(config_.plane_blend), smoother_(config_.force_smoothing) {
   stats_.rate = config_.rate;
-  if (config_.local_model != contact::LocalModelKind::plane && channels_.patch)
-    local_.emplace(config_.local_model, config_.patch_capacity);
+  // Sized from the channel's own request, so a patch copied out of it never reallocates.
+  if (channels_.patch) local_.emplace(channels_.patch_request.kind, channels_.patch_request.capacity);
 }
 
 void HapticLoop::emit(double t, EventKind kind, double value) {

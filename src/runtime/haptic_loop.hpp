@@ -82,8 +82,9 @@ struct HapticConfig {
   /// The proxy's plane moves to each new local model over this time, so a simulation update
   /// is not felt as a force step (seed 003 §3.5) [s].
   double plane_blend = 0.0;
-  /// The local model between simulation steps: the plane of DeviceChannels::contact, or the
-  /// patch of DeviceChannels::patch (which must then be requested with this kind).
+  /// The local model between simulation steps: the plane of DeviceChannels::contact, or a
+  /// patch, which the loop set requests on the device's channels with this kind and
+  /// capacity; the haptic loop renders whatever patch its channels carry.
   contact::LocalModelKind local_model = contact::LocalModelKind::plane;
   contact::PatchCapacity patch_capacity;
   /// Time constant of the passive smoothing of force steps at model updates [s]; 0 = off.
