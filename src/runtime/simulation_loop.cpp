@@ -88,7 +88,12 @@ void SimulationLoop::publish(double t) {
 
 void SimulationLoop::publish_patches(double t) {
   const double period = 1.0 / stats_.rate;
-  for (SimBody& sb : bodies_) {
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    // Only the bodies a patch may be cut from: publish() has copied every surface already.
+    const bool wanted = std::any_of(patch_sources_.begin(), patch_sources_.end(),
+                                    [&](const PatchSource& source) { return source.builders[b] != nullptr; });
+    if (!wanted) continue;
+    SimBody& sb = bodies_[b];
     sb.surface.resize(sb.surface_to_node.size());
     sb.surface_before.resize(sb.surface_to_node.size());
     const bool moved = sb.x_before.size() == sb.state.x.size();
