@@ -1,7 +1,9 @@
 #include "precompute/configuration_solver.hpp"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <fmt/format.h>
 #include <stdexcept>
 
@@ -87,25 +89,56 @@ PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, con
   state_.v.setZero();
   state_.q.setZero();
   r.status = PointStatus::solved;
+  // The path from `from` to `target` is walked in fractions of it. A step whose solve fails
+  // is retried from the last converged state at half the size (a shorter step starts
+  // Newton closer to its solution), at most max_step_halvings times per load step; the step
+  // stays refined for the rest of its load step, so the step never falls below
+  // 2^-max_step_halvings of the nominal one and the walk ends. Deterministic: the same inputs
+  // refine the same way on any worker.
+  const double nominal = 1.0 / steps;
+  VecX converged = state_.x;
+  double reached = 0.0;
   for (int s = 1; s <= steps && r.status == PointStatus::solved; ++s) {
-    const double fraction = static_cast<double>(s) / steps;
-    place_patch(from + fraction * (target - from));
-    try {
-      const auto res = physics::solve_static(body_, state_, {}, settings_.max_iterations, settings_.tolerance);
-      r.iterations += res.iterations;
-      r.residual = std::max(r.residual, res.residual);
-      if (!res.converged && !(free_residual() <= kAbsoluteForceTolerance)) {
-        r.status = PointStatus::failed;
-        r.reason = fmt::format("load step {}/{}: {} at relative residual {:.3g} after {} Newton iterations", s, steps,
-                               res.stagnated ? "line search stagnated" : "no convergence", res.residual,
-                               res.iterations);
-      } else if (!state_.x.allFinite()) {
-        r.status = PointStatus::failed;
-        r.reason = fmt::format("load step {}/{}: non-finite positions", s, steps);
+    const double end = s == steps ? 1.0 : static_cast<double>(s) / steps;
+    double step = nominal;
+    int halvings = 0;
+    while (reached < end && r.status == PointStatus::solved) {
+      const double fraction = std::min(end, reached + step);
+      place_patch(from + fraction * (target - from));
+      std::string failure;
+      double step_residual = 0.0;
+      try {
+        // The tolerance is relative to the step's initial out-of-balance force, which shrinks
+        // with the step: a refined step keeps about the absolute accuracy of a nominal one.
+        const double tolerance = std::min(1e-4, std::ldexp(settings_.tolerance, halvings));
+        const auto res = physics::solve_static(body_, state_, {}, settings_.max_iterations, tolerance);
+        r.iterations += res.iterations;
+        step_residual = res.residual;
+        if (!res.converged && !(free_residual() <= kAbsoluteForceTolerance))
+          failure = fmt::format("{} at relative residual {:.3g} after {} Newton iterations",
+                                res.stagnated ? "line search stagnated" : "no convergence", res.residual,
+                                res.iterations);
+        else if (!state_.x.allFinite())
+          failure = "non-finite positions";
+      } catch (const std::runtime_error& e) {
+        failure = e.what();
       }
-    } catch (const std::runtime_error& e) {
-      r.status = PointStatus::failed;
-      r.reason = fmt::format("load step {}/{}: {}", s, steps, e.what());
+      if (failure.empty()) {
+        r.residual = std::max(r.residual, step_residual);
+        reached = fraction;
+        converged = state_.x;
+      } else if (halvings < settings_.max_step_halvings) {
+        ++halvings;
+        ++r.refinements;
+        step *= 0.5;
+        state_.x = converged;
+      } else {
+        r.status = PointStatus::failed;
+        r.residual = std::max(r.residual, step_residual);
+        r.reason = halvings == 0 ? fmt::format("load step {}/{}: {}", s, steps, failure)
+                                 : fmt::format("load step {}/{} (after {} halvings, step {:.3g} of the path): {}", s,
+                                               steps, halvings, step, failure);
+      }
     }
   }
   newton_iterations_ += r.iterations;

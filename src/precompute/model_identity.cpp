@@ -37,6 +37,7 @@ ModelIdentity identify(const physics::Body& body, const SpaceSettings& settings,
   model.add_value(settings.contact_node);
   model.add(settings.patch_nodes.data(), settings.patch_nodes.size() * sizeof(std::int32_t));
   model.add_value(settings.load_steps);
+  model.add_value(settings.max_step_halvings);
   model.add_value(settings.max_iterations);
   model.add_value(settings.tolerance);
   model.add_value(settings.gravity);

@@ -29,6 +29,9 @@ struct SpaceSettings {
   Vec3 bounds_min = Vec3::Zero();     ///< the grid covers this box [m]
   Vec3 bounds_max = Vec3::Zero();
   int load_steps = 2;                 ///< load steps per transition (one grid edge)
+  /// A load step whose Newton solve fails is retried from the last converged state in halves,
+  /// at most this many times per load step (down to 2^-n of it) before the point fails.
+  int max_step_halvings = 4;
   int max_iterations = 50;            ///< Newton iterations per load step
   double tolerance = 1e-8;            ///< relative residual per load step
   bool gravity = false;               ///< configurations include the body's weight

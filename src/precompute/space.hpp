@@ -27,6 +27,7 @@ struct PointResult {
   PointStatus status = PointStatus::pending;
   std::int64_t source = -1;  ///< the point it was reached from; -1 for the start point
   int iterations = 0;        ///< Newton iterations over all load steps
+  int refinements = 0;       ///< load-step halvings the solve needed (not stored in the file)
   double residual = 0.0;     ///< worst final relative residual of the load steps
   double seconds = 0.0;      ///< wall time of the solve on its worker
   Vec3 force = Vec3::Zero(); ///< force the body exerts on the tool [N]

@@ -212,6 +212,7 @@ void write_space(const std::filesystem::path& path, const Space& space) {
     w.attribute(settings, "bounds_min", H5T_NATIVE_DOUBLE, s.bounds_min.data(), 3);
     w.attribute(settings, "bounds_max", H5T_NATIVE_DOUBLE, s.bounds_max.data(), 3);
     w.attribute(settings, "load_steps", H5T_NATIVE_INT, &s.load_steps);
+    w.attribute(settings, "max_step_halvings", H5T_NATIVE_INT, &s.max_step_halvings);
     w.attribute(settings, "max_iterations", H5T_NATIVE_INT, &s.max_iterations);
     w.attribute(settings, "tolerance", H5T_NATIVE_DOUBLE, &s.tolerance);
     const int gravity = s.gravity ? 1 : 0;
@@ -288,6 +289,7 @@ Space read_space(const std::filesystem::path& path) {
   r.array(settings, "bounds_min", H5T_NATIVE_DOUBLE, s.bounds_min.data(), 3);
   r.array(settings, "bounds_max", H5T_NATIVE_DOUBLE, s.bounds_max.data(), 3);
   s.load_steps = r.scalar<int>(settings, "load_steps", H5T_NATIVE_INT);
+  s.max_step_halvings = r.scalar<int>(settings, "max_step_halvings", H5T_NATIVE_INT);
   s.max_iterations = r.scalar<int>(settings, "max_iterations", H5T_NATIVE_INT);
   s.tolerance = r.scalar<double>(settings, "tolerance", H5T_NATIVE_DOUBLE);
   s.gravity = r.scalar<int>(settings, "gravity", H5T_NATIVE_INT) != 0;

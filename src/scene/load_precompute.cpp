@@ -56,6 +56,7 @@ precompute::SpaceSettings read_precompute(Reader& r, const Model& model) {
   s.bounds_max = r.required_vec3("max");
   if (!(s.bounds_min.array() < s.bounds_max.array()).all()) r.fail("max", "max must exceed min on every axis");
   s.load_steps = r.integer("load_steps", s.load_steps, 1, 1000);
+  s.max_step_halvings = r.integer("max_step_halvings", s.max_step_halvings, 0, 20);
   s.max_iterations = r.integer("max_iterations", s.max_iterations, 1, 1000);
   s.tolerance = r.number("tolerance", s.tolerance, Range::open_closed(0.0, 1e-2));
   s.gravity = r.boolean("gravity", s.gravity);

@@ -95,6 +95,56 @@ TEST(Build, FailedSolvesAreRecordedWithTheirReason) {
     }
 }
 
+TEST(Build, AFailedLoadStepIsRefinedByHalving) {
+  // Pressing 16 mm into the 20 mm block in one load step needs more Newton iterations than
+  // allowed; halving the step gets there, to the equilibrium of a finely stepped solve.
+  const physics::Body body = testing::block_body(5.0e3, 0.45);
+  SpaceSettings s = testing::block_settings(body);
+  s.load_steps = 1;
+  s.max_iterations = 25;
+  s.max_step_halvings = 0;
+  const Vec3 rest = ConfigurationSolver(body, s).contact_rest();
+  const Vec3 target = rest - Vec3(0, 0, 0.016);
+  const VecX zero = VecX::Zero(3 * static_cast<Eigen::Index>(body.model->node_count()));
+
+  ConfigurationSolver unrefined(body, s);
+  const PointResult failed = unrefined.transition(1, 0, zero, rest, target);
+  EXPECT_EQ(failed.status, PointStatus::failed);
+  EXPECT_EQ(failed.refinements, 0);
+  EXPECT_NE(failed.reason.find("load step 1/1: no convergence"), std::string::npos) << failed.reason;
+
+  s.max_step_halvings = 4;
+  ConfigurationSolver refined(body, s);
+  const PointResult solved = refined.transition(1, 0, zero, rest, target);
+  ASSERT_EQ(solved.status, PointStatus::solved) << solved.reason;
+  EXPECT_GT(solved.refinements, 0);
+
+  SpaceSettings fine = s;
+  fine.max_iterations = 100;
+  const PointResult reference = ConfigurationSolver(body, fine).solve_direct(target, 16);
+  ASSERT_EQ(reference.status, PointStatus::solved) << reference.reason;
+  EXPECT_GT(reference.force.z(), 0.0);
+  EXPECT_LT((solved.force - reference.force).norm(), 1e-5 * reference.force.norm());
+  EXPECT_LT((solved.displacement - reference.displacement).norm(), 1e-5 * reference.displacement.norm());
+}
+
+TEST(Build, RefinementIsBoundedByTheHalvingLimit) {
+  // One Newton iteration per step never converges: the point fails after exactly the allowed
+  // number of halvings, and says so.
+  const physics::Body body = testing::block_body();
+  SpaceSettings s = testing::block_settings(body);
+  s.load_steps = 2;
+  s.max_iterations = 1;
+  s.tolerance = 1e-14;
+  s.max_step_halvings = 3;
+  ConfigurationSolver solver(body, s);
+  const Vec3 rest = solver.contact_rest();
+  const PointResult r = solver.solve_direct(rest - Vec3(0, 0, 0.003), 2);
+  EXPECT_EQ(r.status, PointStatus::failed);
+  EXPECT_EQ(r.refinements, 3);
+  EXPECT_NE(r.reason.find("after 3 halvings"), std::string::npos) << r.reason;
+}
+
 TEST(Build, PatchNodeInAFixedRegionIsAnInputError) {
   const physics::Body body = testing::block_body();
   SpaceSettings s = testing::block_settings(body);

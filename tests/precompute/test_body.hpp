@@ -11,12 +11,12 @@
 
 namespace tactus::precompute::testing {
 
-inline physics::Body block_body(double young = 5.0e3) {
+inline physics::Body block_body(double young = 5.0e3, double poisson = 0.3) {
   const mesh::TetMesh mesh = mesh::box_volume(Vec3(0.04, 0.04, 0.02), 4, 4, 2);
   physics::FemMaterial material;
   material.law = physics::FemLaw::stvk;
   material.young_modulus = young;
-  material.poisson_ratio = 0.3;
+  material.poisson_ratio = poisson;
   physics::Body body;
   body.model = std::make_shared<physics::TetFem>(mesh, material);
   std::vector<std::int32_t> base;

@@ -1,0 +1,153 @@
+// A scene body of kind "cspace": `tactus run`'s loops render the force from a precomputed
+// space at haptic rate, publish its interpolated shape, and refuse a space of another body.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "core/error.hpp"
+#include "precompute/interpolator.hpp"
+#include "precompute/space_file.hpp"
+#include "runtime/cspace_body.hpp"
+#include "runtime/session.hpp"
+#include "scene/scene.hpp"
+#include "test_body.hpp"
+
+namespace tactus::precompute {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The block's body as a cspace body, pressed by a scripted fingertip 4 mm down from the
+/// contact point (the grid's start) and held.
+std::string run_scene(const std::string& interpolation, double young = 5.0e3) {
+  std::string body = testing::block_scene("");
+  body = body.substr(0, body.find("[precompute]"));
+  const std::string fem = "kind = \"fem\"";
+  body.replace(body.find(fem), fem.size(),
+               "kind = \"cspace\"\nspace = \"space.h5\"\ninterpolation = \"" + interpolation + "\"");
+  const std::string modulus = "young_modulus = 5.0e3";
+  body.replace(body.find(modulus), modulus.size(), "young_modulus = " + std::to_string(young));
+  return body + R"(
+[devices.hand]
+type = "scripted"
+max_force = 10.0
+
+[devices.hand.trajectory]
+type = "press"
+position = [0.001, 0.0005, 0.01]
+direction = [0.0, 0.0, -1.0]
+depth = 0.004
+speed = 0.02
+hold = 0.1
+
+[tools.finger]
+type = "sphere"
+device = "hand"
+radius = 0.004
+
+[algorithms.touch]
+type = "proxy"
+tool = "finger"
+stiffness = 1000.0
+)";
+}
+
+class CspaceRuntime : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("tactus_cspace_runtime_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "block.toml") << testing::block_scene(R"(contact_point = [0.0, 0.0, 0.01]
+spacing = 0.003
+min = [-0.006, -0.006, 0.001]
+max = [0.006, 0.006, 0.013]
+)");
+    const std::string cmd = "cd '" + dir_.string() + "' && CI=1 '" + TACTUS_BINARY +
+                            "' -q precompute block.toml -o space.h5 --threads 2 >log.txt 2>&1";
+    const int status = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "tactus precompute failed";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  scene::Model model(const std::string& text) {
+    std::ofstream(dir_ / "run.toml") << text;
+    return scene::load_scene(dir_ / "run.toml");
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(CspaceRuntime, LockstepRunRendersTheInterpolatedForce) {
+  for (const char* method : {"trilinear", "rbf_cubic"}) {
+    SCOPED_TRACE(method);
+    const scene::Model m = model(run_scene(method));
+    ASSERT_TRUE(m.bodies.front().cspace);
+    runtime::SessionOptions o;
+    o.scheduling = runtime::Scheduling::lockstep;
+    o.duration = 0.35;
+    o.keep_frames = true;
+    const runtime::SessionReport r = runtime::run_session(m, o);
+    ASSERT_GT(r.frames.size(), 300u);
+
+    const Interpolator direct(std::make_shared<const Space>(read_space(dir_ / "space.h5")),
+                              parse_interpolation(method));
+    std::size_t compared = 0;
+    double deepest_force = 0.0;
+    for (const runtime::HapticFrame& f : r.frames) {
+      ASSERT_TRUE(f.force.allFinite());
+      if (f.flags != 0) continue;  // the safety layer changed this frame's force
+      const Query q = direct.force(f.position);
+      ASSERT_TRUE(q.valid);
+      EXPECT_LT((f.force - q.force).norm(), 1e-12 + 1e-9 * q.force.norm()) << "t = " << f.t;
+      ++compared;
+      deepest_force = std::max(deepest_force, f.force.z());
+    }
+    EXPECT_GT(compared, 300u);
+    // 4 mm into the block it pushes back up.
+    EXPECT_GT(deepest_force, 0.05);
+  }
+}
+
+TEST_F(CspaceRuntime, ShapeFollowsTheToolAndForceIsZeroOutsideTheGrid) {
+  const scene::Model m = model(run_scene("trilinear"));
+  const auto body = runtime::CspaceBody::load(m, 0);
+  const Space& space = body->interpolator().space();
+  VecX x, displacement;
+  const Vec3 p(0.001, 0.0005, 0.007);
+  body->positions(p, x);
+  const Query q = body->interpolator().shape(p, displacement);
+  ASSERT_TRUE(q.valid);
+  EXPECT_TRUE(x.isApprox(space.rest_positions + displacement, 1e-14));
+  // The contact node moves with the interaction point (trilinear is exact for it: every
+  // configuration holds it at its grid point).
+  const auto n = 3 * static_cast<Eigen::Index>(space.settings.contact_node);
+  EXPECT_LT((x.segment<3>(n) - p).norm(), 1e-9);
+  EXPECT_TRUE(body->force(p).touching);
+  EXPECT_FALSE(body->force(Vec3(0.0, 0.0, 0.05)).touching);
+  EXPECT_EQ(body->force(Vec3(0.0, 0.0, 0.05)).force, Vec3::Zero());
+}
+
+TEST_F(CspaceRuntime, RefusesASpaceBuiltForAnotherMaterial) {
+  const scene::Model m = model(run_scene("trilinear", 7.0e3));
+  try {
+    runtime::CspaceBody::load(m, 0);
+    FAIL() << "a space of another material was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("model hash"), std::string::npos) << e.what();
+  }
+  // And `tactus run` refuses it before any loop starts.
+  runtime::SessionOptions o;
+  o.scheduling = runtime::Scheduling::lockstep;
+  o.duration = 0.01;
+  EXPECT_THROW(runtime::run_session(m, o), InputError);
+}
+
+}  // namespace
+}  // namespace tactus::precompute
