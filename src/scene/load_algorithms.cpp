@@ -1,7 +1,59 @@
 // algorithms.<name>: the force algorithms that turn tool–tissue contact into a force.
+#include <fmt/format.h>
+
 #include "scene/loader.hpp"
 
 namespace tactus::scene::detail {
+namespace {
+
+/// algorithms.<name>.layers of a needle: the bodies it pierces and how each resists, or one
+/// layer with default values per body of the algorithm when the key is absent.
+std::vector<NeedleLayer> read_needle_layers(Reader& r, const Algorithm& a, const Model& model) {
+  const Tool& tool = model.tools[a.tool];
+  const double max_force = tool.devices.empty() ? 0.0 : model.devices[tool.devices.front()].max_force;
+  std::vector<NeedleLayer> layers;
+  const auto default_layer = [](std::size_t body) {
+    NeedleLayer l;
+    l.body = body;
+    return l;
+  };
+  if (!r.has("layers")) {
+    if (a.bodies.empty())
+      for (std::size_t b = 0; b < model.bodies.size(); ++b) layers.push_back(default_layer(b));
+    else
+      for (const std::size_t b : a.bodies) layers.push_back(default_layer(b));
+    if (layers.size() > haptics::kMaxNeedleLayers)
+      r.fail(a.bodies.empty() ? "type" : "bodies",
+             fmt::format("a needle pierces at most {} layers; name them under 'layers'", haptics::kMaxNeedleLayers));
+    return layers;
+  }
+  if (r.has("bodies")) r.fail("bodies", "a needle takes its bodies from 'layers'; give one or the other");
+  std::vector<Reader> tables = r.table_array("layers");
+  if (tables.empty()) r.fail("layers", "needs at least one layer");
+  if (tables.size() > haptics::kMaxNeedleLayers)
+    r.fail("layers", fmt::format("a needle pierces at most {} layers, not {}", haptics::kMaxNeedleLayers, tables.size()));
+  for (Reader& t : tables) {
+    NeedleLayer l;
+    const auto body = t.string("body");
+    if (!body) t.fail_missing("body", "the name of the body this layer is");
+    l.body = resolve_name(t, "body", *body, model.bodies, "body");
+    for (const NeedleLayer& seen : layers)
+      if (seen.body == l.body) t.fail("body", "body '" + *body + "' is already a layer of this needle");
+    l.rupture_force = t.number("rupture_force", l.rupture_force, Range::positive());
+    if (max_force > 0.0 && l.rupture_force >= max_force)
+      t.fail("rupture_force", fmt::format("{} N is not below the device's max_force ({} N): the hand would never "
+                                          "feel the layer give way",
+                                          l.rupture_force, max_force));
+    l.stiffness = t.number("stiffness", l.stiffness, Range::positive());
+    l.viscous_friction = t.number("viscous_friction", l.viscous_friction, Range::non_negative());
+    l.coulomb_friction = t.number("coulomb_friction", l.coulomb_friction, Range::non_negative());
+    t.finish();
+    layers.push_back(l);
+  }
+  return layers;
+}
+
+}  // namespace
 
 Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model) {
   Algorithm a;
@@ -36,6 +88,8 @@ Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model)
                                        a.local_model);
   a.max_tool_speed = r.number("max_tool_speed", a.max_tool_speed, Range::positive());
   a.force_smoothing = r.number("force_smoothing", a.force_smoothing, Range::closed(0.0, 0.1));
+  a.load_spread = r.choice<LoadSpread>(
+      "load_spread", {{"triangle", LoadSpread::triangle}, {"contact_disc", LoadSpread::contact_disc}}, a.load_spread);
 
   switch (type) {
     case proxy: {
@@ -89,6 +143,9 @@ Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model)
     case needle: {
       NeedleParams p;
       p.lateral_stiffness = r.number("lateral_stiffness", p.lateral_stiffness, Range::non_negative());
+      p.layers = read_needle_layers(r, a, model);
+      a.bodies.clear();
+      for (const NeedleLayer& l : p.layers) a.bodies.push_back(l.body);
       a.params = p;
       break;
     }

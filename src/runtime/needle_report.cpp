@@ -1,0 +1,63 @@
+#include "runtime/needle_report.hpp"
+
+#include <fmt/format.h>
+
+namespace tactus::runtime {
+namespace {
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      out += fmt::format("\\u{:04x}", static_cast<int>(c));
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+NeedleReport needle_report(const scene::Model& model, const std::string& device,
+                           const haptics::NeedleInsertion& needle) {
+  NeedleReport r;
+  r.device = device;
+  const auto& layers = needle.config().layers;
+  r.layers = layers.size();
+  for (const haptics::NeedleRupture& rupture : needle.ruptures()) {
+    const haptics::NeedleLayer& l = layers[rupture.layer];
+    r.ruptures.push_back({model.bodies[l.body].name, rupture.t, rupture.force, l.rupture_force});
+  }
+  r.planned = needle.config().planned.has_value();
+  r.max_deviation = needle.max_deviation();
+  r.last_deviation = needle.last_deviation();
+  return r;
+}
+
+std::string format_needle_report(const NeedleReport& r) {
+  std::string out = fmt::format("\nneedle ({}): {} of {} layers passed\n", r.device, r.ruptures.size(), r.layers);
+  for (std::size_t i = 0; i < r.ruptures.size(); ++i) {
+    const NeedleRuptureReport& p = r.ruptures[i];
+    out += fmt::format("  {}. {:<20} ruptured at t = {:.4f} s, force {:.3f} N (threshold {:.3f} N)\n", i + 1, p.layer,
+                       p.t, p.force, p.threshold);
+  }
+  out += fmt::format("  lateral deviation from the {} path: max {:.3f} mm, last {:.3f} mm\n",
+                     r.planned ? "planned" : "puncture", r.max_deviation * 1e3, r.last_deviation * 1e3);
+  return out;
+}
+
+std::string needle_report_json(const NeedleReport& r) {
+  std::string ruptures;
+  for (std::size_t i = 0; i < r.ruptures.size(); ++i) {
+    const NeedleRuptureReport& p = r.ruptures[i];
+    ruptures += fmt::format("{}{{\"layer\": {}, \"t_s\": {}, \"force_n\": {}, \"threshold_n\": {}}}",
+                            i ? ", " : "", json_string(p.layer), p.t, p.force, p.threshold);
+  }
+  return fmt::format("{{\"device\": {}, \"layers\": {}, \"ruptures\": [{}], \"planned_path\": {}, "
+                     "\"max_deviation_m\": {}, \"last_deviation_m\": {}}}",
+                     json_string(r.device), r.layers, ruptures, r.planned ? "true" : "false", r.max_deviation, r.last_deviation);
+}
+
+}  // namespace tactus::runtime
