@@ -17,5 +17,6 @@ Action add_bench(CLI::App& app);
 Action add_replay(CLI::App& app);
 Action add_export(CLI::App& app);
 Action add_precompute(CLI::App& app);
+Action add_snapshot(CLI::App& app);
 
 }  // namespace tactus::app

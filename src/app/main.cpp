@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   add(tactus::app::add_export, "export", "Write a recording's frames, steps and events as CSV");
   add(tactus::app::add_solve, "solve", "Solve a scene's bodies to equilibrium or a time; probes and reactions");
   add(tactus::app::add_precompute, "precompute", "Build a scene's configuration space (HDF5), locally or under mpirun");
+  add(tactus::app::add_snapshot, "snapshot", "Render a scene at a time of a lockstep run to PNG, offscreen");
 
   try {
     cli.parse(argc, argv);

@@ -1,0 +1,69 @@
+#pragma once
+// What the renderer draws: a plain description of one visual frame, built from a run's
+// published snapshots (visual_feed.hpp) or by hand (tests). Scene units [m, N, Pa].
+#include <string>
+#include <vector>
+
+#include "core/math.hpp"
+#include "mesh/tri_mesh.hpp"
+
+namespace tactus::viewer {
+
+/// Linear RGB in [0, 1].
+using Colour = Vec3;
+
+/// A body's deformed surface.
+struct SurfaceView {
+  std::string name;
+  std::vector<Vec3> positions;
+  std::vector<mesh::Triangle> triangles;
+  Colour colour = Colour(0.9, 0.72, 0.62);
+  /// Contact pressure per vertex [Pa]; empty = no contact on this surface.
+  std::vector<double> pressure;
+  /// Drawn see-through when the view asks for transparency (it then reveals what lies under).
+  bool translucent_when_revealing = true;
+};
+
+/// A sphere: a tool's contact sphere, its device position, a nodule under the skin.
+struct SphereView {
+  Vec3 centre = Vec3::Zero();
+  double radius = 0.0;
+  Colour colour = Colour(0.4, 0.6, 0.95);
+  double opacity = 1.0;
+  /// Hidden under the surface: drawn only when the view reveals subsurface structures.
+  bool subsurface = false;
+};
+
+/// A force vector drawn as an arrow from `origin`, `length_per_newton` metres per newton.
+struct ArrowView {
+  Vec3 origin = Vec3::Zero();
+  Vec3 force = Vec3::Zero();  ///< [N]
+  double length_per_newton = 0.01;
+  Colour colour = Colour(0.95, 0.85, 0.1);
+};
+
+struct FrameView {
+  double t = 0.0;  ///< [s] simulated time of the surfaces
+  std::vector<SurfaceView> surfaces;
+  std::vector<SphereView> spheres;
+  std::vector<ArrowView> arrows;
+  /// Pressure shown at the top of the false-colour scale [Pa].
+  double pressure_full_scale = 2.0e4;
+};
+
+/// Display switches of the view.
+struct ViewOptions {
+  bool reveal = false;     ///< translucent surfaces; subsurface structures shown
+  bool wireframe = false;  ///< triangle edges over the shading
+  bool shadows = true;
+  bool show_pressure = true;
+  bool show_forces = true;
+};
+
+/// Axis-aligned bounds of everything in the frame (surfaces and spheres).
+Aabb frame_bounds(const FrameView& frame);
+
+/// False-colour ramp for a value in [0, 1]: blue, cyan, green, yellow, red.
+Colour pressure_colour(double fraction);
+
+}  // namespace tactus::viewer

@@ -1,0 +1,388 @@
+#include "viewer/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "mesh/generators.hpp"
+
+namespace tactus::viewer {
+namespace {
+
+constexpr int kShadowSize = 2048;
+
+const char* const kShadedVertex = R"(#version 330 core
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec4 aColour;
+uniform mat4 uViewProjection;
+uniform mat4 uLightViewProjection;
+out vec3 vPosition;
+out vec3 vNormal;
+out vec4 vColour;
+out vec4 vLightPosition;
+void main() {
+  vPosition = aPosition;
+  vNormal = aNormal;
+  vColour = aColour;
+  vLightPosition = uLightViewProjection * vec4(aPosition, 1.0);
+  gl_Position = uViewProjection * vec4(aPosition, 1.0);
+}
+)";
+
+const char* const kShadedFragment = R"(#version 330 core
+in vec3 vPosition;
+in vec3 vNormal;
+in vec4 vColour;
+in vec4 vLightPosition;
+uniform vec3 uLightDirection;
+uniform vec3 uEye;
+uniform sampler2DShadow uShadow;
+uniform int uShadows;
+uniform int uUnlit;
+out vec4 outColour;
+float lit_fraction(vec3 n) {
+  vec3 p = vLightPosition.xyz / vLightPosition.w * 0.5 + 0.5;
+  if (p.z > 1.0) return 1.0;
+  float bias = max(0.004 * (1.0 - dot(n, uLightDirection)), 0.001);
+  vec2 texel = 1.0 / vec2(textureSize(uShadow, 0));
+  float sum = 0.0;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y) sum += texture(uShadow, vec3(p.xy + vec2(x, y) * texel, p.z - bias));
+  return sum / 9.0;
+}
+void main() {
+  if (uUnlit == 1) {
+    outColour = vColour;
+    return;
+  }
+  vec3 n = normalize(vNormal);
+  if (!gl_FrontFacing) n = -n;  // open sheets are seen from both sides
+  vec3 v = normalize(uEye - vPosition);
+  float diffuse = max(dot(n, uLightDirection), 0.0);
+  float specular = pow(max(dot(n, normalize(uLightDirection + v)), 0.0), 40.0) * 0.2;
+  float light = uShadows == 1 ? mix(0.35, 1.0, lit_fraction(n)) : 1.0;
+  vec3 c = vColour.rgb * (0.3 + 0.7 * diffuse * light) + vec3(specular * light);
+  outColour = vec4(c, vColour.a);
+}
+)";
+
+const char* const kDepthVertex = R"(#version 330 core
+layout(location = 0) in vec3 aPosition;
+uniform mat4 uLightViewProjection;
+void main() { gl_Position = uLightViewProjection * vec4(aPosition, 1.0); }
+)";
+
+const char* const kDepthFragment = R"(#version 330 core
+void main() {}
+)";
+
+GLuint compile(GLenum kind, const char* source, const char* what) {
+  const GLuint s = glCreateShader(kind);
+  glShaderSource(s, 1, &source, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    glDeleteShader(s);
+    throw std::runtime_error(std::string("viewer: the ") + what + " shader does not compile: " + log);
+  }
+  return s;
+}
+
+GLuint link(const char* vertex, const char* fragment, const char* what) {
+  const GLuint v = compile(GL_VERTEX_SHADER, vertex, what), f = compile(GL_FRAGMENT_SHADER, fragment, what);
+  const GLuint p = glCreateProgram();
+  glAttachShader(p, v);
+  glAttachShader(p, f);
+  glLinkProgram(p);
+  glDeleteShader(v);
+  glDeleteShader(f);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    glDeleteProgram(p);
+    throw std::runtime_error(std::string("viewer: the ") + what + " program does not link: " + log);
+  }
+  return p;
+}
+
+Mat4f look_at(const Vec3& eye, const Vec3& target, const Vec3& up_hint) {
+  const Vec3 f = (target - eye).normalized();
+  Vec3 r = f.cross(up_hint);
+  if (r.norm() < 1e-9) r = f.cross(Vec3::UnitY());
+  r.normalize();
+  const Vec3 u = r.cross(f);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.block<1, 3>(0, 0) = r.transpose();
+  m.block<1, 3>(1, 0) = u.transpose();
+  m.block<1, 3>(2, 0) = -f.transpose();
+  m(0, 3) = -r.dot(eye);
+  m(1, 3) = -u.dot(eye);
+  m(2, 3) = f.dot(eye);
+  return m.cast<float>();
+}
+
+Mat4f orthographic(double half, double near, double far) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m(0, 0) = 1.0 / half;
+  m(1, 1) = 1.0 / half;
+  m(2, 2) = -2.0 / (far - near);
+  m(2, 3) = -(far + near) / (far - near);
+  return m.cast<float>();
+}
+
+void set_matrix(GLuint program, const char* name, const Mat4f& m) {
+  glUniformMatrix4fv(glGetUniformLocation(program, name), 1, GL_FALSE, m.data());
+}
+
+/// Appends one vertex; colour with alpha.
+template <class V>
+void push(std::vector<V>& out, const Vec3& p, const Vec3& n, const Colour& c, double alpha) {
+  out.push_back({{static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())},
+                 {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())},
+                 {static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z()), static_cast<float>(alpha)}});
+}
+
+/// A cylinder from a to b (radius r) or a cone (r at a, 0 at b), as triangles.
+template <class V>
+void push_cone(std::vector<V>& out, const Vec3& a, const Vec3& b, double ra, double rb, const Colour& c) {
+  constexpr int kSegments = 16;
+  const Vec3 axis = (b - a).normalized();
+  Vec3 u = axis.cross(std::abs(axis.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX()).normalized();
+  const Vec3 w = axis.cross(u);
+  const double slope = (ra - rb) / std::max((b - a).norm(), 1e-12);
+  for (int i = 0; i < kSegments; ++i) {
+    const double t0 = 2.0 * std::numbers::pi * i / kSegments, t1 = 2.0 * std::numbers::pi * (i + 1) / kSegments;
+    const Vec3 d0 = std::cos(t0) * u + std::sin(t0) * w, d1 = std::cos(t1) * u + std::sin(t1) * w;
+    const Vec3 n0 = (d0 + slope * axis).normalized(), n1 = (d1 + slope * axis).normalized();
+    push(out, a + ra * d0, n0, c, 1.0);
+    push(out, a + ra * d1, n1, c, 1.0);
+    push(out, b + rb * d1, n1, c, 1.0);
+    push(out, a + ra * d0, n0, c, 1.0);
+    push(out, b + rb * d1, n1, c, 1.0);
+    push(out, b + rb * d0, n0, c, 1.0);
+    // The base disc.
+    push(out, a, -axis, c, 1.0);
+    push(out, a + ra * d1, -axis, c, 1.0);
+    push(out, a + ra * d0, -axis, c, 1.0);
+  }
+}
+
+}  // namespace
+
+Renderer::Renderer() {
+  shaded_ = link(kShadedVertex, kShadedFragment, "shading");
+  depth_ = link(kDepthVertex, kDepthFragment, "shadow depth");
+  glGenVertexArrays(1, &vao_);
+  glGenBuffers(1, &vbo_);
+  glBindVertexArray(vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, vbo_);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, normal)));
+  glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, colour)));
+  for (GLuint i = 0; i < 3; ++i) glEnableVertexAttribArray(i);
+  glBindVertexArray(0);
+
+  glGenTextures(1, &shadow_texture_);
+  glBindTexture(GL_TEXTURE_2D, shadow_texture_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, kShadowSize, kShadowSize, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+  const float border[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+  glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, border);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  glGenFramebuffers(1, &shadow_fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadow_texture_, 0);
+  glDrawBuffer(GL_NONE);
+  glReadBuffer(GL_NONE);
+  const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("viewer: the shadow map framebuffer is incomplete");
+
+  const mesh::TriMesh sphere = mesh::sphere(1.0, 3);
+  for (const mesh::Triangle& t : sphere.triangles)
+    for (const mesh::Index v : t) unit_sphere_.push_back(sphere.vertices[static_cast<std::size_t>(v)].normalized());
+}
+
+Renderer::~Renderer() {
+  glDeleteFramebuffers(1, &shadow_fbo_);
+  glDeleteTextures(1, &shadow_texture_);
+  glDeleteBuffers(1, &vbo_);
+  glDeleteVertexArrays(1, &vao_);
+  glDeleteProgram(shaded_);
+  glDeleteProgram(depth_);
+}
+
+void Renderer::build(const FrameView& frame, const ViewOptions& options, Batches& out) const {
+  // Surfaces: smooth normals (area-weighted face normals), pressure blended over the colour.
+  for (const SurfaceView& s : frame.surfaces) {
+    std::vector<Vec3> normals(s.positions.size(), Vec3::Zero());
+    auto valid = [&](const mesh::Triangle& t) {
+      return std::all_of(t.begin(), t.end(), [&](mesh::Index v) { return v >= 0 && static_cast<std::size_t>(v) < s.positions.size(); });
+    };
+    for (const mesh::Triangle& t : s.triangles) {
+      if (!valid(t)) continue;
+      const Vec3& a = s.positions[static_cast<std::size_t>(t[0])];
+      const Vec3 n = (s.positions[static_cast<std::size_t>(t[1])] - a).cross(s.positions[static_cast<std::size_t>(t[2])] - a);
+      for (const mesh::Index v : t) normals[static_cast<std::size_t>(v)] += n;
+    }
+    const bool translucent = options.reveal && s.translucent_when_revealing;
+    const bool pressure = options.show_pressure && s.pressure.size() == s.positions.size();
+    std::vector<Vertex>& target = translucent ? out.translucent : out.opaque;
+    for (const mesh::Triangle& t : s.triangles) {
+      if (!valid(t)) continue;
+      for (const mesh::Index vi : t) {
+        const auto v = static_cast<std::size_t>(vi);
+        Colour c = s.colour;
+        if (pressure && s.pressure[v] > 0.0) {
+          const double fraction = s.pressure[v] / frame.pressure_full_scale;
+          // Fully false-coloured from 3 % of full scale on, so light touches show too.
+          const double w = std::clamp(fraction / 0.03, 0.0, 1.0);
+          c = (1.0 - w) * c + w * pressure_colour(fraction);
+        }
+        push(target, s.positions[v], normals[v].normalized(), c, translucent ? 0.35 : 1.0);
+        if (options.wireframe) push(out.wire, s.positions[v], Vec3::UnitZ(), Colour(0.1, 0.1, 0.12), 1.0);
+      }
+    }
+  }
+  for (const SphereView& s : frame.spheres) {
+    if (s.subsurface && !options.reveal) continue;
+    std::vector<Vertex>& target = s.opacity < 1.0 ? out.translucent : out.opaque;
+    for (const Vec3& n : unit_sphere_) push(target, s.centre + s.radius * n, n, s.colour, s.opacity);
+  }
+  if (options.show_forces)
+    for (const ArrowView& a : frame.arrows) {
+      const double length = a.force.norm() * a.length_per_newton;
+      if (!(length > 1e-6) || !std::isfinite(length)) continue;
+      const Vec3 dir = a.force.normalized();
+      const double radius = std::max(0.04 * length, 4e-4);
+      const Vec3 neck = a.origin + dir * length * 0.75, tip = a.origin + dir * length;
+      push_cone(out.opaque, a.origin, neck, radius, radius, a.colour);
+      push_cone(out.opaque, neck, tip, 2.2 * radius, 0.0, a.colour);
+    }
+}
+
+void Renderer::draw(const std::vector<Vertex>& vertices) {
+  if (vertices.empty()) return;
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STREAM_DRAW);
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
+}
+
+void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const ViewOptions& options, int width,
+                      int height) {
+  GLint target_fbo = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target_fbo);
+
+  Batches batches;
+  build(frame, options, batches);
+  // A floor under the scene receives the shadows; sized once so it does not breathe.
+  const Aabb box = frame_bounds(frame);
+  if (!floor_sized_) {
+    floor_box_ = box;
+    floor_sized_ = true;
+  }
+  const Vec3 size = floor_box_.max - floor_box_.min;
+  const double extent = std::max({size.x(), size.y(), size.z(), 1e-3});
+  const Vec3 centre = 0.5 * (floor_box_.min + floor_box_.max);
+  const double floor_z = floor_box_.min.z() - 0.15 * extent;
+  const double half = 0.9 * extent;
+  {
+    const Colour grey(0.55, 0.56, 0.58);
+    const Vec3 n = Vec3::UnitZ();
+    const Vec3 c00(centre.x() - half, centre.y() - half, floor_z), c10(centre.x() + half, centre.y() - half, floor_z),
+        c11(centre.x() + half, centre.y() + half, floor_z), c01(centre.x() - half, centre.y() + half, floor_z);
+    for (const Vec3& p : {c00, c10, c11, c00, c11, c01}) push(batches.opaque, p, n, grey, 1.0);
+  }
+
+  // The light: from above, a little to the side, covering the floor and everything on it.
+  const Vec3 light_dir = Vec3(0.35, 0.25, 1.0).normalized();
+  const double light_radius = std::max((box.max - box.min).norm(), 2.0 * half * std::numbers::sqrt2) * 0.75;
+  const Vec3 light_target(centre.x(), centre.y(), 0.5 * (floor_z + box.max.z()));
+  const Mat4f light_vp = orthographic(light_radius, 0.0, 4.0 * light_radius) *
+                         look_at(light_target + 2.0 * light_radius * light_dir, light_target, Vec3::UnitZ());
+
+  glBindVertexArray(vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, vbo_);
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+
+  if (options.shadows) {
+    glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
+    glViewport(0, 0, kShadowSize, kShadowSize);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glUseProgram(depth_);
+    set_matrix(depth_, "uLightViewProjection", light_vp);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.5f, 2.0f);
+    draw(batches.opaque);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(target_fbo));
+  }
+
+  glViewport(0, 0, width, height);
+  glClearColor(0.16f, 0.17f, 0.2f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glUseProgram(shaded_);
+  set_matrix(shaded_, "uViewProjection", camera.projection(static_cast<double>(width) / std::max(height, 1)) * camera.view());
+  set_matrix(shaded_, "uLightViewProjection", light_vp);
+  glUniform3f(glGetUniformLocation(shaded_, "uLightDirection"), static_cast<float>(light_dir.x()),
+              static_cast<float>(light_dir.y()), static_cast<float>(light_dir.z()));
+  const Vec3 eye = camera.eye();
+  glUniform3f(glGetUniformLocation(shaded_, "uEye"), static_cast<float>(eye.x()), static_cast<float>(eye.y()),
+              static_cast<float>(eye.z()));
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, shadow_texture_);
+  glUniform1i(glGetUniformLocation(shaded_, "uShadow"), 0);
+  glUniform1i(glGetUniformLocation(shaded_, "uShadows"), options.shadows ? 1 : 0);
+  glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
+  draw(batches.opaque);
+
+  if (!batches.wire.empty()) {
+    glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 1);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    glEnable(GL_POLYGON_OFFSET_LINE);
+    glPolygonOffset(-1.0f, -1.0f);
+    draw(batches.wire);
+    glDisable(GL_POLYGON_OFFSET_LINE);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
+  }
+
+  if (!batches.translucent.empty()) {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    draw(batches.translucent);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+  }
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+std::vector<std::uint8_t> read_rgb(int width, int height) {
+  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
+  // OpenGL's rows run bottom to top; images run top to bottom.
+  const std::size_t row = static_cast<std::size_t>(width) * 3;
+  std::vector<std::uint8_t> flipped(pixels.size());
+  for (int y = 0; y < height; ++y)
+    std::copy_n(pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * row), row,
+                flipped.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(height - 1 - y) * row));
+  return flipped;
+}
+
+}  // namespace tactus::viewer

@@ -1,0 +1,50 @@
+#pragma once
+// Draws a FrameView with OpenGL 3.3 core: smooth-shaded surfaces with contact pressure in
+// false colour, spheres, force arrows, a floor, one directional light with a shadow map as
+// depth cue; translucency and wireframe on request. The same code draws the window and the
+// offscreen snapshots, so both look alike.
+#include <cstdint>
+#include <vector>
+
+#include "viewer/camera.hpp"
+#include "viewer/frame.hpp"
+#include "viewer/gl.hpp"
+
+namespace tactus::viewer {
+
+class Renderer {
+ public:
+  /// Needs a current OpenGL 3.3 core context; throws std::runtime_error when a shader or
+  /// the shadow map cannot be built (the message says which).
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Draws into the framebuffer bound now, over a width × height viewport.
+  void render(const FrameView& frame, const OrbitCamera& camera, const ViewOptions& options, int width, int height);
+
+ private:
+  struct Vertex {
+    float position[3];
+    float normal[3];
+    float colour[4];
+  };
+  struct Batches {
+    std::vector<Vertex> opaque, translucent, wire;
+  };
+  void build(const FrameView& frame, const ViewOptions& options, Batches& out) const;
+  void draw(const std::vector<Vertex>& vertices);
+
+  GLuint shaded_ = 0, depth_ = 0;  // programs
+  GLuint vao_ = 0, vbo_ = 0;
+  GLuint shadow_fbo_ = 0, shadow_texture_ = 0;
+  std::vector<Vec3> unit_sphere_;  ///< triangle soup of a unit icosphere (positions = normals)
+  Aabb floor_box_;                 ///< the scene's bounds the floor was sized from (kept steady)
+  bool floor_sized_ = false;
+};
+
+/// The bound read framebuffer's pixels as 8-bit RGB, rows top to bottom.
+std::vector<std::uint8_t> read_rgb(int width, int height);
+
+}  // namespace tactus::viewer

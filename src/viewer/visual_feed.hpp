@@ -1,0 +1,83 @@
+#pragma once
+// The viewer's side of a run: it receives what the runtime hands a VisualSink (surfaces
+// through a triple buffer, haptic frames and events as the recorder drains them) and turns
+// the newest of it into a FrameView. Nothing here runs on a haptic thread.
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "haptics/device.hpp"
+#include "runtime/session.hpp"
+#include "scene/model.hpp"
+#include "viewer/frame.hpp"
+
+namespace tactus::viewer {
+
+/// One point of the live plots.
+struct PlotSample {
+  double t = 0.0;           ///< [s]
+  double force = 0.0;       ///< |force sent| [N]
+  double compute_us = 0.0;  ///< haptic frame compute time [µs]
+};
+
+/// A device's tool as last seen: where the device is, where the contact holds it.
+struct ToolView {
+  Vec3 device_position = Vec3::Zero();  ///< first contact sphere at the device pose, scene [m]
+  Vec3 proxy_position = Vec3::Zero();   ///< the same sphere held on the surface, scene [m]
+  Vec3 contact_point = Vec3::Zero();    ///< scene [m]
+  Vec3 force = Vec3::Zero();            ///< on the user's hand, scene axes [N]
+  double radius = 0.0;                  ///< [m]
+  bool touching = false;
+  bool seen = false;  ///< a frame of this device has arrived
+};
+
+class VisualFeed final : public runtime::VisualSink {
+ public:
+  /// `model` must outlive the feed.
+  explicit VisualFeed(const scene::Model& model);
+
+  // runtime::VisualSink (the run's recorder thread; the buffer once, before the loops start).
+  TripleBuffer<runtime::SurfaceSnapshot>& surface_buffer(const runtime::SurfaceSnapshot& initial) override;
+  void frame(const runtime::HapticFrame& frame) override;
+  void event(const runtime::LoopEvent& event) override;
+
+  // The viewer's thread.
+  /// The newest surfaces, tools, pressure and forces.
+  FrameView build();
+  [[nodiscard]] std::vector<ToolView> tools() const;
+  /// The plots' samples (about 200 per second of run, the last 20 s).
+  [[nodiscard]] std::vector<PlotSample> samples() const;
+  /// Safety and contact events, newest last (the last 64), as "t  kind  value".
+  [[nodiscard]] std::vector<std::string> events() const;
+  /// Device → scene mapping of a device (for the mouse device).
+  [[nodiscard]] const haptics::WorkspaceMap& map(std::size_t device) const { return devices_.at(device).map; }
+  /// Pressure shown at the top of the colour scale [Pa].
+  [[nodiscard]] double pressure_full_scale() const { return full_scale_; }
+
+ private:
+  struct DeviceTool {
+    haptics::WorkspaceMap map;
+    Vec3 offset = Vec3::Zero();  ///< first contact sphere, tool frame
+    double radius = 0.0;
+    std::vector<std::pair<Vec3, double>> extra_spheres;  ///< the others (sphere sets)
+  };
+  const scene::Model& model_;
+  std::vector<DeviceTool> devices_;
+  double full_scale_ = 2.0e4;
+  std::unique_ptr<TripleBuffer<runtime::SurfaceSnapshot>> surfaces_;
+  mutable std::mutex mutex_;  // between the recorder's thread and the viewer's, never a haptic thread
+  std::vector<std::optional<runtime::HapticFrame>> latest_;
+  std::deque<PlotSample> samples_;
+  std::deque<std::string> events_;
+};
+
+/// Hertz-like pressure of a contact force spread over a disc of `radius` around `point`:
+/// p(r) = 3F / (2πa²) · √(1 − r²/a²) for each vertex within the disc, 0 outside [Pa].
+void add_contact_pressure(const std::vector<Vec3>& positions, const Vec3& point, double force, double radius,
+                          std::vector<double>& pressure);
+
+}  // namespace tactus::viewer
