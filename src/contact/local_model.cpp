@@ -38,6 +38,7 @@ LocalPatch::LocalPatch(LocalModelKind k, const PatchCapacity& c) : kind(k) {
   velocity.assign(nodes, Vec3::Zero());
   triangles.assign(static_cast<std::size_t>(c.triangles), mesh::Triangle{0, 0, 0});
   surface_triangle.assign(static_cast<std::size_t>(c.triangles), -1);
+  area.assign(nodes, 0.0);
   release = VecX::Zero(free_dofs);
   applied = VecX::Zero(free_dofs);
   response = MatX::Zero(free_dofs, free_dofs);
@@ -128,21 +129,21 @@ void PatchBuilder::select(const Inputs& in, LocalPatch& out) {
   out.node_count = static_cast<int>(patch_vertex_.size());
 
   const bool moving = in.surface_previous.size() == in.surface.size() && in.step_period > 0.0;
+  const bool with_areas = in.vertex_area.size() == in.surface.size();
   for (int n = 0; n < out.node_count; ++n) {
     const auto v = static_cast<std::size_t>(patch_vertex_[static_cast<std::size_t>(n)]);
     out.position[static_cast<std::size_t>(n)] = in.surface[v];
+    out.area[static_cast<std::size_t>(n)] = with_areas ? in.vertex_area[v] : 1.0;
     out.velocity[static_cast<std::size_t>(n)] =
         moving ? Vec3((in.surface[v] - in.surface_previous[v]) / in.step_period) : Vec3::Zero();
   }
 
   // The contact load of the step on the free nodes: the shape already carries it.
   out.applied.setZero();
-  if (in.load_triangle >= 0 && static_cast<std::size_t>(in.load_triangle) < triangles_.size()) {
-    const mesh::Triangle& tri = triangles_[static_cast<std::size_t>(in.load_triangle)];
-    for (int k = 0; k < 3; ++k) {
-      const std::int32_t l = local_of_[static_cast<std::size_t>(tri[static_cast<std::size_t>(k)])];
-      if (l >= 0 && l < out.free_count) out.applied.segment<3>(dof(l)) += in.load_barycentric[k] * in.load_force;
-    }
+  for (const LoadShare& s : in.load_shares) {
+    if (s.vertex < 0 || static_cast<std::size_t>(s.vertex) >= vertex_count_) continue;
+    const std::int32_t l = local_of_[static_cast<std::size_t>(s.vertex)];
+    if (l >= 0 && l < out.free_count) out.applied.segment<3>(dof(l)) += s.share * in.load_force;
   }
 }
 
@@ -301,6 +302,7 @@ LocalModel::LocalModel(LocalModelKind kind, const PatchCapacity& capacity)
   rhs_ = VecX::Zero(f3);
   next_ = VecX::Zero(f3);
   column_ = VecX::Zero(f3);
+  shares_.resize(static_cast<std::size_t>(capacity.nodes));
 }
 
 void LocalModel::reset(const LocalPatch& patch, double now) {
@@ -349,22 +351,27 @@ double LocalModel::advance(const PatchContact& contact, double dt) {
 
   double force = 0.0;
   if (contact.triangle >= 0 && contact.triangle < patch_.triangle_count) {
-    const mesh::Triangle& tri = patch_.triangles[static_cast<std::size_t>(contact.triangle)];
-    // column = B·Jᵀn: the free nodes' response to a unit normal force at the contact point.
+    // The force acts on the nodes around the contact point as the simulation spreads it
+    // (load_spread.hpp), so that the patch dents as the body will.
+    const int count = spread_load(positions(),
+                                  {patch_.triangles.data(), static_cast<std::size_t>(patch_.triangle_count)},
+                                  {patch_.area.data(), static_cast<std::size_t>(patch_.node_count)}, contact.triangle,
+                                  contact.barycentric, contact.contact_radius, shares_);
+    // column = B·g, g = Σ share·n over the free nodes: their response to a unit normal force.
     column_.head(f3).setZero();
-    for (int k = 0; k < 3; ++k) {
-      const int i = tri[static_cast<std::size_t>(k)];
-      if (i < free)
-        column_.head(f3).noalias() += contact.barycentric[k] * (patch_.response.middleCols<3>(dof(i)).topRows(f3) * contact.normal);
+    for (int j = 0; j < count; ++j) {
+      const LoadShare& sh = shares_[static_cast<std::size_t>(j)];
+      if (sh.vertex < free)
+        column_.head(f3).noalias() += sh.share * (patch_.response.middleCols<3>(dof(sh.vertex)).topRows(f3) * contact.normal);
     }
     double c = 0.0, s_a = 0.0, s = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      const int i = tri[static_cast<std::size_t>(k)];
-      if (i >= free) continue;
-      const double w = contact.barycentric[k];
-      c += w * contact.normal.dot(column_.segment<3>(dof(i)));
-      s_a += w * contact.normal.dot(a.segment<3>(dof(i)));
-      s += w * contact.normal.dot(u_.segment<3>(dof(i)));
+    for (int j = 0; j < count; ++j) {
+      const LoadShare& sh = shares_[static_cast<std::size_t>(j)];
+      if (sh.vertex >= free) continue;
+      const double w = sh.share;
+      c += w * contact.normal.dot(column_.segment<3>(dof(sh.vertex)));
+      s_a += w * contact.normal.dot(a.segment<3>(dof(sh.vertex)));
+      s += w * contact.normal.dot(u_.segment<3>(dof(sh.vertex)));
     }
     // The contact point moves s_a − c·F along the normal; the law answers with
     // F = F₀ + k·(that − s), linearized: one scalar equation, solved exactly.

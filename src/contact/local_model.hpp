@@ -25,6 +25,7 @@
 #include <span>
 #include <vector>
 
+#include "contact/load_spread.hpp"
 #include "contact/surface_query.hpp"
 #include "core/math.hpp"
 #include "mesh/tri_mesh.hpp"
@@ -75,6 +76,7 @@ struct LocalPatch {
   std::vector<Vec3> velocity;  ///< from the last two snapshots, per node [m/s]
   std::vector<mesh::Triangle> triangles;         ///< corners as patch node indices
   std::vector<std::int32_t> surface_triangle;    ///< the body's surface triangle of each
+  std::vector<double> area;  ///< each node's share of the body's surface [m²] (spreads loads)
   /// Free-node displacement when the contact force is released to zero: −C·f_applied
   /// (compliance), where f_applied is the contact load the last step applied (3·free).
   VecX release;
@@ -110,9 +112,10 @@ class PatchBuilder {
     std::span<const Vec3> surface;           ///< surface vertex positions now
     std::span<const Vec3> surface_previous;  ///< one step earlier (empty: at rest)
     double step_period = 0.0;                ///< time between the two [s]
-    /// Contact load the step applied: triangle, barycentric weights and force on the tissue.
-    std::int32_t load_triangle = -1;
-    Vec3 load_barycentric = Vec3::Zero();
+    /// Each surface vertex's share of the body's surface [m²] (empty: equal shares).
+    std::span<const double> vertex_area;
+    /// Contact load the step applied: the surface vertices' shares of the force on the tissue.
+    std::span<const LoadShare> load_shares;
     Vec3 load_force = Vec3::Zero();
     /// compliance: the body, its state after the step and its surface vertex → node map.
     const physics::Body* physics_body = nullptr;
@@ -161,6 +164,7 @@ struct PatchContact {
   Vec3 normal = Vec3::UnitZ();  ///< out of the tissue, toward the tool
   double force = 0.0;           ///< normal force on the tool [N] (the tissue gets −force·normal)
   double stiffness = 0.0;       ///< d force / d penetration of the contact law [N/m]
+  double contact_radius = 0.0;  ///< the disc the force is spread over (load_spread.hpp) [m]
 };
 
 /// The haptic-side state of a local model: the patch's current shape. Holds its own copy of
@@ -194,6 +198,7 @@ class LocalModel {
   LocalPatch patch_;
   std::vector<Vec3> current_;
   VecX u_, v_, rhs_, next_, column_;
+  std::vector<LoadShare> shares_;
   double since_ = 0.0;  ///< time since the patch's shape [s]
   double now_ = 0.0;
   BruteForceSurfaceQuery query_{{}, {}};
