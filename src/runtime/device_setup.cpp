@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 
 #include "core/error.hpp"
 #include "contact/proxy.hpp"
+#include "runtime/cspace_body.hpp"
 #include "runtime/devices.hpp"
 
 namespace tactus::runtime {
@@ -50,6 +52,44 @@ contact::ElasticMaterial stiffest_tissue(const scene::Model& m, const std::vecto
   return stiffest;
 }
 
+/// The straight insertion line a scripted needle follows (in device coordinates), if any.
+const scene::NeedleLinePath* needle_line(const scene::Device& d) {
+  const scene::Trajectory* path = nullptr;
+  if (const auto* scripted = std::get_if<scene::ScriptedDevice>(&d.source)) path = &scripted->trajectory;
+  if (const auto* hand = std::get_if<scene::SimulatedOperatorDevice>(&d.source)) path = &hand->target;
+  return path ? std::get_if<scene::NeedleLinePath>(path) : nullptr;
+}
+
+/// A needle tool: its insertion algorithm's layers, and the planned path when the device
+/// follows a scripted insertion line.
+DeviceSetup setup_needle(const scene::Model& m, const scene::Device& d, const scene::Tool& tool,
+                         const scene::NeedleTool& shape, DeviceSetup s) {
+  const scene::Algorithm* a = algorithm_of(m, tool);
+  if (!a) return s;
+  const auto* p = std::get_if<scene::NeedleParams>(&a->params);
+  if (!p)
+    throw InputError(SourceLocation{m.source, {}, {}, {}},
+                     fmt::format("algorithm '{}': a needle tool takes the 'needle' algorithm", a->name));
+  haptics::NeedleConfig c;
+  c.length = shape.length;
+  c.lateral_stiffness = std::min(p->lateral_stiffness, d.max_stiffness);
+  c.layers = p->layers;
+  // Never stiffer than the device renders stably; the threshold is still reached, farther in.
+  for (haptics::NeedleLayer& l : c.layers) l.stiffness = std::min(l.stiffness, d.max_stiffness);
+  if (const scene::NeedleLinePath* line = needle_line(d)) {
+    const Vec3 entry = s.config.map.to_scene(line->entry), target = s.config.map.to_scene(line->target);
+    if ((target - entry).norm() > 0.0) {
+      c.planned = std::array<Vec3, 2>{entry, target};
+      s.config.needle_axis = (target - entry).normalized();
+    }
+  }
+  for (const haptics::NeedleLayer& l : c.layers) s.bodies.push_back(l.body);
+  s.config.needle = std::move(c);
+  s.needle_length = shape.length;
+  s.reach = shape.length;  // layers are looked for up to a needle's length ahead of the tip
+  return s;
+}
+
 }  // namespace
 
 DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
@@ -76,6 +116,8 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
   } else if (const auto* two = std::get_if<scene::TwoFingersTool>(&tool.shape)) {
     s.config.spheres.push_back({Vec3::Zero(), two->radius});
     finger = &two->finger;
+  } else if (const auto* needle = std::get_if<scene::NeedleTool>(&tool.shape)) {
+    return setup_needle(m, d, tool, *needle, std::move(s));
   } else {
     throw InputError(SourceLocation{m.source, {}, {}, {}},
                      fmt::format("tool '{}': a {} tool cannot be rendered by this version yet", tool.name,
@@ -88,6 +130,8 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
     return s;
   }
   s.bodies = bodies_of(m, *a);
+  for (std::size_t b : s.bodies)
+    if (m.bodies[b].cspace && !s.config.cspace) s.config.cspace = CspaceBody::load(m, b);
   if (const auto* p = std::get_if<scene::ProxyParams>(&a->params)) {
     s.config.stiffness = std::min(p->stiffness, d.max_stiffness);
     s.config.damping = p->damping;
@@ -142,6 +186,7 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
   // §IV: the cursor's position and its finite velocity bound the contact region).
   s.patch_radius = extent + a->max_tool_speed / m.rates.simulation;
   s.config.force_smoothing = a->force_smoothing;
+  s.config.spread_over_contact_disc = a->load_spread == scene::LoadSpread::contact_disc;
   return s;
 }
 

@@ -15,6 +15,7 @@ namespace tactus::runtime {
 /// A device's tool in scene coordinates, as the haptic loop last saw it.
 struct ToolState {
   Vec3 position = Vec3::Zero();  ///< tool frame origin (sphere centre for a fingertip)
+  Vec3 axis = Vec3::Zero();      ///< needle tools: unit axis towards the tip; zero otherwise
   bool valid = false;
 };
 
@@ -42,6 +43,8 @@ struct ContactLoad {
   std::int32_t triangle = -1;
   Vec3 barycentric = Vec3::Zero();
   Vec3 force = Vec3::Zero();  ///< on the tissue, scene coordinates [N]
+  /// Radius of the contact disc the force is spread over (contact/load_spread.hpp) [m].
+  double contact_radius = 0.0;
 };
 
 /// Deformed surfaces of every body, published after each simulation step.

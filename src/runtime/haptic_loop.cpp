@@ -13,6 +13,7 @@ HapticLoop::HapticLoop(HapticConfig config, std::unique_ptr<haptics::Device> dev
   stats_.rate = config_.rate;
   // Sized from the channel's own request, so a patch copied out of it never reallocates.
   if (channels_.patch) local_.emplace(channels_.patch_request.kind, channels_.patch_request.capacity);
+  if (config_.needle) needle_.emplace(*config_.needle);
 }
 
 void HapticLoop::emit(double t, EventKind kind, double value) {
@@ -48,6 +49,7 @@ HapticLoop::Rendered HapticLoop::render_plane(const LocalContact& contact, conta
     out.touching = r.in_contact;
     out.force = r.force;
     out.torque = arm.cross(out.force);
+    out.contact_radius = contact::sphere_contact_radius(config_.proxy->radius, r.depth);
   } else if (contact.valid) {
     // Penetration of each contact sphere into the local contact plane.
     const double normal_speed = contact.normal.dot(velocity_);
@@ -56,6 +58,7 @@ HapticLoop::Rendered HapticLoop::render_plane(const LocalContact& contact, conta
       const double depth = sphere.radius - contact.normal.dot(position + arm - contact.point);
       if (!(depth > 0.0)) continue;
       out.touching = true;
+      out.contact_radius = std::max(out.contact_radius, contact::sphere_contact_radius(sphere.radius, depth));
       const double fn = std::max(0.0, law_force(depth, contact.mean_curvature) - config_.damping * normal_speed);
       out.force += fn * contact.normal;
       out.torque += arm.cross(fn * contact.normal);
@@ -76,8 +79,13 @@ HapticLoop::Rendered HapticLoop::render_patch(const LocalContact& contact, conta
     out.torque = arm.cross(out.force);
     if (r.in_contact && r.triangle >= 0) {
       out.point = r.contact_point;
-      out.law_force = std::max(0.0, r.force.dot(r.contact_normal));
-      out.on_patch = {r.triangle, r.barycentric, r.contact_normal, out.law_force, config_.proxy->stiffness};
+      out.contact_radius = contact::sphere_contact_radius(config_.proxy->radius, r.depth);
+      // The proxy may rest on several faces at once (in a dent): the coupling force, not the
+      // closest face's normal, is the direction the tissue is pushed.
+      const double magnitude = r.force.norm();
+      const Vec3 direction = magnitude > 0.0 ? Vec3(r.force / magnitude) : r.contact_normal;
+      out.law_force = magnitude;
+      out.on_patch = {r.triangle, r.barycentric, direction, out.law_force, config_.proxy->stiffness, disc_radius(out.contact_radius)};
     }
     return out;
   }
@@ -103,9 +111,10 @@ HapticLoop::Rendered HapticLoop::render_patch(const LocalContact& contact, conta
     if (depth > deepest) {
       deepest = depth;
       out.point = p.point;
+      out.contact_radius = contact::sphere_contact_radius(sphere.radius, depth);
       constexpr double kProbe = 1e-6;  // [m]: the law's slope by a forward difference
       const double slope = (law_force(depth + kProbe, contact.mean_curvature) - elastic) / kProbe;
-      out.on_patch = {p.triangle, p.barycentric, normal, 0.0, std::max(0.0, slope)};
+      out.on_patch = {p.triangle, p.barycentric, normal, 0.0, std::max(0.0, slope), disc_radius(out.contact_radius)};
     }
   }
   out.on_patch.force = out.law_force;
@@ -137,7 +146,16 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
 
   Rendered rendered;
   double surface_time = contact.surface_time;
-  if (local_) {
+  if (needle_) {
+    rendered = render_needle(position, orientation, t);
+  } else if (config_.cspace) {
+    const Vec3 arm = config_.spheres.empty() ? Vec3::Zero() : Vec3(orientation * config_.spheres.front().offset);
+    const CspaceForce f = config_.cspace->force(position + arm);
+    rendered.force = f.force;
+    rendered.torque = arm.cross(f.force);
+    rendered.touching = f.touching;
+    rendered.point = position + arm;
+  } else if (local_) {
     // A patch model: deformed between simulation steps at this rate.
     const bool fresh_patch = channels_.patch->update();
     if (fresh_patch) {
@@ -191,7 +209,9 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   // The tissue feels what the hand feels: the reaction of the force actually sent.
   const Vec3 sent = config_.map.rotation * out.force;
   ContactLoad& load = channels_.load.write_buffer();
-  if (local_) {
+  if (needle_) {
+    needle_load(load, touching);
+  } else if (local_) {
     const contact::LocalPatch& patch = local_->patch();
     contact::PatchContact on_patch = rendered.on_patch;
     const bool on = touching && patch.valid && on_patch.triangle >= 0 && on_patch.triangle < patch.triangle_count;
@@ -209,19 +229,21 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
     }
     local_->advance(on_patch, dt);
   } else {
-    load.active = touching && contact.valid;
+    load.active = touching && contact.valid && !config_.cspace;  // a space takes no loads
     load.body = contact.body;
     load.triangle = contact.triangle;
     load.barycentric = contact.barycentric;
   }
   load.force = -sent;
+  load.contact_radius = config_.spread_over_contact_disc ? rendered.contact_radius : -1.0;
   channels_.load.publish();
 
   ToolState& tool = channels_.tool.write_buffer();
   tool.position = position;
+  tool.axis = needle_axis_;
   tool.valid = true;
   channels_.tool.publish();
-  if (local_) {
+  if (local_ || config_.cspace) {
     ToolState& to_simulation = channels_.tool_to_simulation.write_buffer();
     to_simulation.position = position;
     to_simulation.valid = true;

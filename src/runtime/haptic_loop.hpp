@@ -14,8 +14,10 @@
 #include "contact/surface_query.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/triple_buffer.hpp"
+#include "haptics/algorithms/needle.hpp"
 #include "haptics/device.hpp"
 #include "haptics/safety.hpp"
+#include "runtime/cspace_body.hpp"
 #include "runtime/exchange.hpp"
 #include "runtime/force_smoothing.hpp"
 #include "runtime/loop_stats.hpp"
@@ -42,7 +44,7 @@ struct PatchRequest {
 /// Channels between one device's haptic loop and the other loops.
 struct DeviceChannels {
   explicit DeviceChannels(std::size_t ring_capacity)
-      : tool(ToolState{}), tool_to_simulation(ToolState{}), contact(LocalContact{}), load(ContactLoad{}),
+      : tool(ToolState{}), tool_to_simulation(ToolState{}), contact(LocalContact{}), load(ContactLoad{}), needle(haptics::NeedleSurfaces{}),
         frames(ring_capacity), events(1024) {}
   /// Before any loop runs: the simulation publishes a patch of this kind with every step.
   void request_patches(PatchRequest request) {
@@ -54,6 +56,7 @@ struct DeviceChannels {
   TripleBuffer<ToolState> tool_to_simulation;  ///< haptic → simulation (where to cut the patch)
   TripleBuffer<LocalContact> contact;          ///< interaction → haptic
   TripleBuffer<ContactLoad> load;              ///< haptic → simulation
+  TripleBuffer<haptics::NeedleSurfaces> needle; ///< interaction → haptic (needle tools)
   SpscRing<HapticFrame> frames;                ///< haptic → recorder
   SpscRing<LoopEvent> events;                  ///< haptic → recorder
   PatchRequest patch_request;
@@ -89,10 +92,21 @@ struct HapticConfig {
   contact::PatchCapacity patch_capacity;
   /// Time constant of the passive smoothing of force steps at model updates [s]; 0 = off.
   double force_smoothing = 0.0;
+  /// Spread the tissue's load over the contact disc instead of the contact triangle
+  /// (contact/load_spread.hpp); the patch models then dent their nodes the same way.
+  bool spread_over_contact_disc = false;
   double damping = 0.0;      ///< normal damping [N·s/m]
   /// Low-pass time constant of the tool velocity estimate used by the damping [s].
   double velocity_filter = 0.002;
   haptics::SafetyConfig safety;
+  /// A needle tool (haptics/algorithms/needle.hpp): replaces the spheres' contact.
+  std::optional<haptics::NeedleConfig> needle;
+  /// The needle's axis in scene coordinates when fixed (a scripted insertion line); else
+  /// the device's −z.
+  std::optional<Vec3> needle_axis;
+  /// A body rendered from a precomputed configuration space: the force at the first sphere's
+  /// centre comes from its interpolator and replaces the local model's.
+  std::shared_ptr<const CspaceBody> cspace;
 };
 
 class HapticLoop {
@@ -112,6 +126,8 @@ class HapticLoop {
   [[nodiscard]] haptics::SafetyCounters safety_counters() const { return safety_.counters(); }
   [[nodiscard]] std::uint64_t dropped_frames() const { return dropped_frames_; }
   [[nodiscard]] const haptics::Device& device() const { return *device_; }
+  /// The needle's insertion state (ruptures, deviation); null for other tools.
+  [[nodiscard]] const haptics::NeedleInsertion* needle() const { return needle_ ? &*needle_ : nullptr; }
 
  private:
   /// The force of one frame against one local model, and where it acts on the tissue.
@@ -121,6 +137,7 @@ class HapticLoop {
     Vec3 point = Vec3::Zero();        ///< contact point on the surface
     contact::PatchContact on_patch;   ///< patch models only
     double law_force = 0.0;           ///< normal force of the contact law [N]
+    double contact_radius = 0.0;      ///< of the contact disc the load is spread over [m]
   };
   void emit(double t, EventKind kind, double value);
   Rendered render_plane(const LocalContact& contact, contact::ProxyState& proxy, const Vec3& position,
@@ -128,6 +145,11 @@ class HapticLoop {
   Rendered render_patch(const LocalContact& contact, contact::ProxyState& proxy, const Vec3& position,
                         const Quat& orientation, double dt);
   double law_force(double depth, double mean_curvature) const;
+  /// The radius a load is spread over: the contact disc's, or −1 for the contact triangle.
+  double disc_radius(double contact_radius) const { return config_.spread_over_contact_disc ? contact_radius : -1.0; }
+  // Needle tools (needle_render.cpp).
+  Rendered render_needle(const Vec3& position, const Quat& orientation, double t);
+  void needle_load(ContactLoad& load, bool touching) const;
 
   HapticConfig config_;
   std::unique_ptr<haptics::Device> device_;
@@ -150,6 +172,9 @@ class HapticLoop {
   Vec3 last_position_ = Vec3::Zero();
   Vec3 velocity_ = Vec3::Zero();
   double last_t_ = -1.0;
+  std::optional<haptics::NeedleInsertion> needle_;
+  haptics::NeedleOutput needle_out_;
+  Vec3 needle_axis_ = Vec3::Zero();
 };
 
 }  // namespace tactus::runtime

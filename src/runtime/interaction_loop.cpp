@@ -32,6 +32,40 @@ InteractionLoop::InteractionLoop(const scene::Model& model, std::vector<Interact
   }
 }
 
+void InteractionLoop::publish_needle_crossings(const InteractionTarget& target, const ToolState& tool) {
+  haptics::NeedleSurfaces& out = target.channels->needle.write_buffer();
+  out = haptics::NeedleSurfaces{};
+  const double axis_norm = tool.axis.norm();
+  if (tool.valid && axis_norm > 0.0 && tool.position.allFinite() && tool.axis.allFinite()) {
+    const Vec3 axis = tool.axis / axis_norm;
+    // From behind the hub to a reach ahead of the tip: every surface the shaft is in or
+    // is about to meet.
+    const Vec3 from = tool.position - (target.needle_length + target.reach) * axis;
+    const Vec3 to = tool.position + target.reach * axis;
+    for (std::size_t i = 0; i < target.bodies.size() && i < haptics::kMaxNeedleLayers; ++i) {
+      const std::size_t b = target.bodies[i];
+      const Nanos q0 = now_ns();
+      trees_[b].segment(from, to, hits_);
+      parts_[b].time.record(now_ns() - q0);
+      haptics::NeedleLayerSurface& layer = out.layers[i];
+      for (const contact::RayHit& h : hits_) {
+        if (!layer.entry_found) {
+          if (!h.entering) continue;  // leaving a body the ray started in
+          layer.entry_found = true;
+          layer.entry = h.point;
+          layer.entry_triangle = h.triangle;
+          layer.entry_barycentric = h.barycentric;
+        } else if (!h.entering) {
+          layer.exit_found = true;
+          layer.exit = h.point;
+          break;
+        }
+      }
+    }
+  }
+  target.channels->needle.publish();
+}
+
 void InteractionLoop::step(double /*t*/, Nanos deadline, Nanos start, bool real_time) {
   surfaces_.update();
   const SurfaceSnapshot& surfaces = surfaces_.read();
@@ -53,7 +87,9 @@ void InteractionLoop::step(double /*t*/, Nanos deadline, Nanos start, bool real_
     LocalContact& out = target.channels->contact.write_buffer();
     out = LocalContact{};
     out.surface_time = surfaces.t;
-    if (tool.valid) {
+    if (target.needle_length > 0.0) {
+      publish_needle_crossings(target, tool);
+    } else if (tool.valid) {
       double best = std::numeric_limits<double>::infinity();
       for (std::size_t b : target.bodies) {
         const Nanos q0 = now_ns();

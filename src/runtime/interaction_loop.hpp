@@ -20,6 +20,9 @@ struct InteractionTarget {
   double reach = 0.0;  ///< a surface farther than this from the tool origin gives no contact [m]
   /// q-ring size of the curvature vote at the contact point; 0 = no curvature needed.
   int curvature_rings = 0;
+  /// > 0: a needle this long [m]; `bodies` are its layers, and instead of a closest point
+  /// the loop publishes where the needle's line crosses each layer (DeviceChannels::needle).
+  double needle_length = 0.0;
 };
 
 class InteractionLoop {
@@ -44,8 +47,11 @@ class InteractionLoop {
   /// Per target and body: the curvature estimator, when the target's algorithm needs one
   /// and the body's surface is a manifold.
   std::vector<std::vector<std::unique_ptr<mesh::CurvatureEstimator>>> curvature_;
+  void publish_needle_crossings(const InteractionTarget& target, const ToolState& tool);
+
   LoopStats stats_;
   std::vector<PartStats> parts_;
+  std::vector<contact::RayHit> hits_;  ///< reused by the needle queries
 };
 
 }  // namespace tactus::runtime

@@ -18,19 +18,22 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
     std::unique_ptr<haptics::Device> device;
     if (const auto it = o.replay.find(m.devices[i].name); it != o.replay.end())
       device = std::make_unique<haptics::ReplayDevice>(it->second.poses, device_limits(m.devices[i]), it->second.source);
-    else
-      device = make_device(m, i, static_cast<unsigned>(i));
+    else if (o.device_override)
+      device = o.device_override(m, i);
+    if (!device) device = make_device(m, i, static_cast<unsigned>(i));
     loops.channels.push_back(std::make_unique<DeviceChannels>(kFrameRingCapacity));
     DeviceChannels& ch = *loops.channels.back();
     if (!setup.config.spheres.empty() && setup.config.local_model != contact::LocalModelKind::plane)
       ch.request_patches({setup.config.local_model, setup.config.patch_capacity, setup.patch_radius, setup.bodies});
-    if (!setup.config.spheres.empty()) targets.push_back({&ch, setup.bodies, setup.reach, setup.curvature_rings});
+    if (!setup.config.spheres.empty() || setup.config.needle)
+      targets.push_back({&ch, setup.bodies, setup.reach, setup.curvature_rings, setup.needle_length});
     loops.haptic.push_back(std::make_unique<HapticLoop>(std::move(setup.config), std::move(device), ch));
   }
   // The simulation publishes into a buffer pre-sized with the rest surfaces.
   loops.simulation = std::make_unique<SimulationLoop>(m, loops.channel_ptrs());
   loops.surfaces = std::make_unique<TripleBuffer<SurfaceSnapshot>>(loops.simulation->initial_snapshot());
   loops.simulation->add_output(*loops.surfaces);
+  if (o.visual) loops.simulation->add_output(o.visual->surface_buffer(loops.simulation->initial_snapshot()));
   loops.interaction = std::make_unique<InteractionLoop>(m, std::move(targets), *loops.surfaces);
   return loops;
 }

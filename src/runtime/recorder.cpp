@@ -11,7 +11,7 @@ Recorder::Recorder(const scene::Model& m, const SessionOptions& o, std::vector<D
                    SpscRing<SimulationStep>& steps, SessionReport& report)
     : devices_(std::move(devices)), steps_(steps), report_(report), keep_(o.keep_frames),
       record_steps_(m.recording.timings), record_events_(m.recording.events),
-      palpation_(PalpationTracker::for_model(m)) {
+      palpation_(PalpationTracker::for_model(m)), visual_(o.visual) {
   if (!o.record) return;
   RecordingHeader h;
   h.scene_name = m.name;
@@ -39,6 +39,7 @@ bool Recorder::drain() {
       if (writer_) writer_->append(f);
       if (keep_) report_.frames.push_back(f);
       if (palpation_) palpation_->add(f);
+      if (visual_) visual_->frame(f);
       auto& dev = report_.devices[f.device];
       dev.max_force_sent = std::max(dev.max_force_sent, f.force.norm());
       dev.contact_frames += f.contact;
@@ -46,6 +47,7 @@ bool Recorder::drain() {
     while (d->events.try_pop(e)) {
       any = true;
       ++report_.events[std::string(event_kind_name(e.kind))];
+      if (visual_) visual_->event(e);
       if (writer_ && record_events_) writer_->append(Event{e.t, e.kind, e.device, e.value, {}});
     }
   }

@@ -38,6 +38,7 @@ class Recorder {
   bool record_steps_, record_events_;
   std::optional<RecordingWriter> writer_;
   std::optional<PalpationTracker> palpation_;  ///< scenes with nodules
+  VisualSink* visual_;
 };
 
 }  // namespace tactus::runtime

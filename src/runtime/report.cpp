@@ -71,6 +71,7 @@ std::string format_report(const SessionReport& r) {
     out += fmt::format("recording: {} frames, {} bytes\n", r.recorded_frames, r.recording_bytes);
   for (const auto& note : r.realtime_notes) out += "  " + note + "\n";
   if (r.palpation) out += format_feedback(*r.palpation);
+  for (const NeedleReport& n : r.needles) out += format_needle_report(n);
   return out;
 }
 
@@ -110,6 +111,8 @@ std::string report_json(const SessionReport& r) {
   }
   out += fmt::format("}},\n  \"recorded_frames\": {},\n  \"recording_bytes\": {}", r.recorded_frames, r.recording_bytes);
   if (r.palpation) out += ",\n  \"palpation\": " + feedback_json(*r.palpation);
+  for (std::size_t i = 0; i < r.needles.size(); ++i)
+    out += (i == 0 ? ",\n  \"needles\": [" : ", ") + needle_report_json(r.needles[i]) + (i + 1 == r.needles.size() ? "]" : "");
   out += "\n}\n";
   return out;
 }

@@ -8,15 +8,21 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/clock.hpp"
+#include "core/triple_buffer.hpp"
+#include "haptics/device.hpp"
 #include "haptics/safety.hpp"
 #include "runtime/devices.hpp"
+#include "runtime/exchange.hpp"
 #include "runtime/loop_stats.hpp"
+#include "runtime/needle_report.hpp"
 #include "runtime/palpation_feedback.hpp"
 #include "runtime/recording.hpp"
 #include "scene/model.hpp"
@@ -24,6 +30,21 @@
 namespace tactus::runtime {
 
 enum class Scheduling { real_time, lockstep };
+
+struct LoopEvent;
+
+/// What a viewer sees of a run (docs/viewer.md). Every call comes from off the haptic
+/// threads: the buffer is asked for once before the loops start, frames and events as the
+/// recorder drains them.
+class VisualSink {
+ public:
+  virtual ~VisualSink() = default;
+  /// A buffer the simulation publishes its surfaces into (beside the interaction loop's),
+  /// built from `initial` and owned by the sink; the sink's thread is its one reader.
+  virtual TripleBuffer<SurfaceSnapshot>& surface_buffer(const SurfaceSnapshot& initial) = 0;
+  virtual void frame(const HapticFrame& frame) = 0;
+  virtual void event(const LoopEvent& event) = 0;
+};
 
 struct SessionOptions {
   Scheduling scheduling = Scheduling::real_time;
@@ -49,6 +70,10 @@ struct SessionOptions {
   /// When set and it becomes true (a signal handler, another thread), the run ends
   /// cleanly: loops stop, the recording is closed.
   const std::atomic<bool>* interrupt = nullptr;
+  /// A viewer reading the run; null = none.
+  VisualSink* visual = nullptr;
+  /// Replaces the device of scene entry `index` (the viewer's mouse) when it returns one.
+  std::function<std::unique_ptr<haptics::Device>(const scene::Model&, std::size_t index)> device_override;
 };
 
 struct DeviceReport {
@@ -75,6 +100,7 @@ struct SessionReport {
   std::uint64_t dropped_steps = 0;
   std::vector<HapticFrame> frames;  ///< only with SessionOptions::keep_frames
   std::optional<PalpationFeedback> palpation;  ///< scenes with nodules (docs/scenes.md)
+  std::vector<NeedleReport> needles;           ///< one per device driving a needle
 };
 
 /// Runs the scene. Throws InputError for a scene the runtime cannot run (named in the

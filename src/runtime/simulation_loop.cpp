@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "runtime/bodies.hpp"
+#include "runtime/cspace_body.hpp"
 
 namespace tactus::runtime {
 
@@ -24,7 +25,10 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
     const auto& nodes = b.simulation_vertices();
     sb.rest.resize(static_cast<Eigen::Index>(3 * nodes.size()));
     for (std::size_t n = 0; n < nodes.size(); ++n) sb.rest.segment<3>(static_cast<Eigen::Index>(3 * n)) = nodes[n];
-    if (b.kind != scene::BodyKind::rigid) {
+    if (b.cspace) {
+      sb.cspace = CspaceBody::load(model, i);
+      sb.state.x = sb.rest;
+    } else if (b.kind != scene::BodyKind::rigid) {
       sb.body = make_physics_body(model, i);
       sb.state = physics::make_state(*sb.body);
       // Substeps of at most the body's time step make one simulation period.
@@ -39,6 +43,7 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
       sb.surface_to_node.resize(b.surface.vertices.size());
       for (std::size_t n = 0; n < sb.surface_to_node.size(); ++n) sb.surface_to_node[n] = static_cast<mesh::Index>(n);
     }
+    sb.surface_area = contact::vertex_areas(b.surface.vertices, b.surface.triangles);
     bodies_.push_back(std::move(sb));
   }
   for (DeviceChannels* d : devices_) {
@@ -55,6 +60,17 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
   }
 }
 
+std::span<const contact::LoadShare> SimulationLoop::spread(SimBody& sb, const ContactLoad& load) {
+  const auto& triangles = model_.bodies[sb.index].surface.triangles;
+  if (load.triangle < 0 || static_cast<std::size_t>(load.triangle) >= triangles.size()) return {};
+  sb.surface.resize(sb.surface_to_node.size());
+  for (std::size_t v = 0; v < sb.surface.size(); ++v)
+    sb.surface[v] = sb.state.x.segment<3>(3 * static_cast<Eigen::Index>(sb.surface_to_node[v]));
+  const int count = contact::spread_load(sb.surface, triangles, sb.surface_area, load.triangle, load.barycentric,
+                                         load.contact_radius, shares_);
+  return {shares_.data(), static_cast<std::size_t>(count)};
+}
+
 SurfaceSnapshot SimulationLoop::initial_snapshot() const {
   SurfaceSnapshot s;
   for (const SimBody& sb : bodies_) {
@@ -69,6 +85,22 @@ const VecX* SimulationLoop::positions(std::size_t body) const {
   for (const SimBody& sb : bodies_)
     if (sb.index == body) return &sb.state.x;
   return nullptr;
+}
+
+void SimulationLoop::update_cspace_shapes() {
+  // The shape at the newest tool position of the first device that reports one (devices with
+  // a patch hand theirs to publish_patches instead).
+  for (SimBody& sb : bodies_) {
+    if (!sb.cspace) continue;
+    for (DeviceChannels* d : devices_) {
+      if (d->patch) continue;
+      d->tool_to_simulation.update();
+      const ToolState& tool = d->tool_to_simulation.read();
+      if (!tool.valid) continue;
+      sb.cspace->positions(tool.position, sb.state.x);
+      break;
+    }
+  }
 }
 
 void SimulationLoop::publish(double t) {
@@ -134,9 +166,9 @@ void SimulationLoop::publish_patches(double t) {
       in.surface = sb.surface;
       in.surface_previous = sb.surface_before;
       in.step_period = period;
+      in.vertex_area = sb.surface_area;
       if (source.applied.active && source.applied.body == in.body) {
-        in.load_triangle = source.applied.triangle;
-        in.load_barycentric = source.applied.barycentric;
+        in.load_shares = source.applied_shares;
         in.load_force = source.applied.force;
       }
       if (sb.body) {
@@ -160,7 +192,7 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
   int iterations = 0;
   if (step_ > 0) {
     // Scene loads and prescribed motions at the end of the period, then the newest contact
-    // reaction of every device spread over its triangle by barycentric weights.
+    // reaction of every device spread over the vertices around its contact point.
     const double t_end = static_cast<double>(step_) / stats_.rate;  // simulated time reached
     auto fraction = [t_end](double ramp_time) { return ramp(t_end, ramp_time); };
     for (SimBody& sb : bodies_) {
@@ -169,19 +201,19 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
       assemble_loads(b, fraction, sb.f_ext);
       place_prescribed(b, sb.rest, fraction, sb.state.x);
     }
-    for (PatchSource& source : patch_sources_) source.applied = ContactLoad{};
+    for (PatchSource& source : patch_sources_) source.applied = ContactLoad{}, source.applied_shares.clear();
     for (DeviceChannels* d : devices_) {
       d->load.update();
       const ContactLoad& load = d->load.read();
-      for (PatchSource& source : patch_sources_)
-        if (source.channels == d) source.applied = load;
       if (!load.active || load.body < 0 || static_cast<std::size_t>(load.body) >= bodies_.size()) continue;
       SimBody& sb = bodies_[static_cast<std::size_t>(load.body)];
       if (!sb.body) continue;
-      const auto& tri = model_.bodies[sb.index].surface.triangles[static_cast<std::size_t>(load.triangle)];
-      for (int k = 0; k < 3; ++k)
-        sb.f_ext.segment<3>(3 * static_cast<Eigen::Index>(sb.surface_to_node[static_cast<std::size_t>(tri[k])])) +=
-            load.barycentric[k] * load.force;
+      const std::span<const contact::LoadShare> shares = spread(sb, load);
+      for (const contact::LoadShare& s : shares)
+        sb.f_ext.segment<3>(3 * static_cast<Eigen::Index>(sb.surface_to_node[static_cast<std::size_t>(s.vertex)])) +=
+            s.share * load.force;
+      for (PatchSource& source : patch_sources_)
+        if (source.channels == d) source.applied = load, source.applied_shares.assign(shares.begin(), shares.end());
     }
     const Nanos loads_done = now_ns();
     parts_[0].time.record(loads_done - start);
@@ -202,6 +234,7 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
     const Nanos integrated = now_ns();
     parts_[1].time.record(integrated - loads_done);
   }
+  update_cspace_shapes();
   const Nanos before_publish = now_ns();
   publish(t);
   const Nanos end = now_ns();

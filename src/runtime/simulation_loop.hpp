@@ -2,9 +2,11 @@
 // The simulation loop step: every deformable body advances one period under its scene
 // loads and the contact reactions the haptic loops handed over, then the deformed surfaces
 // are published for the interaction (and visual) loops.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/spsc_ring.hpp"
@@ -50,6 +52,8 @@ class SimulationLoop {
     std::vector<mesh::Index> surface_to_node;
     VecX x_before;  ///< positions before the last step (the patches' border velocities)
     std::vector<Vec3> surface, surface_before;
+    std::vector<double> surface_area;  ///< per surface vertex, at rest (spreads contact loads)
+    std::shared_ptr<const CspaceBody> cspace;  ///< kind = "cspace": shaped, not simulated
   };
   /// A device whose local model is a patch: one builder per body it may touch, and the
   /// contact load the last step applied for it.
@@ -57,8 +61,13 @@ class SimulationLoop {
     DeviceChannels* channels = nullptr;
     std::vector<std::unique_ptr<contact::PatchBuilder>> builders;  ///< per body; null if not touched
     ContactLoad applied;
+    std::vector<contact::LoadShare> applied_shares;  ///< how the step spread it
   };
+  /// The surface vertices' shares of a contact load, on the body's current shape.
+  std::span<const contact::LoadShare> spread(SimBody& sb, const ContactLoad& load);
 
+  /// Cspace bodies take the interpolated shape at the tool's position.
+  void update_cspace_shapes();
   void publish(double t);
   void publish_patches(double t);
 
@@ -67,6 +76,7 @@ class SimulationLoop {
   std::vector<TripleBuffer<SurfaceSnapshot>*> outputs_;
   std::vector<SimBody> bodies_;
   std::vector<PatchSource> patch_sources_;
+  std::array<contact::LoadShare, 64> shares_{};
   std::uint64_t step_ = 0;
   LoopStats stats_;
   std::vector<PartStats> parts_;  ///< loads, integrate, publish

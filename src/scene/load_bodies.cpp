@@ -396,8 +396,20 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
                               {{"surface_mass_spring", BodyKind::surface_mass_spring},
                                {"tet_mass_spring", BodyKind::tet_mass_spring},
                                {"fem", BodyKind::fem},
-                               {"rigid", BodyKind::rigid}},
+                               {"rigid", BodyKind::rigid},
+                               {"cspace", BodyKind::fem}},  // an FEM body rendered from a precomputed space
                               std::nullopt);
+  if (r.string("kind") == "cspace") {
+    const std::string file = r.required_string("space");
+    b.cspace = Body::ConfigurationSpace{
+        resolve_file(r, "space", file),
+        r.choice<precompute::Interpolation>("interpolation",
+                                            {{"trilinear", precompute::Interpolation::trilinear},
+                                             {"rbf_cubic", precompute::Interpolation::rbf_cubic},
+                                             {"rbf_thin_plate", precompute::Interpolation::rbf_thin_plate},
+                                             {"polynomial", precompute::Interpolation::polynomial}},
+                                            precompute::Interpolation::trilinear)};
+  }
   const bool rigid = b.kind == BodyKind::rigid;
 
   if (const auto material = r.string("material")) {

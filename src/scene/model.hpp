@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/math.hpp"
+#include "haptics/algorithms/needle.hpp"
 #include "haptics/trajectory.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/tet_mesh.hpp"
@@ -181,6 +182,13 @@ struct Body {
   std::vector<MappedSurface> mapped;  ///< volumetric bodies only
   std::vector<Nodule> nodules;  ///< surface_mass_spring only
   int load_steps = 1;  ///< static solves apply loads and prescribed motions in this many steps
+  /// kind = "cspace": an FEM body whose haptic force and shape come from a precomputed
+  /// configuration space (docs/precompute.md) instead of a simulation.
+  struct ConfigurationSpace {
+    std::filesystem::path file;  ///< the .h5 file `tactus precompute` wrote
+    precompute::Interpolation interpolation = precompute::Interpolation::trilinear;
+  };
+  std::optional<ConfigurationSpace> cspace;
 
   // Time stepping (deformable bodies).
   Integrator integrator = Integrator::implicit_euler;
@@ -340,8 +348,13 @@ struct PulseParams {
   int sources = 10;           ///< point sources along the body
   double range = 0.03;        ///< distance over which the pulse fades [m]
 };
+/// A layer the needle pierces (haptics/algorithms/needle.hpp): a body, its rupture
+/// threshold, its stiffness before rupture and its shaft friction after.
+using haptics::NeedleLayer;
 struct NeedleParams {
-  double lateral_stiffness = 200.0;  ///< spring towards the puncture path [N/m]
+  double lateral_stiffness = 200.0;  ///< spring towards the puncture path, whole shaft inside [N/m]
+  /// As listed under `layers`, or one layer with default values per body of the algorithm.
+  std::vector<NeedleLayer> layers;
 };
 using AlgorithmParams = std::variant<ProxyParams, HertzFingerParams, FingerpadParams,
                                      MultiSurfaceParams, PulseParams, NeedleParams>;
@@ -350,6 +363,10 @@ using AlgorithmParams = std::variant<ProxyParams, HertzFingerParams, FingerpadPa
 /// through the closest point, the patch nodes' condensed compliance, or a local mass-spring
 /// patch whose border moves at constant velocity (seed 002 §IV).
 enum class LocalModel { plane, compliance, mass_spring };
+
+/// How the contact force is shared among the tissue's nodes (contact/load_spread.hpp): by
+/// the contact triangle's barycentric weights, or over the contact disc.
+enum class LoadSpread { triangle, contact_disc };
 
 struct Algorithm {
   std::string name;
@@ -363,6 +380,7 @@ struct Algorithm {
   /// Time constant over which a force step at a model update is smoothed out, passively [s];
   /// 0 = off.
   double force_smoothing = 0.0;
+  LoadSpread load_spread = LoadSpread::triangle;
 };
 
 // ---------------------------------------------------------------------------------------

@@ -186,7 +186,7 @@ TEST_F(Cli, RunAndReplayRejectBadInputOnOneLine) {
                                  "run --device nonsense",
                                  "run --device replay:" + (dir_ / "junk.tacrec").string(),
                                  "export " + (dir_ / "junk.tacrec").string() + " --csv " + (dir_ / "x.csv").string(),
-                                 "run " + std::string(TACTUS_SOURCE_DIR) + "/scenes/needle_block.toml"}) {
+                                 "run " + (dir_ / "no_such_scene.toml").string()}) {
     const auto r = run(args);
     EXPECT_EQ(r.exit_code, 1) << args << ": " << r.err;
     EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;

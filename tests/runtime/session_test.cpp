@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "core/error.hpp"
@@ -238,11 +239,17 @@ stiffness = 800.0
 }
 
 TEST(Session, AlgorithmsNotYetRenderableAreClearErrors) {
+  // The default scene with its proxy replaced by a multi-surface algorithm.
+  std::ifstream in(fs::path(TACTUS_SOURCE_DIR) / "scenes/default.toml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string proxy = "type = \"proxy\"\ntool = \"finger\"\nstiffness = 800.0\ndamping = 1.0";
+  ASSERT_NE(text.find(proxy), std::string::npos);
+  text.replace(text.find(proxy), proxy.size(), "type = \"multi_surface\"\ntool = \"finger\"");
   try {
-    run_session(scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "scenes/needle_block.toml"), lockstep(0.1));
+    run_session(scene::parse_scene(text, "multi.toml"), lockstep(0.1));
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("needle"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("multi_surface"), std::string::npos) << e.what();
   }
 }
 
