@@ -2,6 +2,7 @@
 // Strict number parsing for file readers: the whole token must be a number.
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -14,5 +15,8 @@ std::optional<std::int64_t> to_int(std::string_view token);
 std::vector<std::string_view> split(std::string_view line);
 
 std::string_view trim(std::string_view s);
+
+/// `s` as a JSON string literal: quotes and backslashes escaped, control characters as \uXXXX.
+std::string json_quoted(std::string_view s);
 
 }  // namespace tactus::text

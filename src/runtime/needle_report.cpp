@@ -2,23 +2,9 @@
 
 #include <fmt/format.h>
 
+#include "core/text.hpp"
+
 namespace tactus::runtime {
-namespace {
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      out += fmt::format("\\u{:04x}", static_cast<int>(c));
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
-}
-
-}  // namespace
 
 NeedleReport needle_report(const scene::Model& model, const std::string& device,
                            const haptics::NeedleInsertion& needle) {
@@ -53,11 +39,11 @@ std::string needle_report_json(const NeedleReport& r) {
   for (std::size_t i = 0; i < r.ruptures.size(); ++i) {
     const NeedleRuptureReport& p = r.ruptures[i];
     ruptures += fmt::format("{}{{\"layer\": {}, \"t_s\": {}, \"force_n\": {}, \"threshold_n\": {}}}",
-                            i ? ", " : "", json_string(p.layer), p.t, p.force, p.threshold);
+                            i ? ", " : "", text::json_quoted(p.layer), p.t, p.force, p.threshold);
   }
   return fmt::format("{{\"device\": {}, \"layers\": {}, \"ruptures\": [{}], \"planned_path\": {}, "
                      "\"max_deviation_m\": {}, \"last_deviation_m\": {}}}",
-                     json_string(r.device), r.layers, ruptures, r.planned ? "true" : "false", r.max_deviation, r.last_deviation);
+                     text::json_quoted(r.device), r.layers, ruptures, r.planned ? "true" : "false", r.max_deviation, r.last_deviation);
 }
 
 }  // namespace tactus::runtime

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "core/text.hpp"
+
 namespace tactus::runtime {
 namespace {
 
@@ -17,19 +19,6 @@ std::string summary_json(const LatencyHistogram& h) {
   const LatencySummary s = summarize(h);
   return fmt::format(R"({{"count": {}, "min_us": {:.3f}, "p50_us": {:.3f}, "p99_us": {:.3f}, "p999_us": {:.3f}, "max_us": {:.3f}, "mean_us": {:.3f}}})",
                      s.count, us(s.min), us(s.p50), us(s.p99), us(s.p999), us(s.max), s.mean * 1e-3);
-}
-
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      out += fmt::format("\\u{:04x}", static_cast<int>(c));
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
 }
 
 }  // namespace
@@ -78,19 +67,19 @@ std::string format_report(const SessionReport& r) {
 std::string report_json(const SessionReport& r) {
   std::string out = "{\n";
   out += fmt::format("  \"scene\": {},\n  \"scheduling\": \"{}\",\n  \"simulated_time_s\": {},\n  \"wall_time_s\": {},\n",
-                     quoted(r.scene), r.scheduling == Scheduling::real_time ? "real_time" : "lockstep", r.simulated_time,
+                     text::json_quoted(r.scene), r.scheduling == Scheduling::real_time ? "real_time" : "lockstep", r.simulated_time,
                      r.wall_time);
   out += "  \"loops\": [\n";
   for (std::size_t i = 0; i < r.loops.size(); ++i) {
     const LoopStats& l = r.loops[i];
     out += fmt::format("    {{\"name\": {}, \"rate_hz\": {}, \"steps\": {}, \"missed_deadlines\": {}, \"overruns\": {}, "
                        "\"compute\": {}, \"period\": {}, \"lateness\": {}}}{}\n",
-                       quoted(l.name), l.rate, l.steps, l.missed_deadlines, l.overruns, summary_json(l.compute),
+                       text::json_quoted(l.name), l.rate, l.steps, l.missed_deadlines, l.overruns, summary_json(l.compute),
                        summary_json(l.period), summary_json(l.lateness), i + 1 < r.loops.size() ? "," : "");
   }
   out += "  ],\n  \"parts\": [\n";
   for (std::size_t i = 0; i < r.parts.size(); ++i)
-    out += fmt::format("    {{\"name\": {}, \"time\": {}}}{}\n", quoted(r.parts[i].name), summary_json(r.parts[i].time),
+    out += fmt::format("    {{\"name\": {}, \"time\": {}}}{}\n", text::json_quoted(r.parts[i].name), summary_json(r.parts[i].time),
                        i + 1 < r.parts.size() ? "," : "");
   out += "  ],\n  \"devices\": [\n";
   for (std::size_t i = 0; i < r.devices.size(); ++i) {
@@ -99,14 +88,14 @@ std::string report_json(const SessionReport& r) {
     out += fmt::format("    {{\"name\": {}, \"kind\": {}, \"max_force_sent_n\": {}, \"contact_frames\": {}, "
                        "\"clamped\": {}, \"non_finite\": {}, \"ramp_in\": {}, \"ramp_out\": {}, \"watchdog_trips\": {}, "
                        "\"device_stalls\": {}, \"emergency_stops\": {}, \"dropped_frames\": {}}}{}\n",
-                       quoted(d.name), quoted(d.kind), d.max_force_sent, d.contact_frames, s.clamped, s.non_finite,
+                       text::json_quoted(d.name), text::json_quoted(d.kind), d.max_force_sent, d.contact_frames, s.clamped, s.non_finite,
                        s.ramp_in, s.ramp_out, s.watchdog_trips, s.device_stalls, s.emergency_stops, d.dropped_frames,
                        i + 1 < r.devices.size() ? "," : "");
   }
   out += "  ],\n  \"events\": {";
   bool first = true;
   for (const auto& [kind, n] : r.events) {
-    out += fmt::format("{}{}: {}", first ? "" : ", ", quoted(kind), n);
+    out += fmt::format("{}{}: {}", first ? "" : ", ", text::json_quoted(kind), n);
     first = false;
   }
   out += fmt::format("}},\n  \"recorded_frames\": {},\n  \"recording_bytes\": {}", r.recorded_frames, r.recording_bytes);

@@ -26,4 +26,10 @@ TEST(Text, SplitsOnBlanksAndDropsCarriageReturn) {
   EXPECT_EQ(trim("  a b \r\n"), "a b");
 }
 
+TEST(Text, JsonQuotedEscapesQuotesBackslashesAndControlCharacters) {
+  EXPECT_EQ(json_quoted("plain"), "\"plain\"");
+  EXPECT_EQ(json_quoted("a\"b\\c"), "\"a\\\"b\\\\c\"");
+  EXPECT_EQ(json_quoted(std::string("x\ny\x01", 4)), "\"x\\u000ay\\u0001\"");
+}
+
 }  // namespace tactus::text
