@@ -150,17 +150,7 @@ int run_precompute(const PrecomputeArgs& a) {
   while (model.bodies[index].name != settings.body) ++index;
   const physics::Body body = runtime::make_physics_body(model, index);
 
-  pc::Space space;
-  space.settings = settings;
-  const Vec3 contact = body.model->rest_positions().segment<3>(3 * static_cast<Eigen::Index>(settings.contact_node));
-  space.grid = pc::Grid::through(contact, settings.bounds_min, settings.bounds_max, settings.spacing);
-  space.start = space.grid.nearest(contact);
-  space.identity = pc::identify(body, settings, space.grid);
-  space.scene_text = read_text(a.scene);
-  space.rest_positions = body.model->rest_positions();
-  if (const auto* fem = dynamic_cast<const physics::TetFem*>(body.model.get()))
-    for (const auto& e : fem->elements()) space.elements.push_back(e.nodes);
-  space.allocate(body.model->node_count());
+  pc::Space space = pc::make_space(body, settings, read_text(a.scene));
   // The inner element loops run on one thread: the parallelism is across configurations.
   set_thread_limit(1);
   auto make_solver = [&] { return std::make_unique<pc::ConfigurationSolver>(body, settings); };

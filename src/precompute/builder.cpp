@@ -7,9 +7,26 @@
 #include <thread>
 #include <vector>
 
+#include "physics/fem/tet_fem.hpp"
+#include "precompute/model_identity.hpp"
 #include "precompute/wavefront.hpp"
 
 namespace tactus::precompute {
+
+Space make_space(const physics::Body& body, const SpaceSettings& settings, std::string scene_text) {
+  Space space;
+  space.settings = settings;
+  const Vec3 contact = body.model->rest_positions().segment<3>(3 * static_cast<Eigen::Index>(settings.contact_node));
+  space.grid = Grid::through(contact, settings.bounds_min, settings.bounds_max, settings.spacing);
+  space.start = space.grid.nearest(contact);
+  space.identity = identify(body, settings, space.grid);
+  space.scene_text = std::move(scene_text);
+  space.rest_positions = body.model->rest_positions();
+  if (const auto* fem = dynamic_cast<const physics::TetFem*>(body.model.get()))
+    for (const auto& e : fem->elements()) space.elements.push_back(e.nodes);
+  space.allocate(body.model->node_count());
+  return space;
+}
 
 Vec3 patch_position(const Space& space, std::size_t point) { return space.grid.point(point); }
 

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <string>
 
 #include "precompute/configuration_solver.hpp"
 #include "precompute/space.hpp"
@@ -32,6 +33,10 @@ struct BuildStats {
   unsigned workers = 1;
   bool stopped = false;         ///< stop_after cut the build short
 };
+
+/// An empty space for `body` under `settings`: the grid through the undeformed contact
+/// point, the model identity, the rest shape and elements, every point pending.
+Space make_space(const physics::Body& body, const SpaceSettings& settings, std::string scene_text);
 
 /// Where point p's transition starts and ends: the patch positions of its source and of p.
 Vec3 patch_position(const Space& space, std::size_t point);

@@ -8,19 +8,8 @@
 namespace tactus::precompute {
 namespace {
 
-Space make_space(const physics::Body& body, const SpaceSettings& s) {
-  Space space;
-  space.settings = s;
-  const Vec3 contact = body.model->rest_positions().segment<3>(3 * static_cast<Eigen::Index>(s.contact_node));
-  space.grid = Grid::through(contact, s.bounds_min, s.bounds_max, s.spacing);
-  space.start = space.grid.nearest(contact);
-  space.identity = identify(body, s, space.grid);
-  space.allocate(body.model->node_count());
-  return space;
-}
-
 Space build(const physics::Body& body, const SpaceSettings& s, unsigned threads) {
-  Space space = make_space(body, s);
+  Space space = make_space(body, s, "");
   BuildOptions o;
   o.threads = threads;
   const auto stats = build_local(space, [&] { return std::make_unique<ConfigurationSolver>(body, s); }, o);

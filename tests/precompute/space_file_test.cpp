@@ -23,16 +23,7 @@ fs::path temp_file(const std::string& name) {
 }
 
 Space built_space(const physics::Body& body, const SpaceSettings& s) {
-  Space space;
-  space.settings = s;
-  const Vec3 contact = body.model->rest_positions().segment<3>(3 * static_cast<Eigen::Index>(s.contact_node));
-  space.grid = Grid::through(contact, s.bounds_min, s.bounds_max, s.spacing);
-  space.start = space.grid.nearest(contact);
-  space.identity = identify(body, s, space.grid);
-  space.scene_text = "[precompute]\nspacing = 0.003\n";
-  space.rest_positions = body.model->rest_positions();
-  for (const auto& e : dynamic_cast<const physics::TetFem&>(*body.model).elements()) space.elements.push_back(e.nodes);
-  space.allocate(body.model->node_count());
+  Space space = make_space(body, s, "[precompute]\nspacing = 0.003\n");
   BuildOptions o;
   build_local(space, [&] { return std::make_unique<ConfigurationSolver>(body, s); }, o);
   return space;
