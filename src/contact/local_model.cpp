@@ -350,6 +350,7 @@ double LocalModel::advance(const PatchContact& contact, double dt) {
   }
 
   double force = 0.0;
+  contact_motion_.setZero();
   if (contact.triangle >= 0 && contact.triangle < patch_.triangle_count) {
     // The force acts on the nodes around the contact point as the simulation spreads it
     // (load_spread.hpp), so that the patch dents as the body will.
@@ -364,14 +365,18 @@ double LocalModel::advance(const PatchContact& contact, double dt) {
       if (sh.vertex < free)
         column_.head(f3).noalias() += sh.share * (patch_.response.middleCols<3>(dof(sh.vertex)).topRows(f3) * contact.normal);
     }
+    // The contact point is the material point at `barycentric` on the contact triangle: its
+    // motion is what the contact law sees, however widely the load is spread, and the proxy
+    // resting there rides with it.
+    const mesh::Triangle& corners = patch_.triangles[static_cast<std::size_t>(contact.triangle)];
     double c = 0.0, s_a = 0.0, s = 0.0;
-    for (int j = 0; j < count; ++j) {
-      const LoadShare& sh = shares_[static_cast<std::size_t>(j)];
-      if (sh.vertex >= free) continue;
-      const double w = sh.share;
-      c += w * contact.normal.dot(column_.segment<3>(dof(sh.vertex)));
-      s_a += w * contact.normal.dot(a.segment<3>(dof(sh.vertex)));
-      s += w * contact.normal.dot(u_.segment<3>(dof(sh.vertex)));
+    for (int i = 0; i < 3; ++i) {
+      const int v = corners[static_cast<std::size_t>(i)];
+      if (v >= free) continue;  // a border corner does not move under the contact
+      const double w = contact.barycentric[i];
+      c += w * contact.normal.dot(column_.segment<3>(dof(v)));
+      s_a += w * contact.normal.dot(a.segment<3>(dof(v)));
+      s += w * contact.normal.dot(u_.segment<3>(dof(v)));
     }
     // The contact point moves s_a − c·F along the normal; the law answers with
     // F = F₀ + k·(that − s), linearized: one scalar equation, solved exactly.
@@ -379,6 +384,10 @@ double LocalModel::advance(const PatchContact& contact, double dt) {
     force = std::max(0.0, (contact.force + k * (s_a - s)) / (1.0 + k * std::max(0.0, c)));
     if (!std::isfinite(force)) force = 0.0;
     a.noalias() -= force * column_.head(f3);
+    for (int i = 0; i < 3; ++i) {
+      const int v = corners[static_cast<std::size_t>(i)];
+      if (v < free) contact_motion_ += contact.barycentric[i] * (a.segment<3>(dof(v)) - u_.segment<3>(dof(v)));
+    }
   }
   if (patch_.kind == LocalModelKind::mass_spring) v_.head(f3) = (a - u_.head(f3)) / patch_.frame_time;
   u_.head(f3) = a;

@@ -189,6 +189,10 @@ class LocalModel {
   [[nodiscard]] std::span<const Vec3> positions() const {
     return {current_.data(), static_cast<std::size_t>(patch_.node_count)};
   }
+  /// How far the last advance() moved the contact point: the free nodes' displacement
+  /// change weighted by the load's shares, the measure of the contact's motion its implicit
+  /// force solve used (zero without contact) [m].
+  [[nodiscard]] const Vec3& contact_motion() const { return contact_motion_; }
   /// Free-node displacement from the published shape (3·free) [m].
   [[nodiscard]] const VecX& displacement() const { return u_; }
 
@@ -199,6 +203,7 @@ class LocalModel {
   std::vector<Vec3> current_;
   VecX u_, v_, rhs_, next_, column_;
   std::vector<LoadShare> shares_;
+  Vec3 contact_motion_ = Vec3::Zero();
   double since_ = 0.0;  ///< time since the patch's shape [s]
   double now_ = 0.0;
   BruteForceSurfaceQuery query_{{}, {}};
