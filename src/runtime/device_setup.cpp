@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
+#include <variant>
 
 #include "core/error.hpp"
 #include "contact/proxy.hpp"
@@ -26,11 +28,42 @@ DrivenTool tool_of(const scene::Model& m, std::size_t device) {
   return {};
 }
 
+/// The tool's contact algorithm: its first enabled one that is not a pulse. A tool may have
+/// several algorithms; the pulse composes with the contact (pulse_of).
 const scene::Algorithm* algorithm_of(const scene::Model& m, const scene::Tool& tool) {
   for (const scene::Algorithm& a : m.algorithms)
-    if (a.enabled && &m.tools[a.tool] == &tool) return &a;
+    if (a.enabled && &m.tools[a.tool] == &tool && !std::holds_alternative<scene::PulseParams>(a.params)) return &a;
   return nullptr;
 }
+
+/// The tool's first enabled pulse algorithm, if any.
+const scene::Algorithm* pulse_of(const scene::Model& m, const scene::Tool& tool) {
+  for (const scene::Algorithm& a : m.algorithms)
+    if (a.enabled && &m.tools[a.tool] == &tool && std::holds_alternative<scene::PulseParams>(a.params)) return &a;
+  return nullptr;
+}
+
+/// The pulse of a tool's algorithm `a`: its point sources along the vessel body's rest mesh.
+haptics::PulseForce make_pulse(const scene::Model& m, const scene::Algorithm& a) {
+  const auto& p = std::get<scene::PulseParams>(a.params);
+  const scene::Body& vessel = m.bodies[p.body];
+  haptics::PulseConfig c;
+  c.rate = p.rate;
+  c.duty_cycle = p.duty_cycle;
+  c.amplitude = p.amplitude;
+  c.range = p.range;
+  try {
+    c.sources = haptics::pulse_sources_along_axis(vessel.simulation_vertices(), p.sources);
+    return haptics::PulseForce(std::move(c));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(SourceLocation{m.source, {}, {}, {}},
+                     fmt::format("algorithm '{}': pulse from body '{}': {}", a.name, vessel.name, e.what()));
+  }
+}
+
+/// A multiple-surface ray starts this far behind the tool, so it still enters the layers
+/// above a proxy the device has pushed deep behind [m].
+constexpr double kMultiSurfaceRayBehind = 0.05;
 
 std::vector<std::size_t> bodies_of(const scene::Model& m, const scene::Algorithm& a) {
   if (!a.bodies.empty()) return a.bodies;
@@ -125,10 +158,17 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
   }
 
   const scene::Algorithm* a = algorithm_of(m, tool);
+  const scene::Algorithm* pulse = pulse_of(m, tool);
   if (!a) {
+    if (pulse)
+      throw InputError(SourceLocation{m.source, {}, {}, {}},
+                       fmt::format("algorithm '{}': a pulse is felt by pressing, and tool '{}' has no enabled "
+                                   "contact algorithm to press with",
+                                   pulse->name, tool.name));
     s.config.spheres.clear();
     return s;
   }
+  if (pulse) s.config.pulse.emplace(make_pulse(m, *pulse));
   s.bodies = bodies_of(m, *a);
   for (std::size_t b : s.bodies)
     if (m.bodies[b].cspace && !s.config.cspace) s.config.cspace = CspaceBody::load(m, b);
@@ -161,6 +201,24 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
     fp.b = pad->b;
     fp.m = pad->m;
     s.config.fingerpad.emplace(fp);
+  } else if (const auto* ms = std::get_if<scene::MultiSurfaceParams>(&a->params)) {
+    if (s.bodies.size() > haptics::kMaxSurfaceLayers)
+      throw InputError(SourceLocation{m.source, {}, {}, {}},
+                       fmt::format("algorithm '{}': multi_surface renders at most {} layers; name them under 'bodies'",
+                                   a->name, haptics::kMaxSurfaceLayers));
+    HapticConfig::MultiSurface c;
+    c.force.stiffness = std::min(ms->stiffness, d.max_stiffness);  // never stiffer than the device renders stably
+    c.force.damping = ms->damping;
+    c.force.layers = s.bodies.size();
+    c.force.radius = s.config.spheres.front().radius;
+    // Seed 003 §3.5: interpolate linearly between the planes of successive ray queries.
+    c.force.blend_time = 1.0 / m.rates.interaction;
+    // Twice the depth of the device's force limit: deeper, the plane is not the pressed surface.
+    c.force.max_depth = 2.0 * d.max_force / c.force.stiffness;
+    c.bodies = s.bodies;
+    s.config.multi_surface = std::move(c);
+    // The interaction loop casts the ray from this far behind the tool (its needle crossings).
+    s.needle_length = kMultiSurfaceRayBehind;
   } else {
     throw InputError(SourceLocation{m.source, {}, {}, {}},
                      fmt::format("algorithm '{}': type '{}' cannot be rendered by this version yet", a->name,
@@ -175,7 +233,9 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
     case scene::LocalModel::compliance: s.config.local_model = contact::LocalModelKind::compliance; break;
     case scene::LocalModel::mass_spring: s.config.local_model = contact::LocalModelKind::mass_spring; break;
   }
-  if (a->local_model == scene::LocalModel::mass_spring)
+  // Multiple surfaces hold the proxy on their own planes: no local patch under them.
+  if (s.config.multi_surface) s.config.local_model = contact::LocalModelKind::plane;
+  if (a->local_model == scene::LocalModel::mass_spring && !s.config.multi_surface)
     for (std::size_t b : s.bodies)
       if (m.bodies[b].kind != scene::BodyKind::rigid && !m.bodies[b].material)
         throw InputError(SourceLocation{m.source, {}, {}, {}},

@@ -16,7 +16,8 @@ struct DeviceSetup {
   int curvature_rings = 0;          ///< q-ring of the curvature vote; 0 = none needed
   /// Radius of the local patch's bounding sphere around the tool origin (patch models) [m].
   double patch_radius = 0.0;
-  /// > 0: the device drives a needle this long; `bodies` are its layers [m].
+  /// > 0: the device drives a needle this long, or casts a multi_surface ray from this far
+  /// behind the tool; `bodies` are its layers [m].
   double needle_length = 0.0;
 };
 

@@ -14,6 +14,7 @@ HapticLoop::HapticLoop(HapticConfig config, std::unique_ptr<haptics::Device> dev
   // Sized from the channel's own request, so a patch copied out of it never reallocates.
   if (channels_.patch) local_.emplace(channels_.patch_request.kind, channels_.patch_request.capacity);
   if (config_.needle) needle_.emplace(*config_.needle);
+  if (config_.multi_surface) multi_surface_.emplace(config_.multi_surface->force);
 }
 
 void HapticLoop::emit(double t, EventKind kind, double value) {
@@ -148,6 +149,8 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   double surface_time = contact.surface_time;
   if (needle_) {
     rendered = render_needle(position, orientation, t);
+  } else if (multi_surface_) {
+    rendered = render_multi_surface(position, orientation, t);
   } else if (config_.cspace) {
     const Vec3 arm = config_.spheres.empty() ? Vec3::Zero() : Vec3(orientation * config_.spheres.front().offset);
     const CspaceForce f = config_.cspace->force(position + arm);
@@ -196,7 +199,9 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   const bool touching = rendered.touching;
 
   haptics::SafetyInput in;
-  in.force = config_.map.force_to_device(force);
+  // The pulse joins the contact force after the smoothing: its beats are no model update.
+  const Vec3 pulse = pulse_force(t, position, orientation, force, touching);
+  in.force = config_.map.force_to_device(force + pulse);
   in.torque = config_.map.force_to_device(torque);
   in.contact = touching;
   in.last_simulation_update = surface_time;
@@ -206,11 +211,16 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   device_->write(out.force, out.torque);
   device_to_force_.record(now_ns() - pose_read);
 
-  // The tissue feels what the hand feels: the reaction of the force actually sent.
-  const Vec3 sent = config_.map.rotation * out.force;
+  // The tissue feels what the hand feels: the reaction of the force actually sent, less the
+  // pulse (the vessel beneath pushes that), scaled as the safety layer scaled the total.
+  const double in_norm = in.force.norm();
+  const double kept = in_norm > 0.0 ? std::min(1.0, out.force.norm() / in_norm) : 0.0;
+  const Vec3 sent = config_.map.rotation * out.force - kept * pulse;
   ContactLoad& load = channels_.load.write_buffer();
   if (needle_) {
     needle_load(load, touching);
+  } else if (multi_surface_) {
+    multi_surface_load(load, touching);
   } else if (local_) {
     const contact::LocalPatch& patch = local_->patch();
     contact::PatchContact on_patch = rendered.on_patch;
@@ -228,6 +238,10 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
       on_patch.triangle = -1;
     }
     local_->advance(on_patch, dt);
+    // The proxy rests on the surface, so it rides with the contact point: the implicit force
+    // solve in advance() settled the force counting on exactly that motion. Left behind, a
+    // patch springing back would pass through the proxy.
+    if (on && config_.proxy) proxy_state_.position += local_->contact_motion();
   } else {
     load.active = touching && contact.valid && !config_.cspace;  // a space takes no loads
     load.body = contact.body;

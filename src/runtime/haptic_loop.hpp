@@ -14,7 +14,9 @@
 #include "contact/surface_query.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/triple_buffer.hpp"
+#include "haptics/algorithms/multi_surface.hpp"
 #include "haptics/algorithms/needle.hpp"
+#include "haptics/algorithms/pulse.hpp"
 #include "haptics/device.hpp"
 #include "haptics/safety.hpp"
 #include "runtime/cspace_body.hpp"
@@ -107,6 +109,15 @@ struct HapticConfig {
   /// A body rendered from a precomputed configuration space: the force at the first sphere's
   /// centre comes from its interpolator and replaces the local model's.
   std::shared_ptr<const CspaceBody> cspace;
+  /// Multiple-surface palpation (haptics/algorithms/multi_surface.hpp): replaces the
+  /// spheres' contact; its ray hits come on DeviceChannels::needle, one per layer body.
+  struct MultiSurface {
+    haptics::MultiSurfaceConfig force;
+    std::vector<std::size_t> bodies;  ///< the layers, outermost first
+  };
+  std::optional<MultiSurface> multi_surface;
+  /// The pulse (haptics/algorithms/pulse.hpp), added to the contact force while touching.
+  std::optional<haptics::PulseForce> pulse;
 };
 
 class HapticLoop {
@@ -150,6 +161,11 @@ class HapticLoop {
   // Needle tools (needle_render.cpp).
   Rendered render_needle(const Vec3& position, const Quat& orientation, double t);
   void needle_load(ContactLoad& load, bool touching) const;
+  // Multiple-surface palpation and the pulse (multi_surface_render.cpp).
+  Rendered render_multi_surface(const Vec3& position, const Quat& orientation, double t);
+  void multi_surface_load(ContactLoad& load, bool touching) const;
+  Vec3 pulse_force(double t, const Vec3& position, const Quat& orientation, const Vec3& contact_force,
+                   bool touching) const;
 
   HapticConfig config_;
   std::unique_ptr<haptics::Device> device_;
@@ -175,6 +191,9 @@ class HapticLoop {
   std::optional<haptics::NeedleInsertion> needle_;
   haptics::NeedleOutput needle_out_;
   Vec3 needle_axis_ = Vec3::Zero();
+  std::optional<haptics::MultiSurfaceForce> multi_surface_;
+  haptics::MultiSurfaceOutput multi_out_;
+  bool multi_surface_hits_ = false;  ///< a set of ray hits has arrived
 };
 
 }  // namespace tactus::runtime

@@ -55,6 +55,7 @@ void InteractionLoop::publish_needle_crossings(const InteractionTarget& target, 
           layer.entry = h.point;
           layer.entry_triangle = h.triangle;
           layer.entry_barycentric = h.barycentric;
+          layer.entry_normal = h.normal;
         } else if (!h.entering) {
           layer.exit_found = true;
           layer.exit = h.point;

@@ -53,6 +53,7 @@ struct NeedleLayerSurface {
   Vec3 entry = Vec3::Zero();             ///< first entering crossing along the axis [m]
   std::int32_t entry_triangle = -1;      ///< surface triangle of `entry`
   Vec3 entry_barycentric = Vec3::Zero();
+  Vec3 entry_normal = Vec3::Zero();      ///< unit face normal of `entry_triangle`
   bool exit_found = false;
   Vec3 exit = Vec3::Zero();              ///< first leaving crossing after the entry [m]
 };
