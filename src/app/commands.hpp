@@ -18,5 +18,6 @@ Action add_replay(CLI::App& app);
 Action add_export(CLI::App& app);
 Action add_precompute(CLI::App& app);
 Action add_snapshot(CLI::App& app);
+Action add_curves(CLI::App& app);
 
 }  // namespace tactus::app

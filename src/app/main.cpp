@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   add(tactus::app::add_solve, "solve", "Solve a scene's bodies to equilibrium or a time; probes and reactions");
   add(tactus::app::add_precompute, "precompute", "Build a scene's configuration space (HDF5), locally or under mpirun");
   add(tactus::app::add_snapshot, "snapshot", "Render a scene at a time of a lockstep run to PNG, offscreen");
+  add(tactus::app::add_curves, "curves", "Press a scene's tissues and write seed 000's force and viscoelastic curves (CSV, PNG)");
 
   try {
     cli.parse(argc, argv);
