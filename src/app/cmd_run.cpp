@@ -22,6 +22,7 @@
 #include "runtime/report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
+#include "viewer/window.hpp"
 
 namespace tactus::app {
 namespace {
@@ -69,6 +70,10 @@ struct RunFlags {
   std::optional<int> cpu;
   std::optional<double> spin_us;
   std::string force_map;  ///< PNG of the first device's force map (run only)
+  bool view = false;        ///< run in a window (run only; docs/viewer.md)
+  double view_seconds = 0.0;
+  std::string view_script;
+  bool no_mouse = false;
 };
 
 void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
@@ -112,8 +117,22 @@ int run_with(const RunFlags& f, bool bench) {
   o.keep_frames = !f.force_map.empty();
   if (!bench) std::fputs(scene::summarize(scene.model).c_str(), stdout);
   install_interrupt_handlers();
-  const runtime::SessionReport report = runtime::run_session(scene.model, o);
+  std::optional<viewer::WindowReport> window;
+  runtime::SessionReport report;
+  if (f.view) {
+    // The run lasts until the window closes unless a duration is given.
+    if (f.duration <= 0.0) o.max_duration = 7.0 * 86400.0;
+    viewer::WindowOptions w;
+    w.seconds = f.view_seconds;
+    if (!f.view_script.empty()) w.script = f.view_script;
+    w.mouse = !f.no_mouse;
+    window.emplace();
+    report = viewer::run_with_window(scene.model, o, w, g_interrupted, *window);
+  } else {
+    report = runtime::run_session(scene.model, o);
+  }
   std::fputs(runtime::format_report(report).c_str(), stdout);
+  if (window) std::fputs(viewer::format_window_report(*window).c_str(), stdout);
   if (o.record) log::info("recording written to {}", o.record->string());
   if (!f.json.empty()) write_text(f.json, runtime::report_json(report));
   if (!f.force_map.empty())
@@ -128,6 +147,14 @@ Action add_run(CLI::App& app) {
   auto f = std::make_shared<RunFlags>();
   add_run_flags(app, *f, false);
   app.add_option("--force-map", f->force_map, "Write the first device's palpation force map to this PNG");
+  CLI::Option* view = app.add_flag("--view", f->view,
+               "Show the run in a window; the mouse drives the first device unless it is hardware or replayed");
+  app.add_option("--view-seconds", f->view_seconds, "Close the window and end the run after this many seconds")
+      ->check(CLI::Range(0.0, 86400.0))
+      ->needs(view);
+  app.add_flag("--no-mouse", f->no_mouse, "With --view: keep the scene's own device (watch a scripted run)")->needs(view);
+  // Synthetic input for tests (docs/viewer.md); not listed in --help.
+  app.add_option("--view-script", f->view_script, "")->group("")->check(CLI::ExistingFile)->needs(view);
   return [f] { return run_with(*f, false); };
 }
 

@@ -69,6 +69,7 @@ VisualFeed::VisualFeed(const scene::Model& model) : model_(model), devices_(mode
 
 TripleBuffer<runtime::SurfaceSnapshot>& VisualFeed::surface_buffer(const runtime::SurfaceSnapshot& initial) {
   surfaces_ = std::make_unique<TripleBuffer<runtime::SurfaceSnapshot>>(initial);
+  published_surfaces_.store(surfaces_.get(), std::memory_order_release);
   return *surfaces_;
 }
 
@@ -124,9 +125,9 @@ FrameView VisualFeed::build() {
   FrameView frame;
   frame.pressure_full_scale = full_scale_;
   const runtime::SurfaceSnapshot* snapshot = nullptr;
-  if (surfaces_) {
-    surfaces_->update();
-    snapshot = &surfaces_->read();
+  if (auto* surfaces = published_surfaces_.load(std::memory_order_acquire)) {
+    surfaces->update();
+    snapshot = &surfaces->read();
     frame.t = snapshot->t;
   }
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {

@@ -2,6 +2,7 @@
 // The viewer's side of a run: it receives what the runtime hands a VisualSink (surfaces
 // through a triple buffer, haptic frames and events as the recorder drains them) and turns
 // the newest of it into a FrameView. Nothing here runs on a haptic thread.
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -69,6 +70,9 @@ class VisualFeed final : public runtime::VisualSink {
   std::vector<DeviceTool> devices_;
   double full_scale_ = 2.0e4;
   std::unique_ptr<TripleBuffer<runtime::SurfaceSnapshot>> surfaces_;
+  // The run's thread builds the buffer while a window may already be drawing: the window
+  // reads it only once published here (release / acquire).
+  std::atomic<TripleBuffer<runtime::SurfaceSnapshot>*> published_surfaces_{nullptr};
   mutable std::mutex mutex_;  // between the recorder's thread and the viewer's, never a haptic thread
   std::vector<std::optional<runtime::HapticFrame>> latest_;
   std::deque<PlotSample> samples_;

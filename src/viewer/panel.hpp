@@ -1,0 +1,38 @@
+#pragma once
+// The window's Dear ImGui panel: live plots of the force and the haptic loop's compute
+// time, safety events, display switches, camera and finger controls, the shortcuts.
+#include <string>
+#include <vector>
+
+#include "viewer/frame.hpp"
+#include "viewer/visual_feed.hpp"
+
+namespace tactus::viewer {
+
+/// What the panel shows (read-only, gathered by the window each frame).
+struct PanelInputs {
+  std::string scene;
+  std::string mouse_device;  ///< the device the mouse drives; empty = none
+  std::string recording;     ///< the run's recording file; empty = none
+  double visual_rate = 0.0;  ///< [Hz]
+  double frame_ms = 0.0;     ///< CPU time of the last frame [ms]
+  double t = 0.0;            ///< [s] simulated time of the surfaces shown
+  ToolView tool;             ///< the first device's tool
+  std::vector<PlotSample> samples;
+  std::vector<std::string> events;
+};
+
+/// What the user asked for through the panel's buttons.
+struct PanelActions {
+  bool reset_camera = false;
+  bool reset_finger = false;
+  bool close = false;
+};
+
+/// Builds the panel in the current ImGui frame; the display switches are edited in place.
+PanelActions draw_panel(const PanelInputs& in, ViewOptions& view);
+
+/// The keyboard and mouse shortcuts, as listed in the panel and in docs/viewer.md.
+const std::vector<std::pair<const char*, const char*>>& shortcuts();
+
+}  // namespace tactus::viewer

@@ -1,0 +1,447 @@
+#include "viewer/window.hpp"
+
+// The GL entry points come from viewer/gl.hpp (core profile), not from GLFW's GL header.
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <fmt/format.h>
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <memory>
+#include <numbers>
+#include <thread>
+#include <variant>
+
+#include "core/error.hpp"
+#include "core/png.hpp"
+#include "runtime/devices.hpp"
+#include "viewer/camera.hpp"
+#include "viewer/mouse_device.hpp"
+#include "viewer/panel.hpp"
+#include "viewer/gl.hpp"
+#include "viewer/renderer.hpp"
+#include "viewer/view_script.hpp"
+#include "viewer/visual_feed.hpp"
+
+namespace tactus::viewer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// GLFW reports errors through a callback; the window's thread keeps the last one for the
+// message when a window cannot be opened.
+std::string g_glfw_error;
+extern "C" void on_glfw_error(int /*code*/, const char* description) { g_glfw_error = description ? description : ""; }
+
+constexpr double kOrbitDegreesPerPixel = 0.3;
+constexpr double kZoomPerNotch = 0.9;
+
+/// GLFW, the window, its context, Dear ImGui and the renderer, torn down in reverse order.
+class Window {
+ public:
+  Window(const scene::Model& model, const WindowOptions& options, VisualFeed& feed, MouseChannel* mouse,
+         const haptics::WorkspaceMap& map, std::string mouse_device, std::string recording)
+      : model_(model), options_(options), feed_(feed), mouse_(mouse), map_(map),
+        mouse_device_(std::move(mouse_device)), recording_(std::move(recording)) {
+    // A bad script is reported before anything opens or runs.
+    if (options.script) script_ = read_view_script(*options.script);
+    glfwSetErrorCallback(on_glfw_error);
+    if (!glfwInit())
+      throw InputError(fmt::format("--view: no display to open a window on ({}); set DISPLAY, or run under "
+                                   "xvfb-run; 'tactus snapshot' renders without one",
+                                   g_glfw_error.empty() ? "GLFW does not initialize" : g_glfw_error));
+    glfw_ = true;
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_SAMPLES, 4);
+    const std::string title = fmt::format("tactus: {}", model.name);
+    window_ = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
+    if (!window_) {  // some servers offer no multisampled visual
+      glfwWindowHint(GLFW_SAMPLES, 0);
+      window_ = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
+    }
+    if (!window_)
+      throw InputError(fmt::format("--view: no OpenGL 3.3 core window could be opened ({}); the viewer needs a "
+                                   "display with OpenGL 3.3 (Mesa's llvmpipe will do)",
+                                   g_glfw_error));
+    glfwMakeContextCurrent(window_);
+    glfwSwapInterval(0);  // the loop paces itself (WindowOptions::max_fps)
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) { self(w).on_cursor(x, y); });
+    glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int b, int action, int mods) {
+      self(w).on_button(b, action, mods, false);
+    });
+    glfwSetScrollCallback(window_, [](GLFWwindow* w, double /*dx*/, double dy) {
+      self(w).on_scroll(dy, self(w).modifiers(), false);
+    });
+    glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int /*scancode*/, int action, int mods) {
+      self(w).on_key(key, action, mods, false);
+    });
+    renderer_ = std::make_unique<Renderer>();
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the working directory
+    ImGui::StyleColorsDark();
+    // Installed after ours: ImGui's callbacks see each event first, then call ours.
+    ImGui_ImplGlfw_InitForOpenGL(window_, true);
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+    imgui_ = true;
+
+    const FrameView rest = feed_.build();
+    scene_box_ = frame_bounds(rest);
+    home_camera_ = OrbitCamera::framing(scene_box_);
+    camera_ = home_camera_;
+    const std::vector<ToolView> tools = feed_.tools();
+    finger_radius_ = tools.empty() ? 0.0 : tools.front().radius;
+    // Above the middle of the scene, the finger's lowest point 1/2 radius over the top.
+    const Vec3 centre = 0.5 * (scene_box_.min + scene_box_.max);
+    home_finger_ = Vec3(centre.x(), centre.y(), scene_box_.max.z() + 1.5 * finger_radius_);
+    finger_ = home_finger_;
+  }
+
+  ~Window() {
+    if (imgui_) {
+      ImGui_ImplOpenGL3_Shutdown();
+      ImGui_ImplGlfw_Shutdown();
+      ImGui::DestroyContext();
+    }
+    renderer_.reset();  // needs the context
+    if (window_) glfwDestroyWindow(window_);
+    if (glfw_) glfwTerminate();
+  }
+  Window(const Window&) = delete;
+  Window& operator=(const Window&) = delete;
+
+  /// Where the mouse device starts, device coordinates.
+  [[nodiscard]] Vec3 home_device_position() const { return map_.to_device(home_finger_); }
+
+  /// Draws until the window is closed, `stop` is set, the time is up or `run_over` is set.
+  void loop(std::atomic<bool>& stop, const std::atomic<bool>& run_over, WindowReport& report) {
+    const Clock::time_point start = Clock::now();
+    Clock::time_point rate_window = start;
+    std::uint64_t rate_frames = 0;
+    std::vector<double> frame_ms;
+    const auto period = std::chrono::duration<double>(1.0 / std::max(options_.max_fps, 1.0));
+    while (!stop.load() && !run_over.load(std::memory_order_acquire) && !glfwWindowShouldClose(window_) && !quit_) {
+      if (options_.seconds > 0.0 && seconds_since(start) >= options_.seconds) break;
+      const Clock::time_point frame_start = Clock::now();
+      glfwPollEvents();
+      run_script();
+      if (mouse_) mouse_->set(map_.to_device(finger_));
+      draw_frame();
+      frame_ms.push_back(seconds_since(frame_start) * 1e3);
+      last_frame_ms_ = frame_ms.back();
+      ++report.frames;
+      ++rate_frames;
+      if (const double window = seconds_since(rate_window); window >= 0.5) {
+        visual_rate_ = static_cast<double>(rate_frames) / window;
+        rate_frames = 0;
+        rate_window = Clock::now();
+      }
+      std::this_thread::sleep_until(frame_start + std::chrono::duration_cast<Clock::duration>(period));
+    }
+    stop.store(true);  // ends the run when the window closed first
+    report.seconds = seconds_since(start);
+    report.rate = report.seconds > 0.0 ? static_cast<double>(report.frames) / report.seconds : 0.0;
+    if (!frame_ms.empty()) {
+      std::sort(frame_ms.begin(), frame_ms.end());
+      const auto at = [&](double q) { return frame_ms[static_cast<std::size_t>(q * static_cast<double>(frame_ms.size() - 1))]; };
+      report.frame_p50_ms = at(0.5);
+      report.frame_p99_ms = at(0.99);
+    }
+  }
+
+ private:
+  static Window& self(GLFWwindow* w) { return *static_cast<Window*>(glfwGetWindowUserPointer(w)); }
+
+  int modifiers() const {
+    int mods = 0;
+    if (glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS)
+      mods |= GLFW_MOD_SHIFT;
+    if (glfwGetKey(window_, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS || glfwGetKey(window_, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS)
+      mods |= GLFW_MOD_CONTROL;
+    return mods;
+  }
+
+  // --- input: GLFW's callbacks and the script's commands both come here -------------------
+
+  // Events the panel takes (a click on a button) do not reach the scene; synthetic events
+  // bypass that test, since the real pointer may rest over the panel meanwhile.
+  void on_button(int button, int action, int mods, bool synthetic) {
+    if (button < 0 || button > 2) return;
+    if (action == GLFW_PRESS) {
+      if (!synthetic && ImGui::GetIO().WantCaptureMouse) return;
+      buttons_ |= 1u << button;
+      drag_mods_ = mods;
+    } else if (action == GLFW_RELEASE) {
+      buttons_ &= ~(1u << button);
+    }
+  }
+
+  void on_cursor(double x, double y) {
+    const double dx = x - cursor_x_, dy = y - cursor_y_;
+    cursor_x_ = x;
+    cursor_y_ = y;
+    if (!cursor_known_) {
+      cursor_known_ = true;
+      return;
+    }
+    if (buttons_ & (1u << GLFW_MOUSE_BUTTON_LEFT)) {
+      const double mpp = metres_per_pixel();
+      if (drag_mods_ & GLFW_MOD_SHIFT)
+        move_finger(-dy * mpp * forward());  // dragging up pushes away from the viewer
+      else
+        move_finger(mpp * (dx * camera_.right() - dy * camera_.up()));
+    }
+    if (buttons_ & (1u << GLFW_MOUSE_BUTTON_RIGHT)) camera_.orbit(-dx * kOrbitDegreesPerPixel, dy * kOrbitDegreesPerPixel);
+    if (buttons_ & (1u << GLFW_MOUSE_BUTTON_MIDDLE)) {
+      int w = 0, h = 0;
+      glfwGetWindowSize(window_, &w, &h);
+      if (h > 0) camera_.pan(-dx / h, dy / h);
+    }
+  }
+
+  void on_scroll(double notches, int mods, bool synthetic) {
+    if (!synthetic && ImGui::GetIO().WantCaptureMouse) return;
+    if (mods & GLFW_MOD_CONTROL) {
+      camera_.zoom(std::pow(kZoomPerNotch, notches));
+      return;
+    }
+    // A notch moves the finger a third of its radius (2 mm for the nodule scene's 6 mm).
+    const double step = finger_radius_ > 0.0 ? finger_radius_ / 3.0 : 0.002;
+    move_finger(notches * step * forward());
+  }
+
+  void on_key(int key, int action, int /*mods*/, bool synthetic) {
+    if (action != GLFW_PRESS) return;
+    if (!synthetic && ImGui::GetIO().WantCaptureKeyboard) return;
+    switch (key) {
+      case GLFW_KEY_R: camera_ = home_camera_; break;
+      case GLFW_KEY_F: finger_ = home_finger_; break;
+      case GLFW_KEY_T: view_.reveal = !view_.reveal; break;
+      case GLFW_KEY_W: view_.wireframe = !view_.wireframe; break;
+      case GLFW_KEY_H: panel_visible_ = !panel_visible_; break;
+      case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
+      default: break;
+    }
+  }
+
+  [[nodiscard]] Vec3 forward() const { return (camera_.target - camera_.eye()).normalized(); }
+
+  /// Scene metres per window pixel at the finger's depth, so the finger follows the cursor.
+  [[nodiscard]] double metres_per_pixel() const {
+    int w = 0, h = 0;
+    glfwGetWindowSize(window_, &w, &h);
+    const double depth = std::max((finger_ - camera_.eye()).dot(forward()), 0.1 * camera_.distance);
+    return 2.0 * depth * std::tan(camera_.fov_y * std::numbers::pi / 360.0) / std::max(h, 1);
+  }
+
+  /// Keeps the finger within a few scene sizes of the scene, whatever the mouse does.
+  void move_finger(const Vec3& delta) {
+    if (!mouse_ || !delta.allFinite()) return;
+    const Vec3 margin = (scene_box_.max - scene_box_.min).cwiseMax(Vec3::Constant(0.01));
+    finger_ = (finger_ + delta).cwiseMax(scene_box_.min - margin).cwiseMin(scene_box_.max + margin);
+  }
+
+  // --- the script -------------------------------------------------------------------------
+
+  /// Runs commands until one waits; called once per frame before drawing.
+  void run_script() {
+    while (next_ < script_.size()) {
+      const ScriptCommand& c = script_[next_];
+      switch (c.op) {
+        case ScriptOp::wait:
+          if (!waiting_) {
+            waiting_ = true;
+            wait_until_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(c.a));
+          }
+          if (Clock::now() < wait_until_) return;
+          waiting_ = false;
+          break;
+        case ScriptOp::frames:
+          if (!waiting_) {
+            waiting_ = true;
+            frames_left_ = static_cast<std::uint64_t>(c.a);
+          }
+          if (frames_left_ > 0) {
+            --frames_left_;
+            return;
+          }
+          waiting_ = false;
+          break;
+        case ScriptOp::move: on_cursor(c.a, c.b); break;
+        case ScriptOp::press: on_button(c.button, GLFW_PRESS, c.mods, true); break;
+        case ScriptOp::release: on_button(c.button, GLFW_RELEASE, 0, true); break;
+        case ScriptOp::scroll: on_scroll(c.a, c.mods, true); break;
+        case ScriptOp::key: on_key(c.key, GLFW_PRESS, 0, true); break;
+        case ScriptOp::print: print_state(); break;
+        case ScriptOp::screenshot:
+          screenshot_ = c.text;  // taken after this frame is drawn
+          ++next_;
+          return;
+        case ScriptOp::quit: quit_ = true; return;
+      }
+      ++next_;
+    }
+  }
+
+  void print_state() {
+    const std::vector<ToolView> tools = feed_.tools();
+    if (tools.empty() || !tools.front().seen) {
+      std::printf("view: no haptic frame seen yet\n");
+    } else {
+      const ToolView& t = tools.front();
+      std::printf("view: finger at (%.5f, %.5f, %.5f) m, force %.4f N, %s; visual %.2f Hz\n", t.device_position.x(),
+                  t.device_position.y(), t.device_position.z(), t.force.norm(), t.touching ? "touching" : "free",
+                  visual_rate_);
+    }
+    std::fflush(stdout);
+  }
+
+  // --- drawing ----------------------------------------------------------------------------
+
+  void draw_frame() {
+    const FrameView frame = feed_.build();
+    int width = 0, height = 0;
+    glfwGetFramebufferSize(window_, &width, &height);
+    if (width <= 0 || height <= 0) return;  // minimised
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    renderer_->render(frame, camera_, view_, width, height);
+
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    if (panel_visible_) {
+      PanelInputs in;
+      in.scene = model_.name;
+      in.mouse_device = mouse_device_;
+      in.recording = recording_;
+      in.visual_rate = visual_rate_;
+      in.frame_ms = last_frame_ms_;
+      in.t = frame.t;
+      const std::vector<ToolView> tools = feed_.tools();
+      if (!tools.empty()) in.tool = tools.front();
+      in.samples = feed_.samples();
+      in.events = feed_.events();
+      const PanelActions a = draw_panel(in, view_);
+      if (a.reset_camera) camera_ = home_camera_;
+      if (a.reset_finger) finger_ = home_finger_;
+      if (a.close) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+    }
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+
+    if (!screenshot_.empty()) {
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+      glReadBuffer(GL_BACK);
+      png::write_rgb(screenshot_, width, height, read_rgb(width, height));
+      std::printf("view: screenshot %s (%dx%d)\n", screenshot_.c_str(), width, height);
+      std::fflush(stdout);
+      screenshot_.clear();
+    }
+    glfwSwapBuffers(window_);
+  }
+
+  const scene::Model& model_;
+  const WindowOptions& options_;
+  VisualFeed& feed_;
+  MouseChannel* mouse_;
+  haptics::WorkspaceMap map_;
+  std::string mouse_device_, recording_;
+  bool glfw_ = false, imgui_ = false;
+  GLFWwindow* window_ = nullptr;
+  std::unique_ptr<Renderer> renderer_;
+
+  Aabb scene_box_;
+  OrbitCamera camera_, home_camera_;
+  ViewOptions view_;
+  bool panel_visible_ = true;
+  double finger_radius_ = 0.0;
+  Vec3 finger_ = Vec3::Zero(), home_finger_ = Vec3::Zero();  ///< the mouse's target, scene [m]
+
+  unsigned buttons_ = 0;
+  int drag_mods_ = 0;
+  double cursor_x_ = 0.0, cursor_y_ = 0.0;
+  bool cursor_known_ = false;
+
+  std::vector<ScriptCommand> script_;
+  std::size_t next_ = 0;
+  bool waiting_ = false, quit_ = false;
+  Clock::time_point wait_until_;
+  std::uint64_t frames_left_ = 0;
+  std::string screenshot_;
+
+  double visual_rate_ = 0.0, last_frame_ms_ = 0.0;
+};
+
+}  // namespace
+
+bool mouse_may_drive(const scene::Model& model, std::size_t index, const runtime::SessionOptions& options) {
+  if (index >= model.devices.size()) return false;
+  const scene::Device& d = model.devices[index];
+  if (options.replay.count(d.name)) return false;
+  return std::holds_alternative<scene::ScriptedDevice>(d.source) ||
+         std::holds_alternative<scene::SimulatedOperatorDevice>(d.source);
+}
+
+runtime::SessionReport run_with_window(const scene::Model& model, runtime::SessionOptions options,
+                                       const WindowOptions& window_options, std::atomic<bool>& stop,
+                                       WindowReport& report) {
+  VisualFeed feed(model);
+  const bool mouse = window_options.mouse && mouse_may_drive(model, 0, options);
+  const haptics::WorkspaceMap map = model.devices.empty() ? haptics::WorkspaceMap{} : runtime::workspace_map(model.devices[0]);
+  report.mouse_device = mouse ? model.devices[0].name : std::string();
+  // The channel is built before the window (which sets its start) and outlives the run.
+  MouseChannel channel(Vec3::Zero());
+  Window window(model, window_options, feed, mouse ? &channel : nullptr, map, report.mouse_device,
+                options.record ? options.record->string() : std::string());
+  channel.set(window.home_device_position());
+  options.visual = &feed;
+  options.interrupt = &stop;
+  if (mouse)
+    options.device_override = [&channel](const scene::Model& m, std::size_t index) -> std::unique_ptr<haptics::Device> {
+      if (index != 0) return nullptr;
+      return std::make_unique<MouseDevice>(channel, runtime::device_limits(m.devices[index]));
+    };
+
+  runtime::SessionReport session;
+  std::exception_ptr failure;
+  std::atomic<bool> run_over{false};
+  std::thread run([&] {
+    try {
+      session = runtime::run_session(model, options);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    run_over.store(true, std::memory_order_release);
+  });
+  try {
+    window.loop(stop, run_over, report);
+  } catch (...) {
+    stop.store(true);
+    run.join();
+    throw;
+  }
+  run.join();
+  if (failure) std::rethrow_exception(failure);
+  return session;
+}
+
+std::string format_window_report(const WindowReport& r) {
+  return fmt::format("visual loop: {} frames in {:.2f} s, {:.1f} Hz; frame time p50 {:.2f} ms, p99 {:.2f} ms{}\n",
+                     r.frames, r.seconds, r.rate, r.frame_p50_ms, r.frame_p99_ms,
+                     r.mouse_device.empty() ? "" : fmt::format("; the mouse drove '{}'", r.mouse_device));
+}
+
+}  // namespace tactus::viewer
