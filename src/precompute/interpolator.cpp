@@ -1,6 +1,7 @@
 #include "precompute/interpolator.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 namespace tactus::precompute {
@@ -64,6 +65,58 @@ Interpolator::Interpolator(std::shared_ptr<const Space> space, Interpolation met
     for (int i = 0; i < kStencil; ++i) p.row(i) = quadratic(centre(i)).transpose();
     full_ = (p.transpose() * p).ldlt().solve(p.transpose());  // kPoly x kStencil
   }
+  if (method_ == Interpolation::trilinear) return;
+  // Every partial stencil of the space, once.
+  const Grid& g = space_->grid;
+  std::array<int, 3> cell{};
+  for (cell[2] = 0; cell[2] < std::max(1, g.counts[2] - 1); ++cell[2])
+    for (cell[1] = 0; cell[1] < std::max(1, g.counts[1] - 1); ++cell[1])
+      for (cell[0] = 0; cell[0] < std::max(1, g.counts[0] - 1); ++cell[0]) {
+        std::uint32_t used = 0;
+        for (int s = 0; s < kStencil; ++s) {
+          const auto& o = offsets_[static_cast<std::size_t>(s)];
+          const int i = cell[0] + o[0], j = cell[1] + o[1], k = cell[2] + o[2];
+          if (g.contains(i, j, k) && space_->solved(g.index(i, j, k))) used |= 1u << s;
+        }
+        if (used == 0xffffffffu) continue;
+        const auto at = std::lower_bound(partial_.begin(), partial_.end(), used,
+                                         [](const auto& e, std::uint32_t m) { return e.first < m; });
+        if (at != partial_.end() && at->first == used) continue;
+        if (partial_.size() >= kMaxPartial) return;
+        partial_.insert(at, {used, partial_matrix(used)});
+      }
+}
+
+Eigen::MatrixXd Interpolator::partial_matrix(std::uint32_t used) const {
+  std::array<Vec3, kStencil> c{};
+  int n = 0;
+  for (int s = 0; s < kStencil; ++s)
+    if (used & (1u << s)) {
+      const auto& o = offsets_[static_cast<std::size_t>(s)];
+      c[static_cast<std::size_t>(n++)] = Vec3(o[0] - 0.5, o[1] - 0.5, o[2] - 0.5);
+    }
+  if (is_rbf(method_)) {
+    // Rows 0..n-1 of the inverse of the RBF system: weights = rows times the basis vector.
+    if (n < 5) return {};
+    const int m = n + 4;
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(m, m);
+    for (int r = 0; r < n; ++r) {
+      const Vec3& cr = c[static_cast<std::size_t>(r)];
+      for (int k = 0; k < n; ++k) a(r, k) = phi(method_, (cr - c[static_cast<std::size_t>(k)]).norm());
+      const double row[4] = {1.0, cr.x(), cr.y(), cr.z()};
+      for (int k = 0; k < 4; ++k) a(r, n + k) = a(n + k, r) = row[k];
+    }
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
+    if (!lu.isInvertible()) return {};
+    return lu.inverse().topRows(n);
+  }
+  // Least squares: weight r = q(c_r)^T N^-1 q(x), N = sum q(c_r) q(c_r)^T; rows q(c_r)^T N^-1.
+  if (n < kPoly) return {};
+  Eigen::MatrixXd q(n, kPoly);
+  for (int r = 0; r < n; ++r) q.row(r) = quadratic(c[static_cast<std::size_t>(r)]).transpose();
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(q.transpose() * q);
+  if (!lu.isInvertible()) return {};
+  return q * lu.inverse();
 }
 
 bool Interpolator::trilinear(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept {
@@ -97,6 +150,7 @@ bool Interpolator::trilinear(const std::array<int, 3>& cell, const Vec3& t, Weig
 bool Interpolator::scattered(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept {
   const Grid& g = space_->grid;
   std::array<int, kStencil> used{};
+  std::uint32_t mask = 0;
   int n = 0;
   for (int s = 0; s < kStencil; ++s) {
     const auto& o = offsets_[static_cast<std::size_t>(s)];
@@ -104,6 +158,7 @@ bool Interpolator::scattered(const std::array<int, 3>& cell, const Vec3& t, Weig
     if (!g.contains(i, j, k)) continue;
     const std::size_t p = g.index(i, j, k);
     if (!space_->solved(p)) continue;
+    mask |= 1u << s;
     used[static_cast<std::size_t>(n)] = s;
     out.point[static_cast<std::size_t>(n)] = static_cast<std::int64_t>(p);
     ++n;
@@ -127,8 +182,25 @@ bool Interpolator::scattered(const std::array<int, 3>& cell, const Vec3& t, Weig
     }
     return true;
   }
-  // A partial stencil (the grid's border, or unsolved points): solve the small system here,
-  // in fixed-capacity matrices.
+  // A partial stencil (the grid's border, or unsolved points): its matrix from the table
+  // when the constructor met it (every stencil of the space it was given, up to kMaxPartial
+  // kinds), else solve the small system here, in fixed-capacity matrices.
+  const auto known = std::lower_bound(partial_.begin(), partial_.end(), mask,
+                                      [](const auto& e, std::uint32_t m) { return e.first < m; });
+  if (known != partial_.end() && known->first == mask) {
+    const Eigen::MatrixXd& w = known->second;
+    if (w.rows() == 0) return false;  // singular: trilinear instead
+    if (is_rbf(method_)) {
+      Eigen::Matrix<double, kMax, 1> b;
+      for (int r = 0; r < n; ++r) b[r] = phi(method_, (x - centre(used[static_cast<std::size_t>(r)])).norm());
+      b.segment<4>(n) << 1.0, x.x(), x.y(), x.z();
+      for (int r = 0; r < n; ++r) out.weight[static_cast<std::size_t>(r)] = w.row(r).dot(b.head(n + 4));
+    } else {
+      const auto q = quadratic(x);
+      for (int r = 0; r < n; ++r) out.weight[static_cast<std::size_t>(r)] = w.row(r).dot(q);
+    }
+    return true;
+  }
   if (is_rbf(method_)) {
     if (n < 5) return false;
     const int m = n + 4;

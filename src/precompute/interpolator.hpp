@@ -10,6 +10,8 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "precompute/settings.hpp"
 #include "precompute/space.hpp"
@@ -48,6 +50,9 @@ class Interpolator {
   void weights(const Vec3& p, Weights& out) const noexcept;
   bool trilinear(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
   bool scattered(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
+  /// The weight matrix of a partial stencil (the stencil points used, as bits), computed the
+  /// same way as full_: empty when the stencil's system is singular.
+  [[nodiscard]] Eigen::MatrixXd partial_matrix(std::uint32_t used) const;
 
   std::shared_ptr<const Space> space_;
   Interpolation method_;
@@ -56,6 +61,12 @@ class Interpolator {
   /// Full stencils: the weights are this matrix times the basis vector at the query point
   /// (RBF: the inverse of the interpolation matrix; polynomial: the pseudo-inverse's rows).
   Eigen::MatrixXd full_;
+  /// Partial stencils (the grid's borders, next to points not solved): the weight matrix of
+  /// every one that occurs in the space, by its mask, sorted, built with the interpolator. A
+  /// query then costs about what a full stencil does instead of a dense solve; a mask not
+  /// found (more than kMaxPartial kinds) is still solved at query time.
+  static constexpr std::size_t kMaxPartial = 4096;
+  std::vector<std::pair<std::uint32_t, Eigen::MatrixXd>> partial_;
 };
 
 }  // namespace tactus::precompute

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "precompute/grid.hpp"
 #include "scene/scene.hpp"
 #include "test_body.hpp"
 
@@ -53,6 +54,29 @@ TEST(PrecomputeScene, BadTablesAreInputErrors) {
   EXPECT_NE(error_of("contact_point = [0, 0, 0.01]\n" + grid + "interpolation = \"cubic\"\n").find("rbf_cubic"),
             std::string::npos);
   EXPECT_NE(error_of("contact_point = [0, 0, 0.01]\n" + grid + "spacng = 1\n").find("spacng"), std::string::npos);
+}
+
+// The bundled liver scene's space (docs/precompute.md, "The liver scene"): a coarse mesh of
+// liver.toml's organ, small enough to precompute in minutes, and a grid that the palpating
+// finger reaches.
+TEST(PrecomputeScene, BundledLiverSpace) {
+  const scene::Model fine = scene::load_scene(std::string(TACTUS_SOURCE_DIR) + "/scenes/liver.toml");
+  const scene::Model coarse = scene::load_scene(std::string(TACTUS_SOURCE_DIR) + "/scenes/liver_cspace.toml");
+  ASSERT_TRUE(coarse.precompute);
+  const auto& organ = *coarse.find_body("liver");
+  ASSERT_TRUE(organ.volume);
+  // The same organ: the bounds of liver.toml's surface within a millimetre.
+  EXPECT_LT((organ.surface.bounds().min - fine.find_body("liver")->surface.bounds().min).norm(), 1e-3);
+  EXPECT_LT((organ.surface.bounds().max - fine.find_body("liver")->surface.bounds().max).norm(), 1e-3);
+  EXPECT_LT(organ.volume->vertices.size(), 600u);  // liver.toml has 3064 nodes
+  const auto& s = *coarse.precompute;
+  const Vec3 contact = organ.volume->vertices[static_cast<std::size_t>(s.contact_node)];
+  EXPECT_GT(contact.z(), 0.035);  // on the top (the organ is 42.3 mm high above its centre)
+  const auto grid = Grid::through(contact, s.bounds_min, s.bounds_max, s.spacing);
+  EXPECT_GE(grid.size(), 50u);
+  EXPECT_LE(grid.size(), 120u);
+  // The finger's radius: on this coarse mesh no other node is that close to the contact node.
+  EXPECT_EQ(s.patch_nodes, std::vector<std::int32_t>{s.contact_node});
 }
 
 }  // namespace

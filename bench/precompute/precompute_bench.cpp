@@ -1,0 +1,457 @@
+// Cost, scaling, query latency and accuracy of configuration spaces (docs/precompute.md) on
+// the generated organ (about 22 cm long, target node count, fixed along its underside, the
+// contact patch on the top centre). Subcommands (results in docs/BENCHMARKS.md and
+// docs/validation.md):
+//
+//   cost     --nodes N --law L --spacing S --points K
+//            CPU-seconds per point: the first K points of the wavefront (the points nearest
+//            the start, in the order the builder hands them out) of the grid of spacing S
+//            over the organ's bounding box plus 10 mm, built on one thread.
+//   scaling  --nodes N --spacing S --seconds T
+//            the wavefront width of that full grid over time, and the build time and
+//            parallel efficiency on 64 and 1024 solver ranks for T seconds per point,
+//            simulated event by event with the builder's own Wavefront.
+//   query    [--space FILE]
+//            force query latency per interpolation method (p50, p99, max), on a space
+//            file or a synthetic 10 x 10 x 10 space.
+//   accuracy --nodes N --law L --positions M
+//            interpolated force and displacement against configurations solved directly
+//            at M random positions, for grid spacings 20, 13.33, 10 and 6.667 mm and each
+//            method, in the 40 mm accuracy box.
+//   compare  A.h5 B.h5
+//            whether two space files hold the same outcomes, forces and displacements, bit
+//            for bit (solve times aside): a resumed build against an uninterrupted one.
+//
+// The accuracy box: from the contact node's rest position 40 mm along +x and +y and 40 mm down
+// (pressing in). The grids run through the contact node and 40 mm is a multiple of every
+// spacing, so each grid covers exactly this box.
+#include <fmt/format.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <queue>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/histogram.hpp"
+#include "core/parallel.hpp"
+#include "precompute/builder.hpp"
+#include "precompute/configuration_solver.hpp"
+#include "precompute/interpolator.hpp"
+#include "precompute/space_file.hpp"
+#include "precompute/wavefront.hpp"
+#include "runtime/bodies.hpp"
+#include "scene/scene.hpp"
+
+namespace {
+
+using namespace tactus;
+namespace pc = tactus::precompute;
+
+struct Options {
+  std::string command;
+  int nodes = 501;
+  std::string law = "stvk";
+  double spacing = 0.02;
+  std::size_t points = 20;
+  double seconds = 1.0;
+  int positions = 40;
+  unsigned threads = 1;
+  unsigned seed = 1;
+  std::string space;  ///< query: a space file (default: a synthetic one)
+};
+
+double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+/// The organ scene: soft tissue (E = 6 kPa, nu = 0.45, as scenes/liver.toml's parenchyma)
+/// in `law`, about `nodes` nodes, held along the bottom 10 mm, touched on the top centre by a
+/// patch of radius 8 mm (a fingertip). Newton stops at 1e-6 relative residual per load step:
+/// at the default 1e-8 the projected tangent stalled (2e-7 to 2e-5) on 9 of the 27 points of
+/// the 20 mm accuracy grid, at 1e-6 on 3; 1e-6 of the step's force is far below the
+/// interpolation errors measured here.
+std::string organ_scene(int nodes, const std::string& law) {
+  const std::string material =
+      law == "mooney_rivlin" ? "model = \"mooney_rivlin\"\nc10 = 700.0\nc01 = 300.0\npoisson_ratio = 0.45\n"
+                             : "model = \"" + law + "\"\nyoung_modulus = 6.0e3\npoisson_ratio = 0.45\n";
+  return fmt::format(R"(
+[materials.tissue]
+{}density = 1060.0
+
+[bodies.organ]
+kind = "fem"
+material = "tissue"
+solver = "cholesky"
+
+[bodies.organ.mesh]
+generator = "organ"
+length = 0.22
+resolution = 8
+target_nodes = {}
+
+[[bodies.organ.fixed]]
+side = "z_min"
+tolerance = 0.01
+
+[precompute]
+contact_point = [0.0, 0.0, 0.05]
+patch_radius = 0.008
+spacing = 0.02
+min = [-0.12, -0.08, -0.05]
+max = [0.12, 0.08, 0.06]
+tolerance = 1e-6
+)",
+                     material, nodes);
+}
+
+struct Model {
+  physics::Body body;
+  pc::SpaceSettings settings;
+  Vec3 contact = Vec3::Zero();  ///< rest position of the contact node
+  Vec3 lower = Vec3::Zero(), upper = Vec3::Zero();  ///< the organ's bounding box
+};
+
+Model load_model(int nodes, const std::string& law) {
+  const scene::Model scene = scene::parse_scene(organ_scene(nodes, law), "organ-bench");
+  Model m{runtime::make_physics_body(scene, 0), *scene.precompute, {}, {}, {}};
+  const VecX& rest = m.body.model->rest_positions();
+  m.contact = rest.segment<3>(3 * m.settings.contact_node);
+  const auto points = rest.reshaped(3, rest.size() / 3);
+  m.lower = points.rowwise().minCoeff();
+  m.upper = points.rowwise().maxCoeff();
+  return m;
+}
+
+/// Settings for a grid of `spacing` over [lower, upper] (a little slack so that box faces
+/// on lattice planes are kept).
+pc::SpaceSettings with_grid(const Model& m, double spacing, const Vec3& lower, const Vec3& upper) {
+  pc::SpaceSettings s = m.settings;
+  s.spacing = spacing;
+  s.bounds_min = lower - Vec3::Constant(1e-6);
+  s.bounds_max = upper + Vec3::Constant(1e-6);
+  return s;
+}
+
+pc::SpaceSettings full_grid(const Model& m, double spacing) {
+  return with_grid(m, spacing, m.lower - Vec3::Constant(0.01), m.upper + Vec3::Constant(0.01));
+}
+
+pc::SpaceSettings accuracy_grid(const Model& m, double spacing) {
+  return with_grid(m, spacing, m.contact + Vec3(0.0, 0.0, -0.04), m.contact + Vec3(0.04, 0.04, 0.0));
+}
+
+pc::SolverFactory factory(const Model& m, const pc::SpaceSettings& s) {
+  return [&m, s] { return std::make_unique<pc::ConfigurationSolver>(m.body, s); };
+}
+
+int cost(const Options& o) {
+  const Model m = load_model(o.nodes, o.law);
+  const pc::SpaceSettings s = full_grid(m, o.spacing);
+  pc::Space space = pc::make_space(m.body, s, "");
+  pc::BuildOptions b;
+  b.threads = 1;
+  b.stop_after = o.points;
+  long long iterations = 0;
+  std::size_t failed = 0;
+  b.on_result = [&](const pc::PointResult& r) {
+    iterations += r.iterations;
+    failed += r.status == pc::PointStatus::failed;
+  };
+  const double cpu0 = cpu_seconds();
+  const pc::BuildStats stats = pc::build_local(space, factory(m, s), b);
+  const double cpu = cpu_seconds() - cpu0;
+  const auto n = static_cast<double>(std::max<std::size_t>(stats.computed, 1));
+  std::printf("cost: %s, %zu nodes, %zu tets, spacing %.4g m, full grid %d x %d x %d = %zu points\n", o.law.c_str(),
+              m.body.model->node_count(), space.elements.size(), s.spacing, space.grid.counts[0],
+              space.grid.counts[1], space.grid.counts[2], space.grid.size());
+  std::printf("  first %zu points of the wavefront (%zu failed): %.3f CPU-s/point, %.3f solver-s/point (wall), "
+              "%.1f Newton iterations/point\n",
+              stats.computed, failed, cpu / n, stats.solve_seconds / n, static_cast<double>(iterations) / n);
+  return 0;
+}
+
+/// Event simulation of the scheduler on `ranks` solver ranks, every solve taking `seconds`
+/// plus the scheduler's per-task overhead `overhead` (serialized on rank 0). Returns the
+/// makespan; `width` gets the number of ready-or-running points at each completion.
+double simulate(const pc::Grid& grid, std::size_t start, int ranks, double seconds, double overhead,
+                std::vector<std::pair<double, std::size_t>>* width) {
+  pc::Wavefront wave(grid, start, std::vector<pc::PointStatus>(grid.size(), pc::PointStatus::pending));
+  using Event = std::pair<double, std::size_t>;  // finish time, point
+  std::priority_queue<Event, std::vector<Event>, std::greater<>> running;
+  double now = 0.0, scheduler_free = 0.0;
+  int idle = ranks;
+  while (!wave.finished()) {
+    while (idle > 0) {
+      const auto task = wave.next();
+      if (!task) break;
+      scheduler_free = std::max(scheduler_free, now) + overhead;
+      running.emplace(scheduler_free + seconds, task->point);
+      --idle;
+    }
+    if (running.empty()) break;
+    const auto [t, p] = running.top();
+    running.pop();
+    now = t;
+    wave.complete(p, pc::PointStatus::solved);
+    ++idle;
+    if (width) width->emplace_back(now, running.size() + 1);
+  }
+  return now;
+}
+
+int scaling(const Options& o) {
+  const Model m = load_model(o.nodes, "stvk");
+  const pc::SpaceSettings s = full_grid(m, o.spacing);
+  const pc::Space space = pc::make_space(m.body, s, "");
+  const std::size_t dofs = 3 * m.body.model->node_count();
+  // Rank 0's work per task: send the source's displacements and receive the result (8 * 3N
+  // bytes each way) at 1 GB/s with 5 us latency, and append 8 * 3N bytes to the journal.
+  const double bytes = 8.0 * static_cast<double>(dofs);
+  const double overhead = 2.0 * (5e-6 + bytes / 1e9) + bytes / 1e9;
+  std::printf("scaling: grid %d x %d x %d = %zu points at %.4g m, %zu nodes, %.3g s per point, message %.0f bytes, "
+              "scheduler %.3g ms per task\n",
+              space.grid.counts[0], space.grid.counts[1], space.grid.counts[2], space.grid.size(), s.spacing,
+              m.body.model->node_count(), o.seconds, bytes, 1e3 * overhead);
+  // Wavefront width: with unlimited ranks, how many points are ready at once.
+  std::vector<std::pair<double, std::size_t>> width;
+  const double depth = simulate(space.grid, space.start, 1 << 30, o.seconds, 0.0, &width);
+  std::map<long, std::size_t> by_level;
+  for (const auto& [t, w] : width) by_level[std::lround(t / o.seconds)] = std::max(by_level[std::lround(t / o.seconds)], w);
+  std::size_t widest = 0;
+  std::printf("  unlimited ranks: %.0f levels (critical path %.4g s); ready points per level:", depth / o.seconds,
+              depth);
+  for (const auto& [level, w] : by_level) {
+    widest = std::max(widest, w);
+    if (level % 5 == 1) std::printf(" %ld:%zu", level, w);
+  }
+  std::printf("\n  widest level %zu points\n", widest);
+  const double serial = static_cast<double>(space.grid.size()) * o.seconds;
+  for (const int ranks : {1, 2, 4, 64, 1024}) {
+    const double t = simulate(space.grid, space.start, ranks, o.seconds, overhead, nullptr);
+    std::printf("  %5d solver ranks: %.4g s (%.2f h), efficiency %.0f%%\n", ranks, t, t / 3600.0,
+                100.0 * serial / (ranks * t));
+  }
+  return 0;
+}
+
+/// A 10 x 10 x 10 space of 1 cm whose every point is solved, forces from a smooth field (the
+/// query cost does not depend on the values): interior cells use the full 32-point stencils.
+std::shared_ptr<pc::Space> synthetic_space() {
+  auto s = std::make_shared<pc::Space>();
+  s->grid.spacing = 0.01;
+  s->grid.counts = {10, 10, 10};
+  s->allocate(2);
+  for (std::size_t p = 0; p < s->grid.size(); ++p) {
+    const Vec3 x = s->grid.point(p);
+    s->status[p] = pc::PointStatus::solved;
+    s->force[p] = Vec3(std::sin(20 * x.x()) + x.y(), std::exp(5 * x.y()) * x.z(), 10 * x.x() * x.z());
+  }
+  return s;
+}
+
+int query(const Options& o) {
+  const auto space = o.space.empty() ? synthetic_space() : std::make_shared<pc::Space>(pc::read_space(o.space));
+  std::printf("query: %s, grid %d x %d x %d at %.4g m, %zu solved; queries uniform over the grid's box\n",
+              o.space.empty() ? "synthetic space" : o.space.c_str(), space->grid.counts[0], space->grid.counts[1],
+              space->grid.counts[2], space->grid.spacing, space->count(pc::PointStatus::solved));
+  std::mt19937 rng(o.seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  constexpr int kQueries = 200000;
+  std::vector<Vec3> points(kQueries);
+  const Vec3 lo = space->grid.lower(), size = space->grid.upper() - lo;
+  for (auto& p : points) p = lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(size);
+  for (const auto method : {pc::Interpolation::trilinear, pc::Interpolation::rbf_cubic,
+                            pc::Interpolation::rbf_thin_plate, pc::Interpolation::polynomial}) {
+    const pc::Interpolator in(space, method);
+    LatencyHistogram h;
+    double sink = 0.0;
+    int fallbacks = 0;
+    for (int i = 0; i < 1000; ++i) sink += in.force(points[static_cast<std::size_t>(i)]).force.x();  // warm-up
+    for (const Vec3& p : points) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const pc::Query q = in.force(p);
+      const auto t1 = std::chrono::steady_clock::now();
+      sink += q.force.x();
+      fallbacks += q.fallback;
+      h.record(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
+    }
+    const LatencySummary l = summarize(h);
+    std::printf("  %-15s p50 %6.3f us  p99 %6.3f us  max %7.3f us  (%llu queries, %d fell back to trilinear, "
+                "checksum %.3g)\n",
+                std::string(pc::to_string(method)).c_str(), 1e-3 * static_cast<double>(l.p50),
+                1e-3 * static_cast<double>(l.p99), 1e-3 * static_cast<double>(l.max),
+                static_cast<unsigned long long>(l.count), fallbacks, sink);
+  }
+  return 0;
+}
+
+/// Whether p lies in the grid and every corner of its cell is solved.
+bool cell_solved(const pc::Space& space, const Vec3& p) {
+  const Vec3 t = (p - space.grid.origin) / space.grid.spacing;
+  std::array<int, 3> c{};
+  for (int a = 0; a < 3; ++a) {
+    if (t[a] < 0.0 || t[a] > space.grid.counts[a] - 1) return false;
+    c[a] = std::clamp(static_cast<int>(std::floor(t[a])), 0, space.grid.counts[a] - 2);
+  }
+  for (int corner = 0; corner < 8; ++corner)
+    if (!space.solved(space.grid.index(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1))))
+      return false;
+  return true;
+}
+
+int accuracy(const Options& o) {
+  const Model m = load_model(o.nodes, o.law);
+  const std::vector<double> spacings{0.02, 0.04 / 3.0, 0.01, 0.02 / 3.0};
+  std::vector<std::shared_ptr<pc::Space>> spaces;
+  for (const double d : spacings) {
+    const pc::SpaceSettings s = accuracy_grid(m, d);
+    auto space = std::make_shared<pc::Space>(pc::make_space(m.body, s, ""));
+    pc::BuildOptions b;
+    b.threads = o.threads;
+    const pc::BuildStats st = pc::build_local(*space, factory(m, s), b);
+    std::printf("accuracy: %s, %zu nodes, spacing %.4g mm: %zu points, %zu solved, %zu failed, %zu unreachable, "
+                "%.1f s wall\n",
+                o.law.c_str(), m.body.model->node_count(), 1e3 * d, space->grid.size(),
+                space->count(pc::PointStatus::solved), space->count(pc::PointStatus::failed),
+                space->count(pc::PointStatus::unreachable), st.wall_seconds);
+    for (std::size_t p = 0; p < space->grid.size(); ++p)
+      if (space->status[p] == pc::PointStatus::failed) {
+        const Vec3 at = space->grid.point(p) - m.contact;
+        std::printf("    failed at (%+.1f, %+.1f, %+.1f) mm from the contact node: %s\n", 1e3 * at.x(), 1e3 * at.y(),
+                    1e3 * at.z(), space->reason[p].c_str());
+      }
+    std::fflush(stdout);
+    spaces.push_back(std::move(space));
+  }
+  // Reference solutions: straight from rest to the position, in load steps of at most a
+  // third of the finest spacing's load step, so their discretization of the path is finer
+  // than any grid's.
+  pc::ConfigurationSolver solver(m.body, m.settings);
+  std::mt19937 rng(o.seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Vec3 lo = m.contact + Vec3(0.0, 0.0, -0.04);
+  const Vec3 size(0.04, 0.04, 0.04);
+  std::vector<pc::PointResult> refs;
+  std::vector<Vec3> where;
+  int tries = 0;
+  while (static_cast<int>(refs.size()) < o.positions && tries++ < 20 * o.positions) {
+    const Vec3 p = lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(size);
+    if (!std::all_of(spaces.begin(), spaces.end(), [&](const auto& s) { return cell_solved(*s, p); })) continue;
+    const double step = m.settings.load_steps > 0 ? spacings.back() / m.settings.load_steps / 3.0 : 1e-3;
+    const int steps = std::max(2, static_cast<int>(std::ceil((p - m.contact).norm() / step)));
+    pc::PointResult r = solver.solve_direct(p, steps);
+    if (r.status != pc::PointStatus::solved) {
+      std::printf("  reference at (%.4f, %.4f, %.4f) failed: %s\n", p.x(), p.y(), p.z(), r.reason.c_str());
+      continue;
+    }
+    refs.push_back(std::move(r));
+    where.push_back(p);
+  }
+  double mean_force = 0.0;
+  for (const auto& r : refs) mean_force += r.force.norm() / static_cast<double>(refs.size());
+  std::printf("  %zu reference positions (mean |force| %.4g N)\n", refs.size(), mean_force);
+  std::printf("| spacing [mm] | method | force error mean | force error max | displacement error mean | "
+              "displacement error max |\n|---|---|---|---|---|---|\n");
+  for (std::size_t k = 0; k < spaces.size(); ++k) {
+    for (const auto method : {pc::Interpolation::trilinear, pc::Interpolation::rbf_cubic,
+                              pc::Interpolation::rbf_thin_plate, pc::Interpolation::polynomial}) {
+      const pc::Interpolator in(spaces[k], method);
+      double fmean = 0.0, fmax = 0.0, umean = 0.0, umax = 0.0;
+      VecX u_interp;
+      for (std::size_t i = 0; i < refs.size(); ++i) {
+        const pc::Query q = in.shape(where[i], u_interp);
+        // Relative errors: of the force vector against the reference force's magnitude, of
+        // the displacement field (all nodes, 2-norm) against the reference field's norm.
+        const double fe = (q.force - refs[i].force).norm() / refs[i].force.norm();
+        const double ue = (u_interp - refs[i].displacement).norm() / refs[i].displacement.norm();
+        fmean += fe / static_cast<double>(refs.size());
+        umean += ue / static_cast<double>(refs.size());
+        fmax = std::max(fmax, fe);
+        umax = std::max(umax, ue);
+      }
+      std::printf("| %.4g | %s | %.2f%% | %.2f%% | %.2f%% | %.2f%% |\n", 1e3 * spacings[k],
+                  std::string(pc::to_string(method)).c_str(), 100 * fmean, 100 * fmax, 100 * umean, 100 * umax);
+    }
+  }
+  return 0;
+}
+
+int compare(const std::string& a_path, const std::string& b_path) {
+  const pc::Space a = pc::read_space(a_path), b = pc::read_space(b_path);
+  if (a.identity.model_hash != b.identity.model_hash || a.grid.size() != b.grid.size()) {
+    std::printf("different models or grids\n");
+    return 2;
+  }
+  std::size_t differ = 0;
+  for (std::size_t p = 0; p < a.grid.size(); ++p) {
+    const auto c = static_cast<Eigen::Index>(p);
+    if (a.status[p] != b.status[p] || a.source[p] != b.source[p] || a.force[p] != b.force[p] ||
+        a.displacement.col(c) != b.displacement.col(c))
+      ++differ;
+  }
+  std::printf("%zu points, %zu solved in both; %zu differ\n", a.grid.size(), a.count(pc::PointStatus::solved), differ);
+  return differ ? 2 : 0;
+}
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: precompute_bench compare A.h5 B.h5\n"
+               "       precompute_bench cost|scaling|query|accuracy [--nodes N] [--law stvk|mooney_rivlin]\n"
+               "         [--spacing S] [--points K] [--seconds T] [--positions M] [--threads N] [--seed S] [--space FILE]\n");
+  return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) return usage();
+  if (std::string(argv[1]) == "compare") {
+    if (argc != 4) return usage();
+    try {
+      return compare(argv[2], argv[3]);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return 1;
+    }
+  }
+  // The parallelism is across configurations: one thread per solve.
+  set_thread_limit(1);
+  try {
+    Options o;
+    o.command = argv[1];
+    if ((argc - 2) % 2 != 0) return usage();  // every option takes a value
+    for (int i = 2; i + 1 < argc; i += 2) {
+      const std::string key = argv[i], value = argv[i + 1];
+      if (key == "--nodes") o.nodes = std::stoi(value);
+      else if (key == "--law") o.law = value;
+      else if (key == "--spacing") o.spacing = std::stod(value);
+      else if (key == "--points") o.points = std::stoul(value);
+      else if (key == "--seconds") o.seconds = std::stod(value);
+      else if (key == "--positions") o.positions = std::stoi(value);
+      else if (key == "--threads") o.threads = static_cast<unsigned>(std::stoul(value));
+      else if (key == "--seed") o.seed = static_cast<unsigned>(std::stoul(value));
+      else if (key == "--space") o.space = value;
+      else return usage();
+    }
+    if (o.command == "cost") return cost(o);
+    if (o.command == "scaling") return scaling(o);
+    if (o.command == "query") return query(o);
+    if (o.command == "accuracy") return accuracy(o);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return usage();
+}
