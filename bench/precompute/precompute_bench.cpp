@@ -18,6 +18,13 @@
 //            interpolated force and displacement against configurations solved directly
 //            at M random positions, for grid spacings 20, 13.33, 10 and 6.667 mm and each
 //            method, in the 40 mm accuracy box.
+//   online   --nodes N --law L --spacing S --threads W [--first V]
+//            on-line construction: the largest tool speed at which at least 99 % of the
+//            1 kHz force queries find their cell complete, with W solver threads, on the
+//            accuracy box's grid of spacing S, driven in real time along the scripted path
+//            (speeds from V mm/s, default 1, doubled or halved, then 2 bisections);
+//            then the same speed search simulated with the measured solve times for 1 to
+//            64 workers (the scheduler's own code, in simulated time).
 //   compare  A.h5 B.h5
 //            whether two space files hold the same outcomes, forces and displacements, bit
 //            for bit (solve times aside): a resumed build against an uninterrupted one.
@@ -46,6 +53,7 @@
 #include "precompute/builder.hpp"
 #include "precompute/configuration_solver.hpp"
 #include "precompute/interpolator.hpp"
+#include "precompute/online.hpp"
 #include "precompute/space_file.hpp"
 #include "precompute/wavefront.hpp"
 #include "runtime/bodies.hpp"
@@ -67,6 +75,7 @@ struct Options {
   unsigned threads = 1;
   unsigned seed = 1;
   std::string space;  ///< query: a space file (default: a synthetic one)
+  double first = 1.0;  ///< online: first speed tried [mm/s]
 };
 
 double cpu_seconds() {
@@ -388,6 +397,59 @@ int accuracy(const Options& o) {
   return 0;
 }
 
+int online(const Options& o) {
+  const Model m = load_model(o.nodes, o.law);
+  const pc::SpaceSettings s = accuracy_grid(m, o.spacing);
+  const pc::Space layout = pc::make_space(m.body, s, "");
+  double load[3] = {0, 0, 0};
+  getloadavg(load, 3);
+  std::printf("online: %s, %zu nodes, spacing %.4g m, grid %d x %d x %d = %zu points, %u solver threads, "
+              "load average %.2f\n",
+              o.law.c_str(), m.body.model->node_count(), s.spacing, layout.grid.counts[0], layout.grid.counts[1],
+              layout.grid.counts[2], layout.grid.size(), o.threads, load[0]);
+  pc::OnlineSpeedOptions opt;
+  opt.workers = o.threads;
+  opt.first = o.first * 1e-3;
+  opt.bisections = 2;
+  std::vector<double> measured(layout.grid.size(), 0.0);
+  opt.on_trial = [&](const pc::DriveResult& r, const pc::Space& space) {
+    std::printf("  %7.2f mm/s: %5.1f%% of %zu queries complete (moved after %.2f s), %zu points solved, "
+                "max force step %.3g N, finite %s\n",
+                1e3 * r.speed, 100.0 * r.fraction(), r.queries, r.wait, r.solved, r.max_step, r.finite ? "yes" : "NO");
+    std::fflush(stdout);
+    for (std::size_t p = 0; p < space.grid.size(); ++p)
+      if (space.status[p] == pc::PointStatus::solved) measured[p] = std::max(measured[p], space.seconds[p]);
+  };
+  const pc::SpeedSearch search = pc::online_speed(m.body, s, opt);
+  getloadavg(load, 3);
+  std::printf("maximum tool speed: %s%.2f mm/s with %u solver threads (>= 99%% of queries complete while moving); "
+              "load average at the end %.2f\n",
+              search.bounded ? "" : "at least ", 1e3 * search.max_speed, o.threads, load[0]);
+
+  // The model: the same search in simulated time, each point costing its measured solve time
+  // (the median of the measured ones where a point was never solved).
+  std::vector<double> known;
+  for (double v : measured)
+    if (v > 0.0) known.push_back(v);
+  if (known.empty()) return 0;
+  std::nth_element(known.begin(), known.begin() + static_cast<std::ptrdiff_t>(known.size() / 2), known.end());
+  const double median = known[known.size() / 2];
+  auto cost = [&](std::size_t p) { return measured[p] > 0.0 ? measured[p] : median; };
+  pc::ToolPath path = pc::scripted_path(layout.grid, layout.start);
+  path.dwell = opt.dwell;
+  std::printf("simulated with the measured solve times (median %.3f s per point):\n", median);
+  for (unsigned w : {1u, 2u, 4u, 8u, 16u, 64u}) {
+    const pc::SpeedSearch sim = pc::search_speed(
+        [&](double v) {
+          path.speed = v;
+          return pc::simulate_online(layout.grid, layout.start, path, w, cost);
+        },
+        0.0005, 0.99, 6, 1.0);
+    std::printf("  %2u workers: %.2f mm/s\n", w, 1e3 * sim.max_speed);
+  }
+  return 0;
+}
+
 int compare(const std::string& a_path, const std::string& b_path) {
   const pc::Space a = pc::read_space(a_path), b = pc::read_space(b_path);
   if (a.identity.model_hash != b.identity.model_hash || a.grid.size() != b.grid.size()) {
@@ -408,7 +470,7 @@ int compare(const std::string& a_path, const std::string& b_path) {
 int usage() {
   std::fprintf(stderr,
                "usage: precompute_bench compare A.h5 B.h5\n"
-               "       precompute_bench cost|scaling|query|accuracy [--nodes N] [--law stvk|mooney_rivlin]\n"
+               "       precompute_bench cost|scaling|query|accuracy|online [--nodes N] [--law stvk|mooney_rivlin]\n"
                "         [--spacing S] [--points K] [--seconds T] [--positions M] [--threads N] [--seed S] [--space FILE]\n");
   return 1;
 }
@@ -443,12 +505,14 @@ int main(int argc, char** argv) {
       else if (key == "--threads") o.threads = static_cast<unsigned>(std::stoul(value));
       else if (key == "--seed") o.seed = static_cast<unsigned>(std::stoul(value));
       else if (key == "--space") o.space = value;
+      else if (key == "--first") o.first = std::stod(value);
       else return usage();
     }
     if (o.command == "cost") return cost(o);
     if (o.command == "scaling") return scaling(o);
     if (o.command == "query") return query(o);
     if (o.command == "accuracy") return accuracy(o);
+    if (o.command == "online") return online(o);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

@@ -1,6 +1,8 @@
 // `tactus precompute SCENE -o SPACE.h5`: builds the configuration space of the scene's
 // [precompute] table on the local cores, or over MPI ranks under mpirun / srun, with a
 // checkpoint journal that --resume continues (docs/precompute.md).
+// `tactus precompute SCENE --online-speed`: the largest tool speed on-line construction
+// sustains on this machine's cores (no file).
 #include <fmt/format.h>
 #include <sys/resource.h>
 
@@ -25,6 +27,7 @@
 #include "precompute/distributed.hpp"
 #include "precompute/journal.hpp"
 #include "precompute/model_identity.hpp"
+#include "precompute/online.hpp"
 #include "precompute/space_file.hpp"
 #include "runtime/bodies.hpp"
 #include "scene/scene.hpp"
@@ -63,6 +66,10 @@ struct PrecomputeArgs {
   bool resume = false;
   unsigned threads = 0;
   std::size_t stop_after = 0;
+  double reissue_floor = 60.0;
+  bool online_speed = false;
+  double online_first = 4.0;  ///< [mm/s]
+  double online_dwell = 0.5;  ///< [s]
 };
 
 std::string read_text(const std::string& path) {
@@ -140,6 +147,42 @@ void print_summary(const pc::Space& space, const pc::BuildStats& stats, double c
                 100.0 * stats.solve_seconds / (stats.workers * stats.wall_seconds));
 }
 
+/// --online-speed: the largest tool speed on-line construction sustains on this machine
+/// (docs/precompute.md, "On-line construction").
+int run_online_speed(const PrecomputeArgs& a, const physics::Body& body, const pc::SpaceSettings& settings) {
+  pc::OnlineSpeedOptions o;
+  o.workers = a.threads ? a.threads : std::max(1u, std::thread::hardware_concurrency());
+  o.first = a.online_first * 1e-3;
+  o.dwell = a.online_dwell;
+  const pc::Space layout = pc::make_space(body, settings, "");
+  const pc::ToolPath path = pc::scripted_path(layout.grid, layout.start);
+  std::printf("on-line construction: %zu grid points (%d x %d x %d, spacing %.4g m), %u solver threads\n",
+              layout.grid.size(), layout.grid.counts[0], layout.grid.counts[1], layout.grid.counts[2],
+              layout.grid.spacing, o.workers);
+  std::printf("  scripted path: %.1f mm through %zu waypoints, after at least %.2f s at the start point and until "
+              "its neighbourhood is solved\n",
+              1e3 * path.length(), path.waypoints.size(), o.dwell);
+  o.on_trial = [&](const pc::DriveResult& r, const pc::Space&) {
+    std::printf("  %7.2f mm/s: %5.1f%% of %zu queries complete (moved after %.2f s), %zu points solved, "
+                "max force step %.3g N%s\n",
+                1e3 * r.speed, 100.0 * r.fraction(), r.queries, r.wait, r.solved, r.max_step,
+                r.finite ? "" : ", NON-FINITE");
+    std::fflush(stdout);
+  };
+  const pc::SpeedSearch s = pc::online_speed(body, settings, o);
+  if (!s.bounded)
+    std::printf("maximum tool speed: at least %.2f mm/s (no speed up to the search's 1 m/s ceiling failed: the grid is "
+                "solved before the tool gets far)\n",
+                1e3 * s.max_speed);
+  else if (s.max_speed > 0.0)
+    std::printf("maximum tool speed: %.2f mm/s (at least %.0f%% of 1 kHz force queries while moving found their "
+                "cell complete)\n",
+                1e3 * s.max_speed, 100.0 * o.criterion);
+  else
+    std::printf("maximum tool speed: below %.2f mm/s, the first speed tried\n", a.online_first);
+  return 0;
+}
+
 int run_precompute(const PrecomputeArgs& a) {
   pc::distributed::Session session;
   const scene::Model model = scene::load_scene(a.scene);
@@ -149,6 +192,13 @@ int run_precompute(const PrecomputeArgs& a) {
   std::size_t index = 0;
   while (model.bodies[index].name != settings.body) ++index;
   const physics::Body body = runtime::make_physics_body(model, index);
+  if (a.online_speed) {
+    if (session.size() > 1)
+      throw InputError("--online-speed runs its solvers as threads on one machine: start it without mpirun");
+    set_thread_limit(1);
+    return run_online_speed(a, body, settings);
+  }
+  if (a.output.empty()) throw InputError("-o/--output is required (the configuration space file to write)");
 
   pc::Space space = pc::make_space(body, settings, read_text(a.scene));
   // The inner element loops run on one thread: the parallelism is across configurations.
@@ -181,6 +231,7 @@ int run_precompute(const PrecomputeArgs& a) {
   pc::BuildOptions options;
   options.threads = a.threads ? a.threads : std::max(1u, std::thread::hardware_concurrency());
   options.stop_after = a.stop_after;
+  options.reissue_floor = a.reissue_floor;
   options.on_result = [&](const pc::PointResult& r) { journal->append(r); };
   options.on_progress = [&](std::size_t done, std::size_t) { progress.update(done); };
   const double cpu0 = process_cpu_seconds();
@@ -197,6 +248,9 @@ int run_precompute(const PrecomputeArgs& a) {
   // Under MPI the solves ran on the other ranks: their CPU time is the solver time.
   const double cpu = session.size() > 1 ? stats.solve_seconds : process_cpu_seconds() - cpu0;
   print_summary(space, stats, cpu, resumed, where);
+  if (stats.reissued || stats.late || stats.unresponsive)
+    std::printf("  reissued %zu transitions after a timeout; ignored %zu late answers; %d ranks unresponsive\n",
+                stats.reissued, stats.late, stats.unresponsive);
   if (stats.stopped) {
     std::printf("stopped after %zu solves as asked; continue with --resume\n", stats.computed);
     return 3;
@@ -205,6 +259,12 @@ int run_precompute(const PrecomputeArgs& a) {
   journal->close();
   std::filesystem::remove(journal_path, ec);
   std::printf("wrote %s\n", output.string().c_str());
+  if (stats.unresponsive > 0) {
+    // A hung rank would keep MPI_Finalize from returning: the file is complete, end the job.
+    log::error("{} rank(s) never answered; the space is complete, ending the job", stats.unresponsive);
+    std::fflush(stdout);
+    session.abort_job(4);
+  }
   return 0;
 }
 
@@ -213,10 +273,18 @@ int run_precompute(const PrecomputeArgs& a) {
 Action add_precompute(CLI::App& app) {
   auto a = std::make_shared<PrecomputeArgs>();
   app.add_option("scene", a->scene, "Scene file (TOML) with a [precompute] table")->required()->check(CLI::ExistingFile);
-  app.add_option("-o,--output", a->output, "Configuration space file (HDF5)")->required();
+  app.add_option("-o,--output", a->output, "Configuration space file (HDF5); required unless --online-speed");
   app.add_flag("--resume", a->resume, "Continue an interrupted build from its journal (OUTPUT.journal)");
   app.add_option("--threads", a->threads, "Worker threads without MPI (default: every core)")
       ->check(CLI::Range(1u, 4096u));
+  app.add_flag("--online-speed", a->online_speed,
+               "Measure the largest tool speed on-line construction sustains here (no file written)");
+  app.add_option("--online-first", a->online_first, "First speed the --online-speed search tries [mm/s]")
+      ->check(CLI::Range(0.01, 1000.0));
+  app.add_option("--online-dwell", a->online_dwell, "Seconds at the start point before the tool moves")
+      ->check(CLI::Range(0.0, 60.0));
+  // After how many seconds at least an unanswered transition goes to another rank (MPI).
+  app.add_option("--reissue-floor", a->reissue_floor, "")->group("")->check(CLI::Range(0.01, 1e6));
   // For tests of resume: behave as if killed after this many solves.
   app.add_option("--stop-after", a->stop_after, "")->group("");
   app.footer("Under mpirun or srun with N > 1 ranks, rank 0 schedules and ranks 1..N-1 solve. "

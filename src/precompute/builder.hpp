@@ -21,6 +21,10 @@ struct BuildOptions {
   /// Every new outcome (unreachable points included), one at a time, in completion order:
   /// the checkpoint journal appends it here.
   std::function<void(const PointResult&)> on_result;
+  /// MPI only: a transition not answered within max(reissue_floor, reissue_factor × the
+  /// running median solve time) [s] is handed to another rank; the first answer counts.
+  double reissue_factor = 10.0;
+  double reissue_floor = 60.0;
   /// Points resolved so far (resumed ones included) and the total.
   std::function<void(std::size_t resolved, std::size_t total)> on_progress;
 };
@@ -32,6 +36,9 @@ struct BuildStats {
   double solve_seconds = 0.0;   ///< sum of the solves' wall times over all workers
   unsigned workers = 1;
   bool stopped = false;         ///< stop_after cut the build short
+  std::size_t reissued = 0;     ///< MPI: transitions handed to another rank after a timeout
+  std::size_t late = 0;         ///< MPI: answers that came after another rank's and were ignored
+  int unresponsive = 0;         ///< MPI: ranks still silent at the end (hung)
 };
 
 /// An empty space for `body` under `settings`: the grid through the undeformed contact

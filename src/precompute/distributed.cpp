@@ -12,9 +12,15 @@
 #define MPICH_SKIP_MPICXX 1
 #include <mpi.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <deque>
+#include <optional>
+#include <thread>
 #include <vector>
 
+#include "core/log.hpp"
 #include "precompute/wavefront.hpp"
 #endif
 
@@ -57,8 +63,63 @@ Session::~Session() {
   MPI_Finalize();
 }
 
+namespace {
+
+/// The rest of a result whose head (point, status, source, iterations, reason length) came
+/// from `from`: its parts follow from the same rank in order.
+PointResult receive_result(const std::int64_t (&head)[5], int from, int dofs, std::vector<char>& reason) {
+  double values[5];
+  MPI_Recv(values, 5, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  PointResult r;
+  r.point = static_cast<std::size_t>(head[0]);
+  r.status = static_cast<PointStatus>(head[1]);
+  r.source = head[2];
+  r.iterations = static_cast<int>(head[3]);
+  r.residual = values[0];
+  r.seconds = values[1];
+  r.force = Vec3(values[2], values[3], values[4]);
+  if (head[4] > 0) {
+    reason.resize(static_cast<std::size_t>(head[4]));
+    MPI_Recv(reason.data(), static_cast<int>(head[4]), MPI_CHAR, from, kResultTag, MPI_COMM_WORLD,
+             MPI_STATUS_IGNORE);
+    r.reason.assign(reason.begin(), reason.end());
+  }
+  if (r.status == PointStatus::solved) {
+    r.displacement.resize(dofs);
+    MPI_Recv(r.displacement.data(), dofs, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  }
+  return r;
+}
+
+/// The next result's head from any rank, or nothing when none is waiting.
+std::optional<int> probe_result(std::int64_t (&head)[5]) {
+  int flag = 0;
+  MPI_Status st;
+  MPI_Iprobe(MPI_ANY_SOURCE, kResultTag, MPI_COMM_WORLD, &flag, &st);
+  if (!flag) return std::nullopt;
+  MPI_Recv(head, 5, MPI_INT64_T, st.MPI_SOURCE, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return st.MPI_SOURCE;
+}
+
+/// TACTUS_PRECOMPUTE_STALL="RANK:TASK:SECONDS": rank RANK sleeps SECONDS before its TASK-th
+/// task (counted from 1). A fault injected by the tests of reissue; unset, nothing.
+struct Stall {
+  int rank = -1;
+  long task = 0;
+  double seconds = 0.0;
+};
+Stall stall_from_environment() {
+  Stall s;
+  if (const char* v = std::getenv("TACTUS_PRECOMPUTE_STALL"))
+    if (std::sscanf(v, "%d:%ld:%lf", &s.rank, &s.task, &s.seconds) != 3) s = Stall{};
+  return s;
+}
+
+}  // namespace
+
 BuildStats schedule(Space& space, const BuildOptions& options, const Session& session) {
-  const auto t0 = std::chrono::steady_clock::now();
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
   BuildStats stats;
   stats.workers = static_cast<unsigned>(session.size() - 1);
   Wavefront wave(space.grid, space.start, space.status);
@@ -69,14 +130,50 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
   };
   for (auto p : wave.take_unreachable()) record(unreachable_result(p));
 
+  // Per rank: the task it owes an answer for (point -1: none), when it was sent, and whether
+  // it has been given up on (the task reissued, the rank kept out of the pool until it
+  // answers).
+  struct Owed {
+    Task task;
+    std::int64_t point = -1;
+    clock::time_point sent;
+    bool overdue = false;
+  };
+  std::vector<Owed> owed(static_cast<std::size_t>(session.size()));
+  std::deque<Task> reissue;
+  std::vector<double> solve_times;
+  auto timeout = [&] {
+    double median = 0.0;
+    if (!solve_times.empty()) {
+      std::vector<double> v = solve_times;
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+      median = v[v.size() / 2];
+    }
+    return std::max(options.reissue_floor, options.reissue_factor * median);
+  };
+  // Whether point p is already owed by a rank not overdue, or waiting to be reissued.
+  auto covered = [&](std::int64_t p) {
+    for (const auto& o : owed)
+      if (o.point == p && !o.overdue) return true;
+    for (const auto& t : reissue)
+      if (static_cast<std::int64_t>(t.point) == p) return true;
+    return false;
+  };
+
   std::vector<int> idle;
   for (int r = session.size() - 1; r >= 1; --r) idle.push_back(r);
   bool stop = false;
   std::vector<char> reason;
   while (!wave.finished()) {
-    // Hand every ready transition to an idle rank.
+    // Hand every ready transition, reissued ones first, to an idle rank.
     while (!stop && !idle.empty()) {
-      const auto task = wave.next();
+      std::optional<Task> task;
+      while (!task && !reissue.empty()) {
+        const Task t = reissue.front();
+        reissue.pop_front();
+        if (wave.status()[t.point] == PointStatus::pending) task = t;  // not answered meanwhile
+      }
+      if (!task) task = wave.next();
       if (!task) break;
       const int rank = idle.back();
       idle.pop_back();
@@ -85,34 +182,37 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
       if (task->source >= 0)
         MPI_Send(space.displacement.col(static_cast<Eigen::Index>(task->source)).data(), dofs, MPI_DOUBLE, rank,
                  kTaskTag, MPI_COMM_WORLD);
+      owed[static_cast<std::size_t>(rank)] = {*task, static_cast<std::int64_t>(task->point), clock::now(), false};
     }
     if (wave.in_flight() == 0) break;  // stopped, or nothing can run any more
-    // The next result from any rank; its remaining parts come from the same rank in order.
     std::int64_t head[5];
-    MPI_Status st;
-    MPI_Recv(head, 5, MPI_INT64_T, MPI_ANY_SOURCE, kResultTag, MPI_COMM_WORLD, &st);
-    const int from = st.MPI_SOURCE;
-    double values[5];
-    MPI_Recv(values, 5, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    PointResult r;
-    r.point = static_cast<std::size_t>(head[0]);
-    r.status = static_cast<PointStatus>(head[1]);
-    r.source = head[2];
-    r.iterations = static_cast<int>(head[3]);
-    r.residual = values[0];
-    r.seconds = values[1];
-    r.force = Vec3(values[2], values[3], values[4]);
-    if (head[4] > 0) {
-      reason.resize(static_cast<std::size_t>(head[4]));
-      MPI_Recv(reason.data(), static_cast<int>(head[4]), MPI_CHAR, from, kResultTag, MPI_COMM_WORLD,
-               MPI_STATUS_IGNORE);
-      r.reason.assign(reason.begin(), reason.end());
+    const std::optional<int> from = probe_result(head);
+    if (!from) {
+      // Nothing arrived: give up on transitions owed for longer than the timeout.
+      const auto now = clock::now();
+      const double limit = timeout();
+      for (std::size_t rank = 1; rank < owed.size(); ++rank) {
+        Owed& o = owed[rank];
+        if (o.point < 0 || o.overdue || std::chrono::duration<double>(now - o.sent).count() <= limit) continue;
+        o.overdue = true;
+        if (wave.status()[o.task.point] != PointStatus::pending || covered(o.point)) continue;
+        reissue.push_back(o.task);
+        ++stats.reissued;
+        log::warn("rank {} has not answered point {} in {:.1f} s (timeout {:.1f} s): handed to another rank", rank,
+                  o.point, std::chrono::duration<double>(now - o.sent).count(), limit);
+      }
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      continue;
     }
-    if (r.status == PointStatus::solved) {
-      r.displacement.resize(dofs);
-      MPI_Recv(r.displacement.data(), dofs, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    PointResult r = receive_result(head, *from, dofs, reason);
+    owed[static_cast<std::size_t>(*from)].point = -1;
+    idle.push_back(*from);
+    if (wave.status()[r.point] != PointStatus::pending) {
+      // Another rank answered first: this answer is late and is not recorded again.
+      ++stats.late;
+      continue;
     }
-    idle.push_back(from);
+    solve_times.push_back(r.seconds);
     wave.complete(r.point, r.status);
     ++stats.computed;
     stats.solve_seconds += r.seconds;
@@ -127,13 +227,38 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
     }
     if (options.on_progress) options.on_progress(wave.resolved(), space.status.size());
   }
-  for (int rank = 1; rank < session.size(); ++rank) MPI_Send(nullptr, 0, MPI_INT64_T, rank, kStopTag, MPI_COMM_WORLD);
-  stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // Ranks that still owe an answer (overdue ones) get a last chance to send it, so that
+  // every rank is back in its receive and takes the stop; a rank silent beyond that is hung.
+  const auto drain_start = clock::now();
+  const double drain = std::max(timeout(), 10.0);
+  for (;;) {
+    bool owing = false;
+    for (std::size_t rank = 1; rank < owed.size(); ++rank) owing = owing || owed[rank].point >= 0;
+    if (!owing || std::chrono::duration<double>(clock::now() - drain_start).count() > drain) break;
+    std::int64_t head[5];
+    if (const std::optional<int> from = probe_result(head)) {
+      receive_result(head, *from, dofs, reason);
+      owed[static_cast<std::size_t>(*from)].point = -1;
+      ++stats.late;
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  }
+  for (int rank = 1; rank < session.size(); ++rank) {
+    if (owed[static_cast<std::size_t>(rank)].point >= 0) {
+      ++stats.unresponsive;
+      continue;  // a hung rank takes no message
+    }
+    MPI_Send(nullptr, 0, MPI_INT64_T, rank, kStopTag, MPI_COMM_WORLD);
+  }
+  stats.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
   return stats;
 }
 
-void serve(ConfigurationSolver& solver, const Space& space, const Session&) {
+void serve(ConfigurationSolver& solver, const Space& space, const Session& session) {
   const auto dofs = static_cast<int>(space.displacement.rows());
+  const Stall stall = stall_from_environment();
+  long tasks = 0;
   VecX source(dofs);
   for (;;) {
     std::int64_t head[2];
@@ -141,6 +266,8 @@ void serve(ConfigurationSolver& solver, const Space& space, const Session&) {
     MPI_Recv(head, 2, MPI_INT64_T, 0, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
     if (st.MPI_TAG == kStopTag) return;
     if (head[1] >= 0) MPI_Recv(source.data(), dofs, MPI_DOUBLE, 0, kTaskTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (++tasks == stall.task && session.rank() == stall.rank)
+      std::this_thread::sleep_for(std::chrono::duration<double>(stall.seconds));
     const PointResult r = run_task(solver, space, static_cast<std::size_t>(head[0]), head[1], source);
     const std::int64_t out[5] = {static_cast<std::int64_t>(r.point), static_cast<std::int64_t>(r.status), r.source,
                                  r.iterations, static_cast<std::int64_t>(r.reason.size())};
@@ -152,6 +279,10 @@ void serve(ConfigurationSolver& solver, const Space& space, const Session&) {
     if (r.status == PointStatus::solved)
       MPI_Send(r.displacement.data(), dofs, MPI_DOUBLE, 0, kResultTag, MPI_COMM_WORLD);
   }
+}
+
+void Session::abort_job(int code) {
+  if (initialized_) MPI_Abort(MPI_COMM_WORLD, code);
 }
 
 #else
@@ -166,6 +297,8 @@ Session::Session() {
 }
 
 Session::~Session() = default;
+
+void Session::abort_job(int) {}
 
 BuildStats schedule(Space&, const BuildOptions&, const Session&) {
   throw std::logic_error("distributed::schedule needs a build with MPI");

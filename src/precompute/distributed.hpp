@@ -25,6 +25,9 @@ class Session {
   Session& operator=(const Session&) = delete;
   [[nodiscard]] int rank() const { return rank_; }
   [[nodiscard]] int size() const { return size_; }
+  /// Ends every rank of the job now with `code` (MPI_Abort): for a hung rank that would keep
+  /// MPI_Finalize from returning. Nothing without MPI.
+  void abort_job(int code);
 
  private:
   int rank_ = 0;
@@ -33,7 +36,11 @@ class Session {
 };
 
 /// Rank 0: hands out every pending point of `space` to ranks 1..size-1 and records the
-/// results (options.threads is ignored).
+/// results (options.threads is ignored). A transition not answered within the timeout
+/// (options.reissue_*) is handed to another rank and its rank kept out of the pool until it
+/// answers; the first answer for a point is recorded, a later one ignored. At the end,
+/// ranks still owing an answer get max(timeout, 10 s) to send it; any silent beyond that is
+/// counted in stats.unresponsive and sent no stop.
 BuildStats schedule(Space& space, const BuildOptions& options, const Session& session);
 /// Ranks 1..: solves the tasks rank 0 sends until it says stop.
 void serve(ConfigurationSolver& solver, const Space& space, const Session& session);

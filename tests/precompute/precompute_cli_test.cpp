@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 
 #include "precompute/space_file.hpp"
@@ -89,6 +90,21 @@ TEST_F(PrecomputeCli, SceneWithoutPrecomputeTableIsAnInputError) {
   EXPECT_NE(log().find("[precompute]"), std::string::npos);
 }
 
+TEST_F(PrecomputeCli, OnlineSpeedSearchRunsAndReportsAFiniteSpeed) {
+  auto run = [&](const std::string& args) {
+    const std::string cmd = "cd '" + dir_.string() + "' && CI=1 '" + TACTUS_BINARY + "' -q precompute block.toml " +
+                            args + " >>log.txt 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(run("--threads 1"), 1);  // no -o and no --online-speed
+  EXPECT_NE(log().find("-o/--output is required"), std::string::npos) << log();
+  ASSERT_EQ(run("--online-speed --online-first 20 --online-dwell 0.1 --threads 2"), 0) << log();
+  const std::string out = log();
+  EXPECT_NE(out.find("maximum tool speed: "), std::string::npos) << out;
+  EXPECT_EQ(out.find("NON-FINITE"), std::string::npos) << out;
+}
+
 #ifdef TACTUS_MPIEXEC
 TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameSpaceAsOneProcess) {
   ASSERT_EQ(precompute("single.h5", "--threads 1"), 0) << log();
@@ -99,6 +115,29 @@ TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameSpaceAsOneProcess) {
                                "' -np 3 --oversubscribe" + (::geteuid() == 0 ? " --allow-run-as-root" : "");
   ASSERT_EQ(precompute("mpi.h5", "", launcher), 0) << log();
   EXPECT_NE(log().find("MPI"), std::string::npos) << log();
+  expect_same(read_space(dir_ / "single.h5"), read_space(dir_ / "mpi.h5"));
+}
+
+TEST_F(PrecomputeCli, AStalledRanksTaskIsReissuedAndItsLateAnswerIgnored) {
+  ASSERT_EQ(precompute("single.h5", "--threads 1"), 0) << log();
+  // Rank 1 stalls 4 s before its 3rd task; with a timeout of max(0.5 s, 10 x median solve)
+  // the task goes to rank 2, and rank 1's answer, when it comes, is ignored.
+  const std::string launcher = std::string("TACTUS_PRECOMPUTE_STALL=1:3:4 ") +
+                               "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '" + TACTUS_MPIEXEC +
+                               "' -np 3 --oversubscribe" +
+                               (::geteuid() == 0 ? " --allow-run-as-root" : "");
+  ASSERT_EQ(precompute("mpi.h5", "--reissue-floor 0.5", launcher), 0) << log();
+  // At least the stalled task was reissued and its answer ignored (a load spike on the
+  // machine may add another), and no rank was left hung.
+  std::smatch m;
+  const std::string out = log();
+  const std::regex summary(
+      R"(reissued (\d+) transitions after a timeout; ignored (\d+) late answers; (\d+) ranks unresponsive)");
+  ASSERT_TRUE(std::regex_search(out, m, summary)) << out;
+  EXPECT_GE(std::stoi(m[1]), 1);
+  EXPECT_GE(std::stoi(m[2]), 1);
+  EXPECT_EQ(std::stoi(m[3]), 0);
+  // Every point once in the journal and the file: the same space as one process builds.
   expect_same(read_space(dir_ / "single.h5"), read_space(dir_ / "mpi.h5"));
 }
 #endif
