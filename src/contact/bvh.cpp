@@ -907,4 +907,19 @@ void PointTree::nodes_near_segment(const Vec3& a, const Vec3& b, double r, std::
   std::sort(out.begin(), out.end());
 }
 
+void TriangleBvh::node_boxes(int levels, std::vector<std::pair<Vec3, Vec3>>& out) const {
+  if (tree_.empty() || levels < 0) return;
+  out.emplace_back(tree_.root_lo, tree_.root_hi);
+  // Each inner node holds its children's boxes: a child at depth d + 1 is listed from its parent.
+  auto descend = [&](auto&& self, std::int32_t ref, int level) -> void {
+    if (ref < 0 || level >= levels) return;
+    const detail::BvhNode& n = tree_.nodes[static_cast<std::size_t>(ref)];
+    for (int c = 0; c < 2; ++c) {
+      out.emplace_back(Vec3(n.lo[0][c], n.lo[1][c], n.lo[2][c]), Vec3(n.hi[0][c], n.hi[1][c], n.hi[2][c]));
+      self(self, n.child[c], level + 1);
+    }
+  };
+  descend(descend, tree_.root, 0);
+}
+
 }  // namespace tactus::contact

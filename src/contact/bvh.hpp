@@ -144,6 +144,9 @@ class TriangleBvh {
   [[nodiscard]] std::size_t triangle_count() const { return triangles_.size(); }
   [[nodiscard]] std::size_t vertex_count() const { return vertex_count_; }
   [[nodiscard]] std::size_t node_count() const { return tree_.nodes.size(); }
+  /// Appends the boxes (lo, hi) of the nodes from the root (level 0) down to `levels`
+  /// levels below it, for display (the viewer's debug view). Allocates as `out` grows.
+  void node_boxes(int levels, std::vector<std::pair<Vec3, Vec3>>& out) const;
   [[nodiscard]] int depth() const { return tree_.depth; }
   /// A box around the whole surface (empty for an empty tree); it may exceed the exact
   /// bounds by a float rounding.

@@ -4,7 +4,9 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCholesky>
+#include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -247,6 +249,8 @@ void PatchBuilder::fit_mass_spring(const Inputs& in, LocalPatch& out) {
   }
   // The tissue under each free node: the Boussinesq stiffness of a rigid punch as large as
   // the node's share of the surface, 2a·E/(1 − ν²); its mass a column as deep as it is wide.
+  // On a coarse FEM block this is softer than the body, and a patch softer than the body
+  // does net work on the hand at updates (docs/contact-mechanics.md, "Local models").
   const Eigen::Index f3 = dof(free);
   for (int i = 0; i < free; ++i) {
     const double area = area_[static_cast<std::size_t>(i)];
@@ -301,7 +305,7 @@ LocalModel::LocalModel(LocalModelKind kind, const PatchCapacity& capacity)
   v_ = VecX::Zero(f3);
   rhs_ = VecX::Zero(f3);
   next_ = VecX::Zero(f3);
-  column_ = VecX::Zero(f3);
+  columns_ = MatX::Zero(f3, kMaxContacts);
   shares_.resize(static_cast<std::size_t>(capacity.nodes));
 }
 
@@ -331,7 +335,15 @@ void LocalModel::place_nodes() {
 }
 
 double LocalModel::advance(const PatchContact& contact, double dt) {
-  if (!patch_.valid) return contact.force;
+  double settled = 0.0;
+  advance(std::span<const PatchContact>(&contact, 1), dt, std::span<double>(&settled, 1));
+  return patch_.valid ? settled : contact.force;
+}
+
+void LocalModel::advance(std::span<const PatchContact> contacts, double dt, std::span<double> settled) {
+  for (double& f : settled) f = 0.0;
+  contact_motion_.setZero();
+  if (!patch_.valid) return;
   const int free = patch_.free_count;
   const Eigen::Index f3 = dof(free);
   auto a = next_.head(f3);
@@ -349,50 +361,99 @@ double LocalModel::advance(const PatchContact& contact, double dt) {
     a = patch_.release.head(f3);
   }
 
-  double force = 0.0;
-  contact_motion_.setZero();
-  if (contact.triangle >= 0 && contact.triangle < patch_.triangle_count) {
+  // The contacts on the patch, at most kMaxContacts (index into `contacts` of each).
+  std::array<int, kMaxContacts> which{};
+  int n = 0;
+  for (std::size_t i = 0; i < contacts.size() && n < kMaxContacts; ++i)
+    if (contacts[i].triangle >= 0 && contacts[i].triangle < patch_.triangle_count) which[static_cast<std::size_t>(n++)] = static_cast<int>(i);
+
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxContacts, kMaxContacts>;
+  using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxContacts, 1>;
+  Small coupling(n, n);  // C_ij: contact i's point moves C_ij·F_j along its normal under F_j
+  SmallVec free_motion(n), stiffness(n), law(n);
+  for (int i = 0; i < n; ++i) {
+    const PatchContact& c = contacts[static_cast<std::size_t>(which[static_cast<std::size_t>(i)])];
     // The force acts on the nodes around the contact point as the simulation spreads it
     // (load_spread.hpp), so that the patch dents as the body will.
     const int count = spread_load(positions(),
                                   {patch_.triangles.data(), static_cast<std::size_t>(patch_.triangle_count)},
-                                  {patch_.area.data(), static_cast<std::size_t>(patch_.node_count)}, contact.triangle,
-                                  contact.barycentric, contact.contact_radius, shares_);
+                                  {patch_.area.data(), static_cast<std::size_t>(patch_.node_count)}, c.triangle,
+                                  c.barycentric, c.contact_radius, shares_);
     // column = B·g, g = Σ share·n over the free nodes: their response to a unit normal force.
-    column_.head(f3).setZero();
+    auto column = columns_.col(i).head(f3);
+    column.setZero();
     for (int j = 0; j < count; ++j) {
       const LoadShare& sh = shares_[static_cast<std::size_t>(j)];
       if (sh.vertex < free)
-        column_.head(f3).noalias() += sh.share * (patch_.response.middleCols<3>(dof(sh.vertex)).topRows(f3) * contact.normal);
+        column.noalias() += sh.share * (patch_.response.middleCols<3>(dof(sh.vertex)).topRows(f3) * c.normal);
     }
+    stiffness[i] = std::max(0.0, c.stiffness);
+    law[i] = c.force;
+  }
+  for (int i = 0; i < n; ++i) {
     // The contact point is the material point at `barycentric` on the contact triangle: its
-    // motion is what the contact law sees, however widely the load is spread, and the proxy
+    // motion is what the contact law sees, however widely the load is spread, and a proxy
     // resting there rides with it.
-    const mesh::Triangle& corners = patch_.triangles[static_cast<std::size_t>(contact.triangle)];
-    double c = 0.0, s_a = 0.0, s = 0.0;
-    for (int i = 0; i < 3; ++i) {
-      const int v = corners[static_cast<std::size_t>(i)];
+    const PatchContact& c = contacts[static_cast<std::size_t>(which[static_cast<std::size_t>(i)])];
+    const mesh::Triangle& corners = patch_.triangles[static_cast<std::size_t>(c.triangle)];
+    double s_a = 0.0, s = 0.0;
+    for (int j = 0; j < n; ++j) coupling(i, j) = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const int v = corners[static_cast<std::size_t>(k)];
       if (v >= free) continue;  // a border corner does not move under the contact
-      const double w = contact.barycentric[i];
-      c += w * contact.normal.dot(column_.segment<3>(dof(v)));
-      s_a += w * contact.normal.dot(a.segment<3>(dof(v)));
-      s += w * contact.normal.dot(u_.segment<3>(dof(v)));
+      const double w = c.barycentric[k];
+      for (int j = 0; j < n; ++j) coupling(i, j) += w * c.normal.dot(columns_.col(j).segment<3>(dof(v)));
+      s_a += w * c.normal.dot(a.segment<3>(dof(v)));
+      s += w * c.normal.dot(u_.segment<3>(dof(v)));
     }
-    // The contact point moves s_a − c·F along the normal; the law answers with
-    // F = F₀ + k·(that − s), linearized: one scalar equation, solved exactly.
-    const double k = std::max(0.0, contact.stiffness);
-    force = std::max(0.0, (contact.force + k * (s_a - s)) / (1.0 + k * std::max(0.0, c)));
-    if (!std::isfinite(force)) force = 0.0;
-    a.noalias() -= force * column_.head(f3);
-    for (int i = 0; i < 3; ++i) {
-      const int v = corners[static_cast<std::size_t>(i)];
-      if (v < free) contact_motion_ += contact.barycentric[i] * (a.segment<3>(dof(v)) - u_.segment<3>(dof(v)));
+    coupling(i, i) = std::max(0.0, coupling(i, i));
+    free_motion[i] = s_a - s;
+  }
+  // Each contact point moves (s_a − s) − Σ_j C_ij·F_j along its normal; its law answers with
+  // F_i = F0_i + k_i·(that), linearized: (I + K·C)·F = F0 + K·(s_a − s), solved exactly.
+  // Forces only push: a contact that would pull is released and the rest solved again.
+  SmallVec force = SmallVec::Zero(n);
+  std::array<bool, kMaxContacts> active{};
+  for (int i = 0; i < n; ++i) active[static_cast<std::size_t>(i)] = true;
+  for (int round = 0; round < n; ++round) {
+    Small system = Small::Identity(n, n);
+    SmallVec rhs(n);
+    for (int i = 0; i < n; ++i) {
+      if (!active[static_cast<std::size_t>(i)]) {
+        rhs[i] = 0.0;  // F_i = 0
+        continue;
+      }
+      for (int j = 0; j < n; ++j)
+        if (active[static_cast<std::size_t>(j)]) system(i, j) += stiffness[i] * coupling(i, j);
+      rhs[i] = law[i] + stiffness[i] * free_motion[i];
+    }
+    force = n == 1 ? SmallVec::Constant(1, rhs[0] / system(0, 0)) : SmallVec(system.partialPivLu().solve(rhs));
+    int most_negative = -1;
+    for (int i = 0; i < n; ++i)
+      if (active[static_cast<std::size_t>(i)] && force[i] < 0.0 && (most_negative < 0 || force[i] < force[most_negative]))
+        most_negative = i;
+    if (most_negative < 0) break;
+    active[static_cast<std::size_t>(most_negative)] = false;
+  }
+  for (int i = 0; i < n; ++i) {
+    double& f = force[i];
+    if (!active[static_cast<std::size_t>(i)] || !std::isfinite(f) || f < 0.0) f = 0.0;
+    a.noalias() -= f * columns_.col(i).head(f3);
+    const auto slot = static_cast<std::size_t>(which[static_cast<std::size_t>(i)]);
+    if (slot < settled.size()) settled[slot] = f;
+  }
+  if (n > 0) {
+    // The first contact's motion: the one a proxy resting on the patch rides with.
+    const PatchContact& c = contacts[static_cast<std::size_t>(which[0])];
+    const mesh::Triangle& corners = patch_.triangles[static_cast<std::size_t>(c.triangle)];
+    for (int k = 0; k < 3; ++k) {
+      const int v = corners[static_cast<std::size_t>(k)];
+      if (v < free) contact_motion_ += c.barycentric[k] * (a.segment<3>(dof(v)) - u_.segment<3>(dof(v)));
     }
   }
   if (patch_.kind == LocalModelKind::mass_spring) v_.head(f3) = (a - u_.head(f3)) / patch_.frame_time;
   u_.head(f3) = a;
   place_nodes();
-  return force;
 }
 
 }  // namespace tactus::contact

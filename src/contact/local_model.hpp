@@ -182,6 +182,14 @@ class LocalModel {
   /// none), solving the contact force implicitly; returns the force the model settled at.
   double advance(const PatchContact& contact, double dt);
 
+  /// Most contacts one advance() takes at once (a sphere-set finger has one or eight).
+  static constexpr int kMaxContacts = 8;
+  /// The same with several contacts (a sphere-set finger): each dents the patch under its own
+  /// force, and the forces are solved together, since each contact's dent moves the others'
+  /// points. Contacts past kMaxContacts, or with triangle −1, are left out. `settled`, when
+  /// not empty, receives each contact's settled force (0 for those left out).
+  void advance(std::span<const PatchContact> contacts, double dt, std::span<double> settled = {});
+
   [[nodiscard]] bool valid() const { return patch_.valid; }
   [[nodiscard]] const LocalPatch& patch() const { return patch_; }
   /// The current shape (valid until the next call that changes it).
@@ -201,7 +209,8 @@ class LocalModel {
 
   LocalPatch patch_;
   std::vector<Vec3> current_;
-  VecX u_, v_, rhs_, next_, column_;
+  VecX u_, v_, rhs_, next_;
+  MatX columns_;  ///< B·g of each contact: the free nodes' response to its unit normal force
   std::vector<LoadShare> shares_;
   Vec3 contact_motion_ = Vec3::Zero();
   double since_ = 0.0;  ///< time since the patch's shape [s]

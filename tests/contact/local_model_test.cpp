@@ -3,6 +3,7 @@
 // for a contact far stiffer than the patch, and that a frame allocates nothing.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <vector>
 
 #include "contact/local_model.hpp"
@@ -109,6 +110,92 @@ TEST(LocalPatch, ImplicitContactIsStableForAContactMuchStifferThanThePatch) {
   EXPECT_LT(last_change, 1e-6 * c.stiffness * depth0);
 }
 
+/// The patch triangle under (x, y) and the point's barycentric coordinates there.
+PatchContact contact_at(const LocalModel& model, double x, double y, double force, double stiffness) {
+  const ClosestSurfacePoint p = model.surface().closest_point(Vec3(x, y, 0.001));
+  EXPECT_TRUE(p.found);
+  return {p.triangle, p.barycentric, Vec3::UnitZ(), force, stiffness, -1.0};  // on the triangle's corners
+}
+
+/// How far the patch moved along z at (x, y) (the free corners' share of it).
+double dent_at(const LocalModel& model, const PatchContact& c) {
+  double dz = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const int v = model.patch().triangles[static_cast<std::size_t>(c.triangle)][static_cast<std::size_t>(k)];
+    if (v < model.patch().free_count) dz += c.barycentric[k] * model.displacement()[3 * v + 2];
+  }
+  return dz;
+}
+
+TEST(LocalPatch, EverySphereOfASphereSetDentsThePatchUnderItsOwnForce) {
+  // Two fingertip spheres 12 mm apart on a patch around both (a sphere-set finger): each
+  // contact dents the patch where it is, under its own force.
+  Plate plate;
+  for (const LocalModelKind kind : {LocalModelKind::mass_spring, LocalModelKind::compliance}) {
+    const LocalPatch p = plate.build(kind, Vec3(0.0, 0.0, 0.004), 0.016);
+    ASSERT_TRUE(p.valid);
+    LocalModel both(kind, plate.capacity), left(kind, plate.capacity), right(kind, plate.capacity);
+    both.reset(p, 0.0), left.reset(p, 0.0), right.reset(p, 0.0);
+    // Prescribed forces (slope 0): the linear patch superposes the two dents exactly.
+    const std::array<PatchContact, 2> pair{contact_at(both, -0.006, 0.001, 0.4, 0.0),
+                                           contact_at(both, 0.006, -0.001, 0.2, 0.0)};
+    ASSERT_NE(pair[0].triangle, pair[1].triangle);
+    std::array<double, 2> settled{};
+    for (int k = 0; k < 300; ++k) {
+      both.advance(pair, 1e-3, settled);
+      left.advance(pair[0], 1e-3);
+      right.advance(pair[1], 1e-3);
+    }
+    EXPECT_DOUBLE_EQ(settled[0], 0.4);
+    EXPECT_DOUBLE_EQ(settled[1], 0.2);
+    const VecX sum = left.displacement() + right.displacement();
+    EXPECT_LT((both.displacement() - sum).cwiseAbs().maxCoeff(), 1e-9 * sum.cwiseAbs().maxCoeff() + 1e-15);
+    if (kind == LocalModelKind::compliance) continue;  // a patch without a body is rigid: no dent
+    EXPECT_LT(dent_at(both, pair[0]), 0.0);
+    EXPECT_LT(dent_at(both, pair[1]), 0.0);
+    EXPECT_LT(dent_at(both, pair[0]), dent_at(both, pair[1]));  // the harder press dents deeper
+  }
+}
+
+TEST(LocalPatch, SphereSetForcesAreSolvedTogetherAndNeverPull) {
+  Plate plate;
+  const LocalPatch p = plate.build(LocalModelKind::mass_spring, Vec3(0.0, 0.0, 0.004), 0.016);
+  ASSERT_TRUE(p.valid);
+  // One contact through the span form is the single-contact solve, to the last bit.
+  LocalModel one(LocalModelKind::mass_spring, plate.capacity), span(LocalModelKind::mass_spring, plate.capacity);
+  one.reset(p, 0.0), span.reset(p, 0.0);
+  const PatchContact c = contact_at(one, -0.006, 0.001, 0.5, 2000.0);
+  for (int k = 0; k < 50; ++k) {
+    double settled = 0.0;
+    const double f = one.advance(c, 1e-3);
+    span.advance(std::span<const PatchContact>(&c, 1), 1e-3, std::span<double>(&settled, 1));
+    ASSERT_EQ(f, settled);
+  }
+  EXPECT_EQ(one.displacement(), span.displacement());
+
+  // Two stiff contacts (1e4 N/m) held 1 mm deep, mirror images of each other: they settle at
+  // the same force, and each below what it settles at alone, since the other's dent lowers
+  // its point too; a third contact lifted off the surface (its law says −1 N) pushes nothing.
+  LocalModel pair(LocalModelKind::mass_spring, plate.capacity), single(LocalModelKind::mass_spring, plate.capacity);
+  pair.reset(p, 0.0), single.reset(p, 0.0);
+  std::array<PatchContact, 3> contacts{contact_at(pair, -0.005, -0.002, 0.0, 1e4), contact_at(pair, 0.005, 0.002, 0.0, 1e4),
+                                       contact_at(pair, 0.0, 0.009, -1.0, 1e4)};
+  std::array<double, 3> settled{};
+  double alone = 0.0;
+  for (int k = 0; k < 3000; ++k) {
+    for (int i = 0; i < 2; ++i) contacts[static_cast<std::size_t>(i)].force = 1e4 * (1e-3 + dent_at(pair, contacts[static_cast<std::size_t>(i)]));
+    pair.advance(contacts, 1e-3, settled);
+    PatchContact lone = contacts[0];
+    lone.force = 1e4 * (1e-3 + dent_at(single, lone));
+    alone = single.advance(lone, 1e-3);
+  }
+  EXPECT_GT(settled[0], 0.0);
+  EXPECT_NEAR(settled[0], settled[1], 0.02 * settled[0]) << settled[0] << " vs " << settled[1] << " alone " << alone;
+  EXPECT_LT(settled[0], alone);
+  EXPECT_LT(alone, 10.0);  // below k·depth: the patch yields
+  EXPECT_EQ(settled[2], 0.0);
+}
+
 TEST(LocalPatch, AFrameAllocatesNothing) {
   Plate plate;
   const LocalPatch a = plate.build(LocalModelKind::mass_spring, Vec3(0.0, 0.0, 0.004), 0.008);
@@ -122,6 +209,10 @@ TEST(LocalPatch, AFrameAllocatesNothing) {
     model.extrapolate(k * 1e-3);
     (void)model.surface().closest_point(Vec3(0.0, 0.0, 0.005));
     model.advance(c, 1e-3);
+    // A sphere-set finger: several contacts at once.
+    const std::array<PatchContact, 3> set{c, c, PatchContact{}};
+    std::array<double, 3> settled{};
+    model.advance(set, 1e-3, settled);
   }
   EXPECT_EQ(counter.count(), 0u) << counter.bytes() << " bytes";
 }
