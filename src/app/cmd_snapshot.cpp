@@ -22,6 +22,9 @@ struct SnapshotFlags {
   std::string camera;
   bool reveal = false;
   bool wireframe = false;
+  bool planes = false;
+  bool bvh = false;
+  int bvh_levels = 3;
 };
 
 scene::Model load_scene(const std::string& path) {
@@ -43,6 +46,10 @@ Action add_snapshot(CLI::App& app) {
   app.add_option("--camera", f->camera, "AZ,EL[,DIST]: camera azimuth and elevation [deg], distance [m]");
   app.add_flag("--reveal", f->reveal, "See-through surfaces showing what lies under them (nodules)");
   app.add_flag("--wireframe", f->wireframe, "Draw the triangle edges");
+  app.add_flag("--planes", f->planes, "Draw the contacts' constraint planes");
+  app.add_option("--bvh", f->bvh_levels, "Draw the contact BVH's boxes down to this many levels below the root")
+      ->check(CLI::Range(0, 12))
+      ->each([f](const std::string&) { f->bvh = true; });
   return [f] {
     viewer::SnapshotOptions o;
     o.time = f->at;
@@ -50,6 +57,9 @@ Action add_snapshot(CLI::App& app) {
     if (!f->camera.empty()) o.camera = viewer::parse_camera(f->camera, "--camera");
     o.view.reveal = f->reveal;
     o.view.wireframe = f->wireframe;
+    o.view.show_planes = f->planes;
+    o.view.show_bvh = f->bvh;
+    o.view.bvh_levels = f->bvh_levels;
     const scene::Model model = load_scene(f->scene);
     const viewer::Snapshot s = viewer::take_snapshot(model, o);
     png::write_rgb(f->output, s.width, s.height, s.rgb);

@@ -90,9 +90,10 @@ HapticLoop::Rendered HapticLoop::render_patch(const LocalContact& contact, conta
     }
     return out;
   }
+  sphere_contact_count_ = 0;
   if (!local_->valid()) return out;
-  // Every sphere against the patch's current triangles; the deepest one's contact drives the
-  // patch with the sum of the normal forces.
+  // Every sphere against the patch's current triangles; the deepest one's contact carries the
+  // sum of the normal forces to the simulation, and each sphere's own contact dents the patch.
   double deepest = 0.0;
   for (const HapticConfig::Sphere& sphere : config_.spheres) {
     const Vec3 arm = orientation * sphere.offset;
@@ -109,13 +110,16 @@ HapticLoop::Rendered HapticLoop::render_patch(const LocalContact& contact, conta
     out.force += fn * normal;
     out.torque += arm.cross(fn * normal);
     out.law_force += fn;
+    constexpr double kProbe = 1e-6;  // [m]: the law's slope by a forward difference
+    const double slope = std::max(0.0, (law_force(depth + kProbe, contact.mean_curvature) - elastic) / kProbe);
+    if (sphere_contact_count_ < contact::LocalModel::kMaxContacts)
+      sphere_contacts_[static_cast<std::size_t>(sphere_contact_count_++)] = {
+          p.triangle, p.barycentric, normal, fn, slope, disc_radius(contact::sphere_contact_radius(sphere.radius, depth))};
     if (depth > deepest) {
       deepest = depth;
       out.point = p.point;
       out.contact_radius = contact::sphere_contact_radius(sphere.radius, depth);
-      constexpr double kProbe = 1e-6;  // [m]: the law's slope by a forward difference
-      const double slope = (law_force(depth + kProbe, contact.mean_curvature) - elastic) / kProbe;
-      out.on_patch = {p.triangle, p.barycentric, normal, 0.0, std::max(0.0, slope), disc_radius(out.contact_radius)};
+      out.on_patch = {p.triangle, p.barycentric, normal, 0.0, slope, disc_radius(out.contact_radius)};
     }
   }
   out.on_patch.force = out.law_force;
@@ -123,6 +127,7 @@ HapticLoop::Rendered HapticLoop::render_patch(const LocalContact& contact, conta
 }
 
 void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
+  if (live_) apply_live_parameters(t);
   const haptics::DevicePose pose = device_->read(t);
   const Nanos pose_read = now_ns();
   const Vec3 position = config_.map.to_scene(pose.position);
@@ -237,7 +242,19 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
     } else {
       on_patch.triangle = -1;
     }
-    local_->advance(on_patch, dt);
+    if (on && !config_.proxy && sphere_contact_count_ > 1) {
+      // A sphere-set finger: each touching sphere dents the patch under its own force, all
+      // scaled as the safety layer scaled the total.
+      const double rendered_norm = rendered.force.norm();
+      const double scale = rendered_norm > 0.0 ? std::clamp(sent.norm() / rendered_norm, 0.0, 1.0) : 0.0;
+      for (int i = 0; i < sphere_contact_count_; ++i) {
+        sphere_contacts_[static_cast<std::size_t>(i)].force *= scale;
+        sphere_contacts_[static_cast<std::size_t>(i)].stiffness *= scale;
+      }
+      local_->advance({sphere_contacts_.data(), static_cast<std::size_t>(sphere_contact_count_)}, dt);
+    } else {
+      local_->advance(on_patch, dt);
+    }
     // The proxy rests on the surface, so it rides with the contact point: the implicit force
     // solve in advance() settled the force counting on exactly that motion. Left behind, a
     // patch springing back would pass through the proxy.

@@ -2,6 +2,7 @@
 // One device's haptic loop step: read the pose, render the contact force from the local
 // model, pass it through the safety layer, send it, hand the reaction to the simulation
 // and the frame to the recorder. No locks, no allocation, no exceptions after construction.
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -26,6 +27,8 @@
 #include "runtime/recording.hpp"
 
 namespace tactus::runtime {
+
+class LiveParameters;
 
 /// An event raised by a loop (trivially copyable, unlike recording's Event with its text).
 struct LoopEvent {
@@ -130,6 +133,8 @@ class HapticLoop {
 
   /// Safe to call from any thread.
   void request_emergency_stop() { emergency_stop_.store(true, std::memory_order_relaxed); }
+  /// Surface edits read at each frame (runtime/live_parameters.hpp); before the loop runs.
+  void set_live_parameters(const LiveParameters* live) { live_ = live; }
   [[nodiscard]] bool finished(double t) const { return device_->finished(t); }
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
   /// Time from the pose read returning to the force written: the loop's own latency.
@@ -151,6 +156,7 @@ class HapticLoop {
     double contact_radius = 0.0;      ///< of the contact disc the load is spread over [m]
   };
   void emit(double t, EventKind kind, double value);
+  void apply_live_parameters(double t);  // live_parameters.cpp
   Rendered render_plane(const LocalContact& contact, contact::ProxyState& proxy, const Vec3& position,
                         const Quat& orientation, double t, double dt, bool use_interpolator);
   Rendered render_patch(const LocalContact& contact, contact::ProxyState& proxy, const Vec3& position,
@@ -182,6 +188,9 @@ class HapticLoop {
   contact::PlaneInterpolator planes_;
   contact::BruteForceSurfaceQuery no_surface_{{}, {}};
   std::optional<contact::LocalModel> local_;  ///< patch models only
+  /// Each touching sphere's contact on the patch (render_patch; sphere-set fingers).
+  std::array<contact::PatchContact, contact::LocalModel::kMaxContacts> sphere_contacts_{};
+  int sphere_contact_count_ = 0;
   LocalContact shown_contact_;  ///< the plane rendered last frame (to measure an update's step)
   ForceSmoother smoother_;
   bool proxy_started_ = false;
@@ -194,6 +203,8 @@ class HapticLoop {
   std::optional<haptics::MultiSurfaceForce> multi_surface_;
   haptics::MultiSurfaceOutput multi_out_;
   bool multi_surface_hits_ = false;  ///< a set of ray hits has arrived
+  const LiveParameters* live_ = nullptr;
+  std::uint64_t live_version_ = 0;
 };
 
 }  // namespace tactus::runtime

@@ -2,6 +2,7 @@
 
 #include "runtime/device_setup.hpp"
 #include "runtime/devices.hpp"
+#include "runtime/live_parameters.hpp"
 
 namespace tactus::runtime {
 namespace {
@@ -26,14 +27,18 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
     if (!setup.config.spheres.empty() && setup.config.local_model != contact::LocalModelKind::plane)
       ch.request_patches({setup.config.local_model, setup.config.patch_capacity, setup.patch_radius, setup.bodies});
     if (!setup.config.spheres.empty() || setup.config.needle)
-      targets.push_back({&ch, setup.bodies, setup.reach, setup.curvature_rings, setup.needle_length});
+      targets.push_back({&ch, m.devices[i].name, setup.bodies, setup.reach, setup.curvature_rings, setup.needle_length});
+    if (o.live) o.live->describe_device(i, setup.config, m.devices[i].max_stiffness);
     loops.haptic.push_back(std::make_unique<HapticLoop>(std::move(setup.config), std::move(device), ch));
+    if (o.live) loops.haptic.back()->set_live_parameters(o.live);
   }
+  if (o.live) o.live->devices_described();
   // The simulation publishes into a buffer pre-sized with the rest surfaces.
   loops.simulation = std::make_unique<SimulationLoop>(m, loops.channel_ptrs());
   loops.surfaces = std::make_unique<TripleBuffer<SurfaceSnapshot>>(loops.simulation->initial_snapshot());
   loops.simulation->add_output(*loops.surfaces);
   if (o.visual) loops.simulation->add_output(o.visual->surface_buffer(loops.simulation->initial_snapshot()));
+  if (o.live) loops.simulation->set_live_parameters(o.live);
   loops.interaction = std::make_unique<InteractionLoop>(m, std::move(targets), *loops.surfaces);
   return loops;
 }

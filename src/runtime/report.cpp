@@ -41,7 +41,7 @@ std::string format_report(const SessionReport& r) {
   }
   out += fmt::format("\n{:<44} {:^39}\n", "parts", "time p50 / p99 / p99.9 / max µs");
   for (const PartStats& p : r.parts) out += fmt::format("{:<44} {}\n", p.name, summary_cells(p.time));
-  out += "visual loop: not running (headless)\n";
+  if (!r.visual) out += "visual loop: not running (headless)\n";  // a window reports its own loop
 
   out += "\ndevices\n";
   for (const DeviceReport& d : r.devices) {

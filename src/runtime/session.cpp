@@ -18,6 +18,7 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
   SessionReport report;
   report.scene = model.name;
   report.scheduling = options.scheduling;
+  report.visual = options.visual != nullptr;
   Loops loops = build_loops(model, options);
   for (std::size_t i = 0; i < model.devices.size(); ++i)
     report.devices.push_back({model.devices[i].name, loops.haptic[i]->device().kind(), {}, 0, 0.0, 0});
@@ -45,7 +46,8 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
   for (std::size_t i = 0; i < loops.haptic.size(); ++i)
     report.parts.push_back({"haptic[" + model.devices[i].name + "]: device read -> force written",
                             loops.haptic[i]->device_to_force()});
-  for (const auto& p : loops.simulation->parts()) report.parts.push_back({"simulation: " + p.name, p.time});
+  for (const auto& p : loops.simulation->parts())
+    if (p.name != "embedded surfaces" || p.time.count() > 0) report.parts.push_back({"simulation: " + p.name, p.time});
   for (const auto& p : loops.interaction->parts())
     if (p.time.count() > 0) report.parts.push_back({"interaction: " + p.name, p.time});
   report.dropped_steps = loops.simulation->dropped_steps();

@@ -32,6 +32,7 @@ namespace tactus::runtime {
 enum class Scheduling { real_time, lockstep };
 
 struct LoopEvent;
+class LiveParameters;
 
 /// What a viewer sees of a run (docs/viewer.md). Every call comes from off the haptic
 /// threads: the buffer is asked for once before the loops start, frames and events as the
@@ -72,6 +73,9 @@ struct SessionOptions {
   const std::atomic<bool>* interrupt = nullptr;
   /// A viewer reading the run; null = none.
   VisualSink* visual = nullptr;
+  /// Parameters edited during the run and the emergency stop (runtime/live_parameters.hpp);
+  /// null = none. Its surfaces are described by the run when its loops are built.
+  LiveParameters* live = nullptr;
   /// Replaces the device of scene entry `index` (the viewer's mouse) when it returns one.
   std::function<std::unique_ptr<haptics::Device>(const scene::Model&, std::size_t index)> device_override;
 };
@@ -98,6 +102,7 @@ struct SessionReport {
   std::uint64_t recorded_frames = 0;
   std::uint64_t recording_bytes = 0;
   std::uint64_t dropped_steps = 0;
+  bool visual = false;  ///< a viewer read the run (SessionOptions::visual)
   std::vector<HapticFrame> frames;  ///< only with SessionOptions::keep_frames
   std::optional<PalpationFeedback> palpation;  ///< scenes with nodules (docs/scenes.md)
   std::vector<NeedleReport> needles;           ///< one per device driving a needle

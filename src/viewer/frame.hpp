@@ -42,11 +42,28 @@ struct ArrowView {
   Colour colour = Colour(0.95, 0.85, 0.1);
 };
 
+/// A translucent square in a plane (a contact's constraint plane).
+struct QuadView {
+  Vec3 centre = Vec3::Zero();
+  Vec3 normal = Vec3::UnitZ();
+  double half = 0.01;  ///< from the centre to a side [m]
+  Colour colour = Colour(0.3, 0.9, 0.5);
+  double opacity = 0.4;
+};
+
+/// The edges of an axis-aligned box (a node of a bounding volume hierarchy).
+struct BoxView {
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+  Colour colour = Colour(0.9, 0.5, 0.9);
+};
+
 struct FrameView {
   double t = 0.0;  ///< [s] simulated time of the surfaces
   std::vector<SurfaceView> surfaces;
   std::vector<SphereView> spheres;
   std::vector<ArrowView> arrows;
+  std::vector<QuadView> quads;  ///< debug view: constraint planes
+  std::vector<BoxView> boxes;   ///< debug view: BVH nodes
   /// Pressure shown at the top of the false-colour scale [Pa].
   double pressure_full_scale = 2.0e4;
 };
@@ -58,6 +75,9 @@ struct ViewOptions {
   bool shadows = true;
   bool show_pressure = true;
   bool show_forces = true;
+  bool show_planes = false;  ///< the contact's constraint plane under each touching tool
+  bool show_bvh = false;     ///< the top levels of each surface's contact BVH
+  int bvh_levels = 3;        ///< levels below the root drawn by show_bvh
 };
 
 /// Axis-aligned bounds of everything in the frame (surfaces and spheres).

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+
+#include "core/error.hpp"
 
 namespace tactus::viewer {
 namespace {
@@ -29,6 +32,61 @@ void plot(const char* label, const char* unit, const std::vector<PlotSample>& sa
                    0.0f, std::max(largest * 1.1f, 1e-6f), ImVec2(ImGui::GetContentRegionAvail().x, 70.0f));
 }
 
+/// A double slider; true when moved.
+bool slider(const char* label, double& value, double lo, double hi, const char* format, bool logarithmic = false) {
+  return ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, format,
+                             logarithmic ? ImGuiSliderFlags_Logarithmic : ImGuiSliderFlags_None);
+}
+
+/// Material and surface edits: each slider writes the run's live parameters at once.
+void edit_parameters(const PanelInputs& in, std::string& error) {
+  runtime::LiveParameters& live = *in.live;
+  auto guarded = [&](auto&& edit) {
+    try {
+      edit();
+      error.clear();
+    } catch (const InputError& e) {
+      error = e.what();
+    }
+  };
+  for (std::size_t b = 0; b < in.body_names.size() && b < runtime::LiveParameters::kMaxBodies; ++b) {
+    if (!live.material_editable(b)) continue;
+    const runtime::LiveParameters::Material& scene = live.scene_materials().body[b];
+    const runtime::LiveParameters::Material& now = live.edited_materials().body[b];
+    ImGui::PushID(static_cast<int>(b));
+    ImGui::Text("body '%s'", in.body_names[b].c_str());
+    double e_kpa = now.young_modulus * 1e-3;
+    double alpha = now.damping_set ? now.damping : scene.damping;
+    const bool moved_e = slider("E [kPa]", e_kpa, scene.young_modulus * 1e-4, scene.young_modulus * 1e-2, "%.3g", true);
+    const bool moved_alpha = slider("damping [1/s]", alpha, 0.0, std::max(50.0, 4.0 * scene.damping), "%.3g");
+    if (moved_e || moved_alpha)
+      guarded([&] { live.set_material(b, e_kpa * 1e3, moved_alpha || now.damping_set ? alpha : -1.0); });
+    if (ImGui::Button("scene values")) guarded([&] { live.set_material(b, scene.young_modulus, -1.0); });
+    ImGui::PopID();
+  }
+  for (std::size_t d = 0; d < in.device_names.size() && d < runtime::LiveParameters::kMaxDevices; ++d) {
+    const runtime::LiveParameters::SurfaceKind kind = live.surface_kind(d);
+    if (kind == runtime::LiveParameters::SurfaceKind::none) continue;
+    const runtime::LiveParameters::Surface& scene = live.scene_surface(d);
+    runtime::LiveParameters::Surface now = live.edited_surface(d);
+    ImGui::PushID(1000 + static_cast<int>(d));
+    ImGui::Text("surface under '%s' (%s)", in.device_names[d].c_str(),
+                kind == runtime::LiveParameters::SurfaceKind::proxy ? "proxy" : "penalty");
+    bool moved = slider("stiffness [N/m]", now.stiffness, 1.0, live.max_stiffness(d), "%.0f", true);
+    if (kind == runtime::LiveParameters::SurfaceKind::proxy) {
+      moved |= slider("static friction", now.static_friction, 0.0, 1.5, "%.2f");
+      now.kinetic_friction = std::min(now.kinetic_friction, now.static_friction);
+      moved |= slider("kinetic friction", now.kinetic_friction, 0.0, now.static_friction, "%.2f");
+    }
+    if (moved)
+      guarded([&] { live.set_surface(d, now.stiffness, now.static_friction, std::min(now.kinetic_friction, now.static_friction)); });
+    if (ImGui::Button("scene values"))
+      guarded([&] { live.set_surface(d, scene.stiffness, scene.static_friction, scene.kinetic_friction); });
+    ImGui::PopID();
+  }
+  if (!error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", error.c_str());
+}
+
 }  // namespace
 
 const std::vector<std::pair<const char*, const char*>>& shortcuts() {
@@ -42,6 +100,9 @@ const std::vector<std::pair<const char*, const char*>>& shortcuts() {
       {"F", "put the finger back above the scene"},
       {"T", "transparency (reveal what lies under)"},
       {"W", "wireframe"},
+      {"E / space", "emergency stop: every device's force off until the run ends"},
+      {"P", "constraint planes of the contacts"},
+      {"B", "BVH boxes (top levels)"},
       {"H", "hide / show this panel"},
       {"Esc", "close the window, end the run"},
   };
@@ -66,6 +127,16 @@ PanelActions draw_panel(const PanelInputs& in, ViewOptions& view) {
     ImGui::Text("force %.3f N", in.tool.force.norm());
   }
 
+  if (in.live) {
+    if (in.emergency_stopped) {
+      ImGui::TextColored(ImVec4(1.0f, 0.3f, 0.25f, 1.0f), "EMERGENCY STOP: forces off until the run ends");
+    } else {
+      ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.75f, 0.1f, 0.1f, 1.0f));
+      if (ImGui::Button("EMERGENCY STOP (E / space)")) actions.emergency_stop = true;
+      ImGui::PopStyleColor();
+    }
+  }
+
   if (ImGui::CollapsingHeader("Plots", ImGuiTreeNodeFlags_DefaultOpen)) {
     plot("force on the hand", "N", in.samples, [](const PlotSample& s) { return s.force; });
     plot("haptic frame compute time", "us", in.samples, [](const PlotSample& s) { return s.compute_us; });
@@ -79,11 +150,23 @@ PanelActions draw_panel(const PanelInputs& in, ViewOptions& view) {
     ImGui::Checkbox("pressure", &view.show_pressure);
     ImGui::SameLine();
     ImGui::Checkbox("force arrow", &view.show_forces);
+    ImGui::Checkbox("constraint planes (P)", &view.show_planes);
+    ImGui::SameLine();
+    ImGui::Checkbox("BVH (B)", &view.show_bvh);
+    if (view.show_bvh) {
+      ImGui::SameLine();
+      ImGui::SetNextItemWidth(80.0f);
+      ImGui::SliderInt("levels", &view.bvh_levels, 0, 8);
+    }
     if (ImGui::Button("reset camera (R)")) actions.reset_camera = true;
     ImGui::SameLine();
     if (ImGui::Button("reset finger (F)")) actions.reset_finger = true;
     ImGui::SameLine();
     if (ImGui::Button("quit")) actions.close = true;
+  }
+  if (in.live && ImGui::CollapsingHeader("Material and surface (live)", ImGuiTreeNodeFlags_DefaultOpen)) {
+    static std::string error;  // the panel's one ImGui context lives on one thread
+    edit_parameters(in, error);
   }
   if (ImGui::CollapsingHeader("Safety and contact events", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::BeginChild("events", ImVec2(0.0f, 110.0f), true);
@@ -97,6 +180,11 @@ PanelActions draw_panel(const PanelInputs& in, ViewOptions& view) {
       ImGui::TextUnformatted("not recording (start the run with --record FILE)");
     else
       ImGui::Text("recording to %s", in.recording.c_str());
+  }
+  if (!in.scenes.empty() && ImGui::CollapsingHeader("Scenes")) {
+    ImGui::TextWrapped("Ends this run (its report is printed) and starts the chosen scene.");
+    for (const std::string& s : in.scenes)
+      if (ImGui::Selectable(std::filesystem::path(s).filename().string().c_str(), false)) actions.switch_to = s;
   }
   if (ImGui::CollapsingHeader("Shortcuts")) {
     for (const auto& [keys, what] : shortcuts()) ImGui::BulletText("%s: %s", keys, what);

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/live_parameters.hpp"
 #include "viewer/frame.hpp"
 #include "viewer/visual_feed.hpp"
 
@@ -20,6 +21,12 @@ struct PanelInputs {
   ToolView tool;             ///< the first device's tool
   std::vector<PlotSample> samples;
   std::vector<std::string> events;
+  /// The run's live parameters (the panel edits them); null = none.
+  runtime::LiveParameters* live = nullptr;
+  std::vector<std::string> body_names, device_names;
+  bool emergency_stopped = false;
+  /// Scenes the switcher offers (paths); empty = no switcher.
+  std::vector<std::string> scenes;
 };
 
 /// What the user asked for through the panel's buttons.
@@ -27,6 +34,8 @@ struct PanelActions {
   bool reset_camera = false;
   bool reset_finger = false;
   bool close = false;
+  bool emergency_stop = false;
+  std::string switch_to;  ///< a scene chosen in the switcher
 };
 
 /// Builds the panel in the current ImGui frame; the display switches are edited in place.

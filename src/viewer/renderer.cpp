@@ -271,12 +271,37 @@ void Renderer::build(const FrameView& frame, const ViewOptions& options, Batches
       push_cone(out.opaque, a.origin, neck, radius, radius, a.colour);
       push_cone(out.opaque, neck, tip, 2.2 * radius, 0.0, a.colour);
     }
+  if (options.show_planes)
+    for (const QuadView& q : frame.quads) {
+      if (!q.normal.allFinite() || q.normal.norm() < 0.5) continue;
+      const Vec3 n = q.normal.normalized();
+      const Vec3 u = n.unitOrthogonal() * q.half, w = n.cross(u);
+      const Vec3 c00 = q.centre - u - w, c10 = q.centre + u - w, c11 = q.centre + u + w, c01 = q.centre - u + w;
+      for (const Vec3& p : {c00, c10, c11, c00, c11, c01}) push(out.translucent, p, n, q.colour, q.opacity);
+      // Its outline and normal, so that it shows edge-on too.
+      for (const Vec3& p : {c00, c10, c10, c11, c11, c01, c01, c00}) push(out.lines, p, n, q.colour, 1.0);
+      push(out.lines, q.centre, n, q.colour, 1.0);
+      push(out.lines, q.centre + n * q.half, n, q.colour, 1.0);
+    }
+  if (options.show_bvh)
+    for (const BoxView& b : frame.boxes) {
+      const auto corner = [&](int i) {
+        return Vec3(i & 1 ? b.hi.x() : b.lo.x(), i & 2 ? b.hi.y() : b.lo.y(), i & 4 ? b.hi.z() : b.lo.z());
+      };
+      // The 12 edges: corners differing in one coordinate bit.
+      for (int i = 0; i < 8; ++i)
+        for (int bit = 1; bit < 8; bit <<= 1)
+          if (!(i & bit)) {
+            push(out.lines, corner(i), Vec3::UnitZ(), b.colour, 1.0);
+            push(out.lines, corner(i | bit), Vec3::UnitZ(), b.colour, 1.0);
+          }
+    }
 }
 
-void Renderer::draw(const std::vector<Vertex>& vertices) {
+void Renderer::draw(const std::vector<Vertex>& vertices, GLenum mode) {
   if (vertices.empty()) return;
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STREAM_DRAW);
-  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
+  glDrawArrays(mode, 0, static_cast<GLsizei>(vertices.size()));
 }
 
 void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const ViewOptions& options, int width,
@@ -357,6 +382,12 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
     draw(batches.wire);
     glDisable(GL_POLYGON_OFFSET_LINE);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
+  }
+
+  if (!batches.lines.empty()) {
+    glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 1);
+    draw(batches.lines, GL_LINES);
     glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
   }
 

@@ -31,10 +31,10 @@ class Renderer {
     float colour[4];
   };
   struct Batches {
-    std::vector<Vertex> opaque, translucent, wire;
+    std::vector<Vertex> opaque, translucent, wire, lines;
   };
   void build(const FrameView& frame, const ViewOptions& options, Batches& out) const;
-  void draw(const std::vector<Vertex>& vertices);
+  void draw(const std::vector<Vertex>& vertices, GLenum mode = GL_TRIANGLES);
 
   GLuint shaded_ = 0, depth_ = 0;  // programs
   GLuint vao_ = 0, vbo_ = 0;

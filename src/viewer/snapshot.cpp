@@ -7,6 +7,8 @@
 
 #include "core/error.hpp"
 #include "runtime/session.hpp"
+#include "runtime/simulation_loop.hpp"
+#include "viewer/debug_views.hpp"
 #include "viewer/offscreen.hpp"
 #include "viewer/renderer.hpp"
 #include "viewer/visual_feed.hpp"
@@ -81,7 +83,18 @@ Snapshot take_snapshot(const scene::Model& model, const SnapshotOptions& options
     throw InputError(fmt::format("--at {}: the time must be in [0, 3600] s", options.time));
   VisualFeed feed(model);
   FrameView frame;
-  if (options.time > 0.0) {
+  if (options.time > 0.0 && model.devices.empty()) {
+    // No device, no haptic loop: the bodies under their scene loads alone, stepped as the
+    // run's simulation loop steps them (the same instants as a lockstep run).
+    runtime::SimulationLoop simulation(model, {});
+    TripleBuffer<runtime::SurfaceSnapshot>& out = feed.surface_buffer(simulation.initial_snapshot());
+    simulation.add_output(out);
+    const double rate = model.rates.simulation;
+    for (std::uint64_t k = 0; static_cast<double>(k) / rate <= options.time + 1e-12; ++k) {
+      const Nanos now = now_ns();
+      simulation.step(static_cast<double>(k) / rate, now, now, false);
+    }
+  } else if (options.time > 0.0) {
     runtime::SessionOptions o;
     o.scheduling = runtime::Scheduling::lockstep;
     o.duration = options.time;
@@ -90,6 +103,7 @@ Snapshot take_snapshot(const scene::Model& model, const SnapshotOptions& options
     runtime::run_session(model, o);
   }
   frame = feed.build();
+  DebugViews(model).add(feed.tools(), options.view, frame);
   return render_offscreen(frame, snapshot_camera(frame, options.camera), options.view, options.width, options.height);
 }
 

@@ -40,7 +40,8 @@ int modifier(const std::string& word, const SourceLocation& where) {
 int key(const std::string& word, const SourceLocation& where) {
   if (word.size() == 1 && word[0] >= 'a' && word[0] <= 'z') return GLFW_KEY_A + (word[0] - 'a');
   if (word == "escape") return GLFW_KEY_ESCAPE;
-  throw InputError(where, fmt::format("unknown key '{}' (a letter a-z, escape)", word));
+  if (word == "space") return GLFW_KEY_SPACE;
+  throw InputError(where, fmt::format("unknown key '{}' (a letter a-z, space, escape)", word));
 }
 
 }  // namespace
@@ -97,12 +98,30 @@ std::vector<ScriptCommand> parse_view_script(const std::string& text, const std:
       want(1, 1, "screenshot FILE.png");
       c.op = ScriptOp::screenshot;
       c.text = w[1];
+    } else if (op == "surface") {
+      want(1, 3, "surface STIFFNESS [STATIC_FRICTION KINETIC_FRICTION]");
+      c.op = ScriptOp::surface;
+      c.a = number(w[1], where, "stiffness");
+      c.b = w.size() > 2 ? number(w[2], where, "static friction") : 0.0;
+      c.c = w.size() > 3 ? number(w[3], where, "kinetic friction") : 0.0;
+    } else if (op == "material") {
+      want(2, 3, "material BODY YOUNG_MODULUS [DAMPING]");
+      c.op = ScriptOp::material;
+      const double body = number(w[1], where, "body index");
+      if (body < 0.0 || body != std::floor(body) || body > 1e6) throw InputError(where, "material: BODY is a body index (0, 1, ...)");
+      c.button = static_cast<int>(body);
+      c.a = number(w[2], where, "Young's modulus");
+      c.b = w.size() > 3 ? number(w[3], where, "damping") : -1.0;
+    } else if (op == "scene") {
+      want(1, 1, "scene FILE.toml");
+      c.op = ScriptOp::scene;
+      c.text = w[1];
     } else if (op == "quit") {
       want(0, 0, "quit");
       c.op = ScriptOp::quit;
     } else {
       throw InputError(where, fmt::format("unknown command '{}' (wait, frames, move, press, release, scroll, key, "
-                                          "print, screenshot, quit)", op));
+                                          "print, screenshot, surface, material, scene, quit)", op));
     }
     out.push_back(std::move(c));
   }

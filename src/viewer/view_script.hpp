@@ -19,15 +19,18 @@ enum class ScriptOp {
   print,       ///< print: the finger's device position and force to stdout
   screenshot,  ///< screenshot FILE.png: the window's default framebuffer after the next frame
   quit,        ///< quit: close the window
+  surface,     ///< surface K MUS MUK: the first device's contact stiffness and friction, live
+  material,    ///< material BODY E [ALPHA]: body BODY's (index) Young's modulus [Pa] and damping [1/s], live
+  scene,       ///< scene FILE: the scene switcher's choice (ends this run, starts FILE's)
 };
 
 struct ScriptCommand {
   ScriptOp op = ScriptOp::wait;
-  double a = 0.0, b = 0.0;  ///< numbers: seconds, frames, x, y, notches
+  double a = 0.0, b = 0.0, c = 0.0;  ///< numbers: seconds, frames, x, y, notches, parameters
   int button = 0;           ///< GLFW_MOUSE_BUTTON_* for press / release
   int mods = 0;             ///< GLFW_MOD_* bits
   int key = 0;              ///< GLFW_KEY_* for key
-  std::string text;         ///< screenshot path
+  std::string text;         ///< screenshot path, scene file
   std::size_t line = 0;
 };
 

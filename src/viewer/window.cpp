@@ -22,6 +22,8 @@
 #include "core/error.hpp"
 #include "core/png.hpp"
 #include "runtime/devices.hpp"
+#include "runtime/live_parameters.hpp"
+#include "viewer/debug_views.hpp"
 #include "viewer/camera.hpp"
 #include "viewer/mouse_device.hpp"
 #include "viewer/panel.hpp"
@@ -49,9 +51,13 @@ constexpr double kZoomPerNotch = 0.9;
 class Window {
  public:
   Window(const scene::Model& model, const WindowOptions& options, VisualFeed& feed, MouseChannel* mouse,
-         const haptics::WorkspaceMap& map, std::string mouse_device, std::string recording)
+         const haptics::WorkspaceMap& map, std::string mouse_device, std::string recording,
+         runtime::LiveParameters& live)
       : model_(model), options_(options), feed_(feed), mouse_(mouse), map_(map),
-        mouse_device_(std::move(mouse_device)), recording_(std::move(recording)) {
+        mouse_device_(std::move(mouse_device)), recording_(std::move(recording)), live_(live), debug_(model) {
+    for (const scene::Body& b : model.bodies) body_names_.push_back(b.name);
+    for (const scene::Device& d : model.devices) device_names_.push_back(d.name);
+    scenes_ = options.scenes;
     // A bad script is reported before anything opens or runs.
     if (options.script) script_ = read_view_script(*options.script);
     glfwSetErrorCallback(on_glfw_error);
@@ -122,6 +128,9 @@ class Window {
   }
   Window(const Window&) = delete;
   Window& operator=(const Window&) = delete;
+
+  /// The scene chosen in the switcher, to run after this one; empty = none.
+  [[nodiscard]] const std::string& next_scene() const { return next_scene_; }
 
   /// Where the mouse device starts, device coordinates.
   [[nodiscard]] Vec3 home_device_position() const { return map_.to_device(home_finger_); }
@@ -232,9 +241,22 @@ class Window {
       case GLFW_KEY_T: view_.reveal = !view_.reveal; break;
       case GLFW_KEY_W: view_.wireframe = !view_.wireframe; break;
       case GLFW_KEY_H: panel_visible_ = !panel_visible_; break;
+      case GLFW_KEY_E:
+      case GLFW_KEY_SPACE: emergency_stop(); break;
+      case GLFW_KEY_P: view_.show_planes = !view_.show_planes; break;
+      case GLFW_KEY_B: view_.show_bvh = !view_.show_bvh; break;
       case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
       default: break;
     }
+  }
+
+  /// Every device's force off at its next frame, for the rest of the run.
+  void emergency_stop() {
+    if (stopped_) return;
+    live_.request_emergency_stop();
+    stopped_ = true;
+    std::printf("view: emergency stop\n");
+    std::fflush(stdout);
   }
 
   [[nodiscard]] Vec3 forward() const { return (camera_.target - camera_.eye()).normalized(); }
@@ -286,9 +308,26 @@ class Window {
         case ScriptOp::scroll: on_scroll(c.a, c.mods, true); break;
         case ScriptOp::key: on_key(c.key, GLFW_PRESS, 0, true); break;
         case ScriptOp::print: print_state(); break;
+        case ScriptOp::surface:
+        case ScriptOp::material:
+          try {
+            if (c.op == ScriptOp::surface)
+              live_.set_surface(0, c.a, c.b, c.c);
+            else
+              live_.set_material(static_cast<std::size_t>(c.button), c.a, c.b);
+            std::printf("view: edited at t = %.3f s\n", feed_.build().t);
+            std::fflush(stdout);
+          } catch (const InputError& e) {
+            throw InputError(SourceLocation{options_.script->string(), c.line, {}, {}}, e.what());
+          }
+          break;
         case ScriptOp::screenshot:
           screenshot_ = c.text;  // taken after this frame is drawn
           ++next_;
+          return;
+        case ScriptOp::scene:
+          next_scene_ = c.text;
+          quit_ = true;
           return;
         case ScriptOp::quit: quit_ = true; return;
       }
@@ -312,7 +351,9 @@ class Window {
   // --- drawing ----------------------------------------------------------------------------
 
   void draw_frame() {
-    const FrameView frame = feed_.build();
+    FrameView frame = feed_.build();
+    const std::vector<ToolView> tools = feed_.tools();
+    debug_.add(tools, view_, frame);
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
     if (width <= 0 || height <= 0) return;  // minimised
@@ -330,14 +371,23 @@ class Window {
       in.visual_rate = visual_rate_;
       in.frame_ms = last_frame_ms_;
       in.t = frame.t;
-      const std::vector<ToolView> tools = feed_.tools();
       if (!tools.empty()) in.tool = tools.front();
+      in.live = &live_;
+      in.body_names = body_names_;
+      in.device_names = device_names_;
+      in.emergency_stopped = stopped_;
+      in.scenes = scenes_;
       in.samples = feed_.samples();
       in.events = feed_.events();
       const PanelActions a = draw_panel(in, view_);
       if (a.reset_camera) camera_ = home_camera_;
       if (a.reset_finger) finger_ = home_finger_;
       if (a.close) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+      if (a.emergency_stop) emergency_stop();
+      if (!a.switch_to.empty()) {
+        next_scene_ = a.switch_to;
+        glfwSetWindowShouldClose(window_, GLFW_TRUE);
+      }
     }
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -383,6 +433,12 @@ class Window {
   std::string screenshot_;
 
   double visual_rate_ = 0.0, last_frame_ms_ = 0.0;
+
+  runtime::LiveParameters& live_;
+  DebugViews debug_;
+  bool stopped_ = false;
+  std::vector<std::string> body_names_, device_names_, scenes_;
+  std::string next_scene_;
 };
 
 }  // namespace
@@ -404,8 +460,11 @@ runtime::SessionReport run_with_window(const scene::Model& model, runtime::Sessi
   report.mouse_device = mouse ? model.devices[0].name : std::string();
   // The channel is built before the window (which sets its start) and outlives the run.
   MouseChannel channel(Vec3::Zero());
+  // Edits from the panel; they outlive the run, which reads them.
+  runtime::LiveParameters live(model);
   Window window(model, window_options, feed, mouse ? &channel : nullptr, map, report.mouse_device,
-                options.record ? options.record->string() : std::string());
+                options.record ? options.record->string() : std::string(), live);
+  options.live = &live;
   channel.set(window.home_device_position());
   options.visual = &feed;
   options.interrupt = &stop;
@@ -434,8 +493,18 @@ runtime::SessionReport run_with_window(const scene::Model& model, runtime::Sessi
     throw;
   }
   run.join();
+  report.next_scene = window.next_scene();
   if (failure) std::rethrow_exception(failure);
   return session;
+}
+
+std::vector<std::string> scene_files(const std::filesystem::path& folder) {
+  std::vector<std::string> out;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(folder.empty() ? "." : folder, error))
+    if (entry.is_regular_file(error) && entry.path().extension() == ".toml") out.push_back(entry.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 std::string format_window_report(const WindowReport& r) {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "runtime/session.hpp"
 #include "scene/model.hpp"
@@ -24,6 +25,8 @@ struct WindowOptions {
   bool mouse = true;
   /// The visual loop's rate cap [Hz], so that software GL leaves CPU to the run.
   double max_fps = 60.0;
+  /// Scenes the panel's switcher offers (paths); empty = no switcher.
+  std::vector<std::string> scenes;
 };
 
 /// What the visual loop achieved.
@@ -34,6 +37,7 @@ struct WindowReport {
   double frame_p50_ms = 0.0;    ///< CPU time to build and draw one frame
   double frame_p99_ms = 0.0;
   std::string mouse_device;     ///< the scene device the mouse drove, empty = none
+  std::string next_scene;       ///< chosen in the panel's switcher: run it next; empty = none
 };
 
 /// Whether the mouse may replace scene device `index`: not hardware, not network, not
@@ -47,6 +51,9 @@ bool mouse_may_drive(const scene::Model& model, std::size_t index, const runtime
 /// opened (no display), and rethrows what the run throws.
 runtime::SessionReport run_with_window(const scene::Model& model, runtime::SessionOptions options,
                                        const WindowOptions& window, std::atomic<bool>& stop, WindowReport& report);
+
+/// The scene files (*.toml) in `folder`, sorted; empty when it cannot be read.
+std::vector<std::string> scene_files(const std::filesystem::path& folder);
 
 /// One line for the run's report: "visual loop: N frames in S s, R Hz; frame time p50 / p99 ms".
 std::string format_window_report(const WindowReport& report);

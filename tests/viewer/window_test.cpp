@@ -163,7 +163,16 @@ TEST(ViewerScript, ParsesCommandsAndRejectsBadLinesWithTheirLine) {
   EXPECT_DOUBLE_EQ(c[4].a, -2.0);
   EXPECT_EQ(c[7].text, "a.png");
   EXPECT_EQ(c[9].op, ScriptOp::quit);
-  for (const char* bad : {"jump 1\n", "wait x\n", "press thumb\n", "move 1\n", "frames 1.5\n", "key F1\n"}) {
+  const auto live = parse_view_script("surface 500 0.4 0.2\nmaterial 1 3e4\nmaterial 0 2e4 5\nkey space\n", "s.txt");
+  ASSERT_EQ(live.size(), 4u);
+  EXPECT_EQ(live[0].op, ScriptOp::surface);
+  EXPECT_DOUBLE_EQ(live[0].c, 0.2);
+  EXPECT_EQ(live[1].op, ScriptOp::material);
+  EXPECT_EQ(live[1].button, 1);
+  EXPECT_DOUBLE_EQ(live[1].b, -1.0);  // the scene's damping kept
+  EXPECT_DOUBLE_EQ(live[2].b, 5.0);
+  for (const char* bad : {"jump 1\n", "wait x\n", "press thumb\n", "move 1\n", "frames 1.5\n", "key F1\n",
+                          "surface\n", "material 1.5 3e4\n", "material 0\n"}) {
     try {
       parse_view_script(std::string("print\n") + bad, "s.txt");
       ADD_FAILURE() << "accepted: " << bad;
@@ -294,6 +303,90 @@ TEST(ViewerWindow, TheMousePalpatesTheNoduleSceneUnderXvfb) {
   stbi_image_free(pixels);
   EXPECT_GT(skin, n / 20) << "skin pixels: " << skin << " of " << n;
   EXPECT_GT(differing, n / 10);
+}
+
+// The panel's live controls through the same handlers: a softer coupling while touching,
+// the constraint-plane and BVH views, the emergency-stop key.
+TEST(ViewerWindow, EditsWhileTouchingShowsDebugViewsAndStopsOnTheKey) {
+  Xvfb x;
+  if (!x.ok()) GTEST_SKIP() << "no X display can be made here: " << x.why_not();
+
+  const fs::path screenshot = scratch("debug_views.png");
+  const fs::path script = scratch("live_script.txt");
+  fs::remove(screenshot);
+  {
+    std::ofstream s(script);
+    s << "frames 2\nwait 1.0\nscroll 9\nwait 1.5\nprint\n"
+         "surface 20 0 0\nwait 1.0\nprint\n"
+         "key p\nkey b\nframes 2\nscreenshot "
+      << screenshot.string() << "\nframes 1\nkey e\nwait 0.5\nprint\nquit\n";
+  }
+  std::string out;
+  const int status = run_command("DISPLAY=" + x.display() + " " + TACTUS_BINARY + " run " + TACTUS_SOURCE_DIR +
+                                     "/scenes/nodule.toml --view --view-seconds 200 --view-script " + script.string(),
+                                 out);
+  ASSERT_EQ(status, 0) << out;
+  const std::vector<FingerLine> lines = finger_lines(out);
+  ASSERT_EQ(lines.size(), 3u) << out;
+  EXPECT_NE(out.find("view: edited at t = "), std::string::npos) << out;
+  unsigned long watchdog_trips = 0;
+  const std::size_t trips = out.find("watchdog trips ");
+  ASSERT_NE(trips, std::string::npos) << out;
+  ASSERT_EQ(std::sscanf(out.c_str() + trips, "watchdog trips %lu", &watchdog_trips), 1) << out;
+  if (watchdog_trips == 0) {
+    // The finger's centre is 9 · 2 mm · sin 35° − 9 mm = 1.3 mm under the skin's rest
+    // plane: the proxy, on the skin, is at most its 6 mm radius plus that away (a little
+    // more on a slope). The scene's 100 N/m coupling gives up to 0.73 N there; the edited
+    // 20 N/m at most 20 N/m · 15 mm = 0.3 N, whatever the skin does.
+    // (Whether the finger touches at the instant of a print depends on how far the skin has
+    // come back under it; the bound holds either way.)
+    EXPECT_NEAR((lines[1].position - lines[0].position).norm(), 0.0, 1e-9) << out;
+    EXPECT_LT(lines[1].force, 0.3) << out;
+  }
+  // The emergency stop: no force, said at once and in the run's report, which no longer
+  // claims the visual loop was headless.
+  EXPECT_EQ(lines[2].force, 0.0) << out;
+  EXPECT_NE(out.find("view: emergency stop"), std::string::npos) << out;
+  EXPECT_NE(out.find("emergency stops 1"), std::string::npos) << out;
+  EXPECT_EQ(out.find("visual loop: not running (headless)"), std::string::npos) << out;
+  EXPECT_GT(visual_loop_rate(out), 0.0) << out;
+
+  // The BVH's boxes (unlit magenta lines) and the plane's outline (unlit green) show.
+  int width = 0, height = 0, channels = 0;
+  unsigned char* pixels = stbi_load(screenshot.string().c_str(), &width, &height, &channels, 3);
+  ASSERT_NE(pixels, nullptr) << "no screenshot at " << screenshot << "\n" << out;
+  std::size_t magenta = 0, green = 0;
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int r = pixels[3 * i], g = pixels[3 * i + 1], b = pixels[3 * i + 2];
+    if (r > 180 && b > 190 && g < 150) ++magenta;
+    if (g > 190 && r < 110 && b < 160) ++green;
+  }
+  stbi_image_free(pixels);
+  EXPECT_GT(magenta, 300u) << "BVH pixels";
+  EXPECT_GT(green, 20u) << "plane pixels";
+}
+
+// The scene switcher's choice (the script's `scene`, as the panel's list): the run ends with
+// its report and the chosen scene runs in a new window (closed by --view-seconds).
+TEST(ViewerWindow, TheSceneSwitcherEndsTheRunAndStartsTheChosenScene) {
+  Xvfb x;
+  if (!x.ok()) GTEST_SKIP() << "no X display can be made here: " << x.why_not();
+  const fs::path script = scratch("switch_script.txt");
+  {
+    std::ofstream s(script);
+    s << "scene " << TACTUS_SOURCE_DIR << "/scenes/default.toml\n";
+  }
+  std::string out;
+  const int status = run_command("DISPLAY=" + x.display() + " " + TACTUS_BINARY + " run " + TACTUS_SOURCE_DIR +
+                                     "/scenes/nodule.toml --view --view-seconds 3 --view-script " + script.string(),
+                                 out);
+  ASSERT_EQ(status, 0) << out;
+  const std::size_t first = out.find("run of scene 'nodule'");
+  const std::size_t second = out.find("run of scene 'default'");
+  ASSERT_NE(first, std::string::npos) << out;
+  ASSERT_NE(second, std::string::npos) << out;
+  EXPECT_LT(first, second) << out;
 }
 
 }  // namespace

@@ -1,0 +1,291 @@
+#include "runtime/live_parameters.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "runtime/haptic_loop.hpp"
+#include "runtime/simulation_loop.hpp"
+
+namespace tactus::runtime {
+
+LiveParameters::LiveParameters(const scene::Model& model)
+    : scene_source_(model.source), body_count_(model.bodies.size()), device_count_(model.devices.size()) {
+  for (std::size_t i = 0; i < model.bodies.size() && i < kMaxBodies; ++i) {
+    const scene::Body& b = model.bodies[i];
+    body_names_[i] = b.name;
+    const bool deformable = b.kind != scene::BodyKind::rigid && b.kind != scene::BodyKind::embedded && !b.cspace;
+    if (!deformable || !b.material) continue;
+    const scene::Material& m = model.materials.at(*b.material);
+    Material& out = scene_materials_.body[i];
+    out.young_modulus = m.young_modulus;
+    // The panel's starting value: the scene's damping per unit mass (uniform except for
+    // surface springs, whose nodal damping is shown over the mean node mass).
+    double alpha = m.damping.rayleigh_alpha;
+    if (b.kind == scene::BodyKind::tet_mass_spring && b.volume && !b.volume->vertices.empty()) {
+      const double mean_mass = m.density * b.volume->volume() / static_cast<double>(b.volume->vertices.size());
+      if (mean_mass > 0.0) alpha += m.damping.nodal / mean_mass;
+    } else if (b.kind == scene::BodyKind::surface_mass_spring && !b.surface.vertices.empty()) {
+      double area = 0.0;
+      for (const auto& t : b.surface.triangles)
+        area += 0.5 * (b.surface.vertices[static_cast<std::size_t>(t[1])] - b.surface.vertices[static_cast<std::size_t>(t[0])])
+                          .cross(b.surface.vertices[static_cast<std::size_t>(t[2])] -
+                                 b.surface.vertices[static_cast<std::size_t>(t[0])])
+                          .norm();
+      const double mean_mass = m.density * b.thickness * area / static_cast<double>(b.surface.vertices.size());
+      alpha = mean_mass > 0.0 ? m.damping.nodal / mean_mass : 0.0;
+    }
+    out.damping = alpha;
+  }
+  edited_materials_ = scene_materials_;
+  materials_.store(scene_materials_);
+}
+
+void LiveParameters::set_material(std::size_t body, double young_modulus, double damping, double from) {
+  const SourceLocation where{scene_source_, {}, {}, {}};
+  if (body >= body_count_) throw InputError(where, fmt::format("live edit: no body {} in the scene", body));
+  if (!material_editable(body))
+    throw InputError(where, fmt::format("live edit: body '{}' has no material that can be edited (rigid, cspace, "
+                                        "embedded, or beyond the first {} bodies)",
+                                        body_names_[body], kMaxBodies));
+  if (!(young_modulus > 0.0 && std::isfinite(young_modulus)))
+    throw InputError(where, fmt::format("live edit: body '{}': Young's modulus must be positive, not {}",
+                                        body_names_[body], young_modulus));
+  if (!std::isfinite(damping))
+    throw InputError(where, fmt::format("live edit: body '{}': damping must be finite", body_names_[body]));
+  Material& m = edited_materials_.body[body];
+  m.young_modulus = young_modulus;
+  m.damping_set = damping >= 0.0;
+  if (m.damping_set) m.damping = damping;
+  ++edited_materials_.version;
+  edited_materials_.from = from;
+  materials_.store(edited_materials_);
+}
+
+void LiveParameters::set_surface(std::size_t device, double stiffness, double static_friction,
+                                 double kinetic_friction, double from) {
+  const SourceLocation where{scene_source_, {}, {}, {}};
+  if (device >= device_count_ || device >= kMaxDevices)
+    throw InputError(where, fmt::format("live edit: no editable device {} in the scene", device));
+  const SurfaceKind kind = surface_kind(device);
+  if (kind == SurfaceKind::none)
+    throw InputError(where, fmt::format("live edit: device {}'s contact has no stiffness to edit (Hertz, fingerpad, "
+                                        "needle, multi-surface or configuration-space contact)",
+                                        device));
+  if (!(stiffness > 0.0 && stiffness <= max_stiffness_[device]))
+    throw InputError(where, fmt::format("live edit: device {}: stiffness {} N/m outside (0, {}] (the device's "
+                                        "max_stiffness)",
+                                        device, stiffness, max_stiffness_[device]));
+  if (!(static_friction >= 0.0 && kinetic_friction >= 0.0 && kinetic_friction <= static_friction &&
+        std::isfinite(static_friction)))
+    throw InputError(where, fmt::format("live edit: device {}: friction needs 0 ≤ μk ≤ μs (μs = {}, μk = {})", device,
+                                        static_friction, kinetic_friction));
+  if (kind != SurfaceKind::proxy && (static_friction != 0.0 || kinetic_friction != 0.0))
+    throw InputError(where, fmt::format("live edit: device {}: a penalty contact has no friction", device));
+  Surface& s = edited_surfaces_[device];
+  s.stiffness = stiffness;
+  s.static_friction = static_friction;
+  s.kinetic_friction = kinetic_friction;
+  ++s.version;
+  s.from = from;
+  surfaces_[device].store(s);
+}
+
+void LiveParameters::describe_device(std::size_t device, const HapticConfig& config, double max_stiffness) {
+  if (device >= kMaxDevices) return;
+  Surface s;
+  SurfaceKind kind = SurfaceKind::none;
+  // The force of these comes from the tissue or from their own algorithm: no coupling to edit.
+  const bool other_law = config.hertz || config.fingerpad || config.needle || config.multi_surface || config.cspace ||
+                         config.spheres.empty();
+  if (config.proxy && !other_law) {
+    kind = SurfaceKind::proxy;
+    s.stiffness = config.proxy->stiffness;
+    s.static_friction = config.proxy->static_friction;
+    s.kinetic_friction = config.proxy->kinetic_friction;
+  } else if (!other_law) {
+    kind = SurfaceKind::penalty;
+    s.stiffness = config.stiffness;
+  }
+  surface_kinds_[device] = kind;
+  scene_surfaces_[device] = s;
+  edited_surfaces_[device] = s;
+  max_stiffness_[device] = max_stiffness;
+  surfaces_[device].store(s);
+}
+
+VecX scene_mass_damping(const scene::Model& model, std::size_t index, const VecX& lumped_mass) {
+  const scene::Body& b = model.bodies.at(index);
+  VecX c = VecX::Zero(lumped_mass.size());
+  if (!b.material) return c;
+  const scene::Material& m = model.materials.at(*b.material);
+  switch (b.kind) {
+    case scene::BodyKind::fem: c.setConstant(m.damping.rayleigh_alpha); break;
+    case scene::BodyKind::tet_mass_spring: {
+      // As runtime/bodies.cpp builds it: d_i = α m_i with α = Rayleigh α + nodal / mean mass.
+      const double mean_mass = m.density * b.volume->volume() / static_cast<double>(b.volume->vertices.size());
+      c.setConstant(m.damping.rayleigh_alpha + (mean_mass > 0.0 ? m.damping.nodal / mean_mass : 0.0));
+      break;
+    }
+    case scene::BodyKind::surface_mass_spring:
+      for (Eigen::Index i = 0; i < c.size(); ++i) c[i] = lumped_mass[i] > 0.0 ? m.damping.nodal / lumped_mass[i] : 0.0;
+      break;
+    case scene::BodyKind::rigid:
+    case scene::BodyKind::embedded: break;
+  }
+  return c;
+}
+
+// --- LiveMaterialModel ---------------------------------------------------------------------
+
+namespace {
+
+struct LiveScratch final : physics::Scratch {
+  std::unique_ptr<physics::Scratch> inner;
+  mutable VecX scaled;  ///< a scaled copy of an argument (sized once)
+};
+
+physics::Scratch& inner_of(physics::Scratch& s) { return *static_cast<LiveScratch&>(s).inner; }
+const physics::Scratch& inner_of(const physics::Scratch& s) { return *static_cast<const LiveScratch&>(s).inner; }
+const VecX& scaled_copy(const physics::Scratch& s, double scale, const VecX& in) {
+  VecX& out = static_cast<const LiveScratch&>(s).scaled;
+  out.resize(in.size());  // a no-op after the first call
+  out = scale * in;
+  return out;
+}
+
+}  // namespace
+
+LiveMaterialModel::LiveMaterialModel(std::shared_ptr<const physics::ForceModel> inner, VecX scene_damping)
+    : inner_(std::move(inner)), scene_damping_(std::move(scene_damping)) {
+  extra_ = VecX::Zero(scene_damping_.size());
+}
+
+void LiveMaterialModel::set(double scale, double damping) {
+  scale_ = scale;
+  const VecX& m = inner_->lumped_mass();
+  has_extra_ = false;
+  for (Eigen::Index i = 0; i < extra_.size(); ++i) {
+    const double target = damping >= 0.0 ? damping : scene_damping_[i];
+    extra_[i] = (target - scale * scene_damping_[i]) * m[i];
+    has_extra_ = has_extra_ || extra_[i] != 0.0;
+  }
+}
+
+std::unique_ptr<physics::Scratch> LiveMaterialModel::make_scratch() const {
+  auto s = std::make_unique<LiveScratch>();
+  s->inner = inner_->make_scratch();
+  s->scaled = VecX::Zero(static_cast<Eigen::Index>(3 * inner_->node_count()));
+  return s;
+}
+
+void LiveMaterialModel::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, physics::Scratch& s) const {
+  inner_->forces(x, v, q, f, inner_of(s));
+  if (scale_ != 1.0) f *= scale_;
+  if (has_extra_ && v.size() == f.size()) f -= extra_.cwiseProduct(v);
+}
+
+void LiveMaterialModel::linearize(const VecX& x, const VecX& v, const VecX& q, physics::Scratch& s) const {
+  inner_->linearize(x, v, q, inner_of(s));
+}
+
+void LiveMaterialModel::add_stiffness_product(const VecX& dx, VecX& out, const physics::Scratch& s) const {
+  inner_->add_stiffness_product(scale_ == 1.0 ? dx : scaled_copy(s, scale_, dx), out, inner_of(s));
+}
+
+void LiveMaterialModel::add_damping_product(const VecX& dv, VecX& out, const physics::Scratch& s) const {
+  inner_->add_damping_product(scale_ == 1.0 ? dv : scaled_copy(s, scale_, dv), out, inner_of(s));
+  if (has_extra_) out += extra_.cwiseProduct(dv);
+}
+
+void LiveMaterialModel::add_system_product(double a_mass, double b_damping, double c_stiffness, const VecX& in,
+                                           VecX& out, const physics::Scratch& s) const {
+  inner_->add_system_product(a_mass, scale_ * b_damping, scale_ * c_stiffness, in, out, inner_of(s));
+  if (has_extra_ && b_damping != 0.0) out += b_damping * extra_.cwiseProduct(in);
+}
+
+void LiveMaterialModel::add_diagonal(double a, double b, VecX& out, const physics::Scratch& s) const {
+  inner_->add_diagonal(scale_ * a, scale_ * b, out, inner_of(s));
+  if (has_extra_ && b != 0.0) out += b * extra_;
+}
+
+const physics::BlockMatrix* LiveMaterialModel::assemble_system(double a, double b, double c, physics::Scratch& s) const {
+  const physics::BlockMatrix* m = inner_->assemble_system(a, scale_ * b, scale_ * c, inner_of(s));
+  if (m && has_extra_ && b != 0.0) {
+    // The matrix lives in the inner model's scratch, which this call owns until the next one.
+    auto& diagonal = const_cast<physics::BlockMatrix*>(m)->diagonal;
+    for (std::size_t n = 0; n < diagonal.size(); ++n)
+      for (int k = 0; k < 3; ++k) diagonal[n](k, k) += b * extra_[static_cast<Eigen::Index>(3 * n) + k];
+  }
+  return m;
+}
+
+void LiveMaterialModel::linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
+                                          physics::Scratch& s) const {
+  // scale · (f + K dx) = (scale·f) + (scale·K) dx.
+  inner_->linearized_forces(x, v, q, dx, f, inner_of(s));
+  if (scale_ != 1.0) f *= scale_;
+  if (has_extra_ && v.size() == f.size()) f -= extra_.cwiseProduct(v);
+}
+
+void LiveMaterialModel::add_triplets(double a, double b, std::vector<physics::Triplet>& out,
+                                     const physics::Scratch& s) const {
+  inner_->add_triplets(scale_ * a, scale_ * b, out, inner_of(s));
+  if (has_extra_ && b != 0.0)
+    for (Eigen::Index i = 0; i < extra_.size(); ++i)
+      if (extra_[i] != 0.0) out.emplace_back(i, i, b * extra_[i]);
+}
+
+void LiveMaterialModel::update_internal(const VecX& x, double dt, VecX& q, physics::Scratch& s) const {
+  inner_->update_internal(x, dt, q, inner_of(s));
+}
+
+double LiveMaterialModel::elastic_energy(const VecX& x, const VecX& q) const {
+  return scale_ * inner_->elastic_energy(x, q);
+}
+
+// --- the loops' side -------------------------------------------------------------------------
+
+void SimulationLoop::set_live_parameters(const LiveParameters* live) {
+  live_ = live;
+  if (!live_) return;
+  for (SimBody& sb : bodies_) {
+    if (!sb.body || !live_->material_editable(sb.index)) continue;
+    VecX damping = scene_mass_damping(model_, sb.index, sb.body->model->lumped_mass());
+    sb.live = std::make_shared<LiveMaterialModel>(sb.body->model, std::move(damping));
+    sb.body->model = sb.live;
+    sb.state.model_scratch = sb.live->make_scratch();  // the wrapper's, holding the scene model's
+  }
+}
+
+void SimulationLoop::apply_live_parameters(double t) {
+  const LiveParameters::Materials m = live_->materials();
+  if (m.version == live_version_ || t < m.from) return;
+  live_version_ = m.version;
+  const LiveParameters::Materials& scene = live_->scene_materials();
+  for (SimBody& sb : bodies_) {
+    if (!sb.live) continue;
+    const LiveParameters::Material& edit = m.body[sb.index];
+    sb.live->set(edit.young_modulus / scene.body[sb.index].young_modulus, edit.damping_set ? edit.damping : -1.0);
+  }
+}
+
+void HapticLoop::apply_live_parameters(double t) {
+  if (live_->emergency_stop_requested()) request_emergency_stop();
+  if (config_.device >= LiveParameters::kMaxDevices) return;  // beyond the editable devices
+  const LiveParameters::Surface s = live_->surface(config_.device);
+  if (s.version == live_version_ || t < s.from) return;
+  live_version_ = s.version;
+  // Validated by the writer; bounded again here, the loop trusting no other thread.
+  const double k = std::clamp(s.stiffness, 0.0, live_->max_stiffness(config_.device));
+  if (!(k > 0.0)) return;
+  config_.stiffness = k;
+  if (config_.proxy) {
+    config_.proxy->stiffness = k;
+    config_.proxy->static_friction = std::max(0.0, s.static_friction);
+    config_.proxy->kinetic_friction = std::clamp(s.kinetic_friction, 0.0, config_.proxy->static_friction);
+  }
+}
+
+}  // namespace tactus::runtime
