@@ -4,6 +4,10 @@
 #include <csignal>
 #include <cstdio>
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -13,13 +17,16 @@
 #include <fmt/format.h>
 
 #include "app/commands.hpp"
+#include "app/curves.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "haptics/trajectory.hpp"
 #include "runtime/devices.hpp"
 #include "runtime/force_map.hpp"
 #include "runtime/recording_csv.hpp"
 #include "runtime/recording_reader.hpp"
 #include "runtime/report.hpp"
+#include "runtime/scenario_report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
 #include "viewer/window.hpp"
@@ -70,6 +77,7 @@ struct RunFlags {
   std::optional<int> cpu;
   std::optional<double> spin_us;
   std::string force_map;  ///< PNG of the first device's force map (run only)
+  std::string trace;      ///< folder for the force-trace CSVs and plot (bench only)
   bool view = false;        ///< run in a window (run only; docs/viewer.md)
   double view_seconds = 0.0;
   std::string view_script;
@@ -79,7 +87,8 @@ struct RunFlags {
 void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
   app.add_option("scene", f.scene, "Scene file (TOML); the built-in default scene without one")->check(CLI::ExistingFile);
   app.add_option("-d,--duration", f.duration,
-                 bench ? "Seconds to run (default 10)" : "Seconds to run; default: until every device has finished, at most 30")
+                 bench ? "Seconds to run (default: a scenario's length when every device is scripted, else 10)"
+                       : "Seconds to run (default: until every device has finished; at most 30 unless every device is scripted)")
       ->check(CLI::Range(0.0, 86400.0));
   app.add_flag("--lockstep", f.lockstep, "One thread, virtual time: reproducible bit for bit");
   app.add_option("--record", f.record, "Write every haptic frame, step and event to this recording");
@@ -94,11 +103,55 @@ void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
       ->check(CLI::Range(0.0, 10000.0));
 }
 
+/// How long the scene's scripted devices play, when every device is scripted (a scenario);
+/// none otherwise.
+std::optional<double> scripted_length(const scene::Model& m) {
+  if (m.devices.empty()) return std::nullopt;
+  double longest = 0.0;
+  for (const scene::Device& d : m.devices) {
+    const auto* s = std::get_if<scene::ScriptedDevice>(&d.source);
+    if (!s) return std::nullopt;
+    const double length = haptics::duration(s->trajectory);
+    if (!std::isfinite(length)) return std::nullopt;
+    longest = std::max(longest, length);
+  }
+  return longest;
+}
+
+/// --trace DIR: the force magnitudes per frame and the ruptures as CSV, and their plot through
+/// scripts/plot_forces.py when matplotlib is there (seed 003 Figs. 7–8).
+void write_trace(const RunFlags& f, const scene::Model& model, const runtime::SessionReport& report) {
+  namespace fs = std::filesystem;
+  fs::create_directories(f.trace);
+  const fs::path forces = fs::path(f.trace) / (model.name + "_forces.csv");
+  const fs::path ruptures = fs::path(f.trace) / (model.name + "_ruptures.csv");
+  write_text(forces.string(), runtime::force_trace_csv(model, report));
+  write_text(ruptures.string(), runtime::rupture_csv(report));
+  std::printf("force trace: %s, %s\n", forces.c_str(), ruptures.c_str());
+  const fs::path script = f.scene.empty() ? fs::path("scripts/plot_forces.py")
+                                          : fs::path(f.scene).parent_path() / ".." / "scripts" / "plot_forces.py";
+  const std::string python = curves::find_matplotlib_python();
+  if (!fs::exists(script) || python.empty()) {
+    log::warn("no plot: {} (scripts/plot_forces.py with matplotlib, Debian python3-matplotlib)",
+              python.empty() ? "no python3 with matplotlib" : "scripts/plot_forces.py not found");
+    return;
+  }
+  const std::string command = fmt::format("'{}' '{}' '{}' '{}'", python, script.string(), f.trace, model.name);
+  if (std::system(command.c_str()) != 0) throw std::runtime_error("the force plot failed: " + command);
+}
+
 int run_with(const RunFlags& f, bool bench) {
   const LoadedScene scene = load(f.scene);
   runtime::SessionOptions o;
   o.scheduling = f.lockstep ? runtime::Scheduling::lockstep : runtime::Scheduling::real_time;
-  o.duration = bench && f.duration <= 0.0 ? 10.0 : f.duration;
+  o.duration = f.duration;
+  // Without -d: a scenario (every device scripted) plays to its end; bench runs 10 s else.
+  if (f.duration <= 0.0) {
+    if (const auto length = scripted_length(scene.model))
+      o.max_duration = std::min(*length + 0.5, 3600.0);
+    else if (bench)
+      o.duration = 10.0;
+  }
   if (!f.record.empty()) o.record = f.record;
   else if (!scene.model.recording.path.empty()) o.record = scene.model.recording.path;
   o.scene_text = scene.text;
@@ -114,7 +167,7 @@ int run_with(const RunFlags& f, bool bench) {
     const std::string file = f.device.substr(prefix.size());
     o.replay = runtime::recorded_motion(runtime::read_recording(file), file);
   }
-  o.keep_frames = !f.force_map.empty();
+  o.keep_frames = !f.force_map.empty() || !f.trace.empty();
   if (!bench) std::fputs(scene::summarize(scene.model).c_str(), stdout);
   install_interrupt_handlers();
   std::optional<viewer::WindowReport> window;
@@ -126,6 +179,7 @@ int run_with(const RunFlags& f, bool bench) {
     w.seconds = f.view_seconds;
     if (!f.view_script.empty()) w.script = f.view_script;
     w.mouse = !f.no_mouse;
+    w.scenes = viewer::scene_files(f.scene.empty() ? std::filesystem::path("scenes") : std::filesystem::path(f.scene).parent_path());
     window.emplace();
     report = viewer::run_with_window(scene.model, o, w, g_interrupted, *window);
   } else {
@@ -133,11 +187,23 @@ int run_with(const RunFlags& f, bool bench) {
   }
   std::fputs(runtime::format_report(report).c_str(), stdout);
   if (window) std::fputs(viewer::format_window_report(*window).c_str(), stdout);
+  if (bench) std::fputs(runtime::format_scenario_measures(scene.model, report).c_str(), stdout);
+  if (!f.trace.empty()) write_trace(f, scene.model, report);
   if (o.record) log::info("recording written to {}", o.record->string());
   if (!f.json.empty()) write_text(f.json, runtime::report_json(report));
   if (!f.force_map.empty())
     std::fputs(runtime::write_force_map_png(runtime::build_force_map(scene.model, 0, report.frames), f.force_map).c_str(),
                stdout);
+  if (window && !window->next_scene.empty()) {
+    // The panel's scene switcher: this run has ended cleanly (the closing window set the
+    // interrupt flag to end it); the next one starts afresh.
+    g_interrupted.store(false);
+    RunFlags next = f;
+    next.scene = window->next_scene;
+    next.record.clear();     // a recording belongs to the run it was asked for
+    next.view_script.clear();
+    return run_with(next, bench);
+  }
   return 0;
 }
 
@@ -161,6 +227,7 @@ Action add_run(CLI::App& app) {
 Action add_bench(CLI::App& app) {
   auto f = std::make_shared<RunFlags>();
   add_run_flags(app, *f, true);
+  app.add_option("--trace", f->trace, "Write the force magnitudes and needle ruptures as CSV (and a PNG plot) here");
   return [f] { return run_with(*f, true); };
 }
 

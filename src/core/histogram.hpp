@@ -25,6 +25,9 @@ class LatencyHistogram {
   [[nodiscard]] Nanos max() const { return count_ == 0 ? 0 : max_; }
   /// Arithmetic mean of the recorded values; 0 when empty.
   [[nodiscard]] double mean() const;
+  /// Sample standard deviation of the recorded values (exact, not from the buckets); 0 for
+  /// fewer than two.
+  [[nodiscard]] double standard_deviation() const;
   /// The value below which p percent of the recorded values lie (the order statistic of rank
   /// ceil(p/100 · count), at least 1), within 0.4% (or 1 ns); percentile(0) is min(),
   /// percentile(100) is max(); 0 when empty. Throws std::invalid_argument unless 0 <= p <= 100.
@@ -39,6 +42,7 @@ class LatencyHistogram {
   std::vector<std::uint64_t> buckets_;
   std::uint64_t count_ = 0;
   double sum_ = 0.0;
+  double sum_squares_ = 0.0;
   Nanos min_ = 0;
   Nanos max_ = 0;
 };

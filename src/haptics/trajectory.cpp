@@ -44,6 +44,20 @@ Vec3 waypoints_position(const WaypointsPath& p, double t) {
   return a.position + s * (b.position - a.position);
 }
 
+Vec3 waypoints_direction(const WaypointsPath& p, double t) {
+  if (p.points.empty()) return Vec3(0, 0, -1);
+  t = waypoint_local_time(p, t);
+  const std::ptrdiff_t i = waypoint_segment(p, t);
+  if (i < 0) return p.points.front().direction;
+  if (i + 1 >= static_cast<std::ptrdiff_t>(p.points.size())) return p.points.back().direction;
+  const Waypoint& a = p.points[static_cast<std::size_t>(i)];
+  const Waypoint& b = p.points[static_cast<std::size_t>(i) + 1];
+  const double s = (t - a.time) / (b.time - a.time);
+  const Vec3 d = a.direction + s * (b.direction - a.direction);
+  // Opposite directions blend through zero: keep the earlier one until past the middle.
+  return d.norm() > 1e-9 ? Vec3(d.normalized()) : (s < 0.5 ? a.direction : b.direction);
+}
+
 Vec3 waypoints_velocity(const WaypointsPath& p, double t) {
   if (p.points.empty()) return Vec3::Zero();
   t = waypoint_local_time(p, t);
@@ -249,6 +263,12 @@ Vec3 position_at(const Trajectory& trajectory, double t) {
         else return needle_position(p, t);
       },
       trajectory);
+}
+
+Quat orientation_at(const Trajectory& trajectory, double t) {
+  const auto* p = std::get_if<WaypointsPath>(&trajectory);
+  if (!p) return Quat::Identity();
+  return Quat::FromTwoVectors(Vec3(0, 0, -1), waypoints_direction(*p, t));
 }
 
 Vec3 velocity_at(const Trajectory& trajectory, double t) {

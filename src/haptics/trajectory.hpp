@@ -12,6 +12,8 @@ namespace tactus::haptics {
 struct Waypoint {
   double time = 0.0;  ///< [s]
   Vec3 position = Vec3::Zero();
+  /// Where the handle's −z axis points (a needle's shaft towards its tip); unit.
+  Vec3 direction = Vec3(0, 0, -1);
 };
 struct WaypointsPath {
   std::vector<Waypoint> points;  ///< times strictly increasing
@@ -56,6 +58,9 @@ struct Tremor {
 /// The target position at time t ≥ 0 (before tremor). Paths that end (waypoints without
 /// loop, raster, press, needle line) hold their last point afterwards.
 [[nodiscard]] Vec3 position_at(const Trajectory& trajectory, double t);
+/// The handle's orientation at t: waypoints turn the −z axis from one waypoint's direction to
+/// the next's (normalized linear blend); every other path keeps the identity.
+[[nodiscard]] Quat orientation_at(const Trajectory& trajectory, double t);
 /// Velocity of the target at t (analytic where the path is smooth; one-sided at corners).
 [[nodiscard]] Vec3 velocity_at(const Trajectory& trajectory, double t);
 /// Time at which the path ends; +infinity for paths that never end (circle, looped waypoints).

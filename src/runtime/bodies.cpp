@@ -145,6 +145,8 @@ physics::Integrator integrator(scene::Integrator i) {
 physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
   const scene::Body& b = model.bodies.at(index);
   if (b.kind == scene::BodyKind::rigid) throw InputError(fmt::format("body '{}' is rigid: it has no dynamics", b.name));
+  if (b.kind == scene::BodyKind::embedded)
+    throw InputError(fmt::format("body '{}' is embedded: it moves with its host's tetrahedra", b.name));
   const scene::Material& m = model.materials.at(*b.material);
   if (b.mass_matrix == scene::MassMatrix::consistent) {
     // Explicit integrators need M^-1 f: with a consistent M that is a sparse solve per
@@ -163,7 +165,8 @@ physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
       case scene::BodyKind::fem: body.model = fem_model(b, m); break;
       case scene::BodyKind::tet_mass_spring: body.model = tet_spring_model(b, m); break;
       case scene::BodyKind::surface_mass_spring: body.model = surface_spring_model(b, m); break;
-      case scene::BodyKind::rigid: break;
+      case scene::BodyKind::rigid:
+      case scene::BodyKind::embedded: break;
     }
   } catch (const InputError& e) {
     throw InputError(SourceLocation{model.source, {}, {}, {}}, fmt::format("body '{}': {}", b.name, e.what()));

@@ -237,7 +237,7 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
   if (s.config.multi_surface) s.config.local_model = contact::LocalModelKind::plane;
   if (a->local_model == scene::LocalModel::mass_spring && !s.config.multi_surface)
     for (std::size_t b : s.bodies)
-      if (m.bodies[b].kind != scene::BodyKind::rigid && !m.bodies[b].material)
+      if (m.bodies[b].kind != scene::BodyKind::rigid && m.bodies[b].kind != scene::BodyKind::embedded && !m.bodies[b].material)
         throw InputError(SourceLocation{m.source, {}, {}, {}},
                          fmt::format("algorithm '{}': local_model = \"mass_spring\" fits its springs to the body's "
                                      "material, and body '{}' has none",

@@ -14,7 +14,10 @@ InteractionLoop::InteractionLoop(const scene::Model& model, std::vector<Interact
     : model_(model), targets_(std::move(targets)), surfaces_(surfaces) {
   stats_.name = "interaction";
   stats_.rate = model.rates.interaction;
-  for (const auto& b : model.bodies) parts_.push_back({"query " + b.name, {}});
+  for (const InteractionTarget& target : targets_) {
+    parts_.push_back({target.device + ": query per body", {}});
+    parts_.push_back({target.device + ": interaction", {}});
+  }
   parts_.push_back({"refit trees", {}});
   trees_.resize(model.bodies.size());
   for (const InteractionTarget& target : targets_) {
@@ -32,7 +35,7 @@ InteractionLoop::InteractionLoop(const scene::Model& model, std::vector<Interact
   }
 }
 
-void InteractionLoop::publish_needle_crossings(const InteractionTarget& target, const ToolState& tool) {
+void InteractionLoop::publish_needle_crossings(std::size_t k, const InteractionTarget& target, const ToolState& tool) {
   haptics::NeedleSurfaces& out = target.channels->needle.write_buffer();
   out = haptics::NeedleSurfaces{};
   const double axis_norm = tool.axis.norm();
@@ -46,7 +49,7 @@ void InteractionLoop::publish_needle_crossings(const InteractionTarget& target, 
       const std::size_t b = target.bodies[i];
       const Nanos q0 = now_ns();
       trees_[b].segment(from, to, hits_);
-      parts_[b].time.record(now_ns() - q0);
+      parts_[2 * k].time.record(now_ns() - q0);
       haptics::NeedleLayerSurface& layer = out.layers[i];
       for (const contact::RayHit& h : hits_) {
         if (!layer.entry_found) {
@@ -83,19 +86,20 @@ void InteractionLoop::step(double /*t*/, Nanos deadline, Nanos start, bool real_
   }
   for (std::size_t k = 0; k < targets_.size(); ++k) {
     InteractionTarget& target = targets_[k];
+    const Nanos handling0 = now_ns();
     target.channels->tool.update();
     const ToolState& tool = target.channels->tool.read();
     LocalContact& out = target.channels->contact.write_buffer();
     out = LocalContact{};
     out.surface_time = surfaces.t;
     if (target.needle_length > 0.0) {
-      publish_needle_crossings(target, tool);
+      publish_needle_crossings(k, target, tool);
     } else if (tool.valid) {
       double best = std::numeric_limits<double>::infinity();
       for (std::size_t b : target.bodies) {
         const Nanos q0 = now_ns();
         const contact::SurfacePoint p = trees_[b].closest_point(tool.position);
-        parts_[b].time.record(now_ns() - q0);
+        parts_[2 * k].time.record(now_ns() - q0);
         if (p.triangle < 0 || p.distance >= best) continue;
         best = p.distance;
         // Outside the tissue the plane faces the tool (smooth over edges and corners);
@@ -116,6 +120,7 @@ void InteractionLoop::step(double /*t*/, Nanos deadline, Nanos start, bool real_
       }
     }
     target.channels->contact.publish();
+    parts_[2 * k + 1].time.record(now_ns() - handling0);
   }
   stats_.record(deadline, start, now_ns() - start, real_time);
 }

@@ -3,6 +3,7 @@
 // newest deformed surfaces and publish that as the device's local contact model (a plane
 // through the closest point), which the haptic loop renders until the next one.
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "contact/bvh.hpp"
@@ -16,6 +17,7 @@ namespace tactus::runtime {
 
 struct InteractionTarget {
   DeviceChannels* channels = nullptr;
+  std::string device;  ///< the device's name, for the timing report
   std::vector<std::size_t> bodies;  ///< bodies this device's algorithm touches
   double reach = 0.0;  ///< a surface farther than this from the tool origin gives no contact [m]
   /// q-ring size of the curvature vote at the contact point; 0 = no curvature needed.
@@ -33,7 +35,9 @@ class InteractionLoop {
   void step(double t, Nanos deadline, Nanos start, bool real_time);
 
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
-  /// Closest-point query time per body (seed 003 Table 1's per-object collision time).
+  /// Per device: one body's collision query ("<device>: query per body", seed 003 Table 1's
+  /// CD), and the device's whole handling in a step ("<device>: interaction", its IN); then
+  /// "refit trees" (the trees' update after a simulation step, its updateGeo).
   [[nodiscard]] const std::vector<PartStats>& parts() const { return parts_; }
 
  private:
@@ -47,7 +51,7 @@ class InteractionLoop {
   /// Per target and body: the curvature estimator, when the target's algorithm needs one
   /// and the body's surface is a manifold.
   std::vector<std::vector<std::unique_ptr<mesh::CurvatureEstimator>>> curvature_;
-  void publish_needle_crossings(const InteractionTarget& target, const ToolState& tool);
+  void publish_needle_crossings(std::size_t k, const InteractionTarget& target, const ToolState& tool);
 
   LoopStats stats_;
   std::vector<PartStats> parts_;

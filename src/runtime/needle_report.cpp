@@ -1,5 +1,8 @@
 #include "runtime/needle_report.hpp"
 
+#include <algorithm>
+#include <map>
+
 #include <fmt/format.h>
 
 #include "core/text.hpp"
@@ -23,7 +26,13 @@ NeedleReport needle_report(const scene::Model& model, const std::string& device,
 }
 
 std::string format_needle_report(const NeedleReport& r) {
-  std::string out = fmt::format("\nneedle ({}): {} of {} layers passed\n", r.device, r.ruptures.size(), r.layers);
+  // Each insertion at a new site tears its layers anew: count the layers and the sites.
+  std::map<std::string, std::size_t> torn;
+  for (const NeedleRuptureReport& p : r.ruptures) ++torn[p.layer];
+  std::size_t sites = 0;
+  for (const auto& [layer, times] : torn) sites = std::max(sites, times);
+  std::string out = fmt::format("\nneedle ({}): {} of {} layers passed", r.device, torn.size(), r.layers);
+  out += sites > 1 ? fmt::format(", {} ruptures at {} insertion sites\n", r.ruptures.size(), sites) : "\n";
   for (std::size_t i = 0; i < r.ruptures.size(); ++i) {
     const NeedleRuptureReport& p = r.ruptures[i];
     out += fmt::format("  {}. {:<20} ruptured at t = {:.4f} s, force {:.3f} N (threshold {:.3f} N)\n", i + 1, p.layer,

@@ -16,7 +16,8 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
     : model_(model), devices_(std::move(devices)), steps_ring_(1 << 14) {
   stats_.name = "simulation";
   stats_.rate = model.rates.simulation;
-  parts_ = {{"contact loads", {}}, {"integrate", {}}, {"publish surfaces", {}}, {"local models", {}}};
+  parts_ = {{"contact loads", {}}, {"integrate", {}}, {"publish surfaces", {}}, {"local models", {}},
+            {"embedded surfaces", {}}};
   const double period = 1.0 / model.rates.simulation;
   for (std::size_t i = 0; i < model.bodies.size(); ++i) {
     const scene::Body& b = model.bodies[i];
@@ -28,6 +29,11 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
     if (b.cspace) {
       sb.cspace = CspaceBody::load(model, i);
       sb.state.x = sb.rest;
+    } else if (b.kind == scene::BodyKind::embedded) {
+      embedded_ = true;
+      sb.state.x = sb.rest;
+      sb.carried_forces.assign(b.surface.vertices.size(), Vec3::Zero());
+      sb.carried_positions.assign(b.surface.vertices.size(), Vec3::Zero());
     } else if (b.kind != scene::BodyKind::rigid) {
       sb.body = make_physics_body(model, i);
       sb.state = physics::make_state(*sb.body);
@@ -101,6 +107,25 @@ void SimulationLoop::update_cspace_shapes() {
       break;
     }
   }
+}
+
+void SimulationLoop::update_embedded_shapes() {
+  for (SimBody& sb : bodies_) {
+    const scene::Body& b = model_.bodies[sb.index];
+    if (!b.host) continue;
+    b.host_mapping->apply(bodies_[*b.host].state.x, sb.carried_positions);
+    for (std::size_t v = 0; v < sb.carried_positions.size(); ++v)
+      sb.state.x.segment<3>(3 * static_cast<Eigen::Index>(v)) = sb.carried_positions[v];
+  }
+}
+
+void SimulationLoop::carry_to_host(SimBody& sb, std::span<const contact::LoadShare> shares, const Vec3& force) {
+  const scene::Body& b = model_.bodies[sb.index];
+  SimBody& host = bodies_[*b.host];
+  if (!host.body) return;
+  std::fill(sb.carried_forces.begin(), sb.carried_forces.end(), Vec3::Zero());
+  for (const contact::LoadShare& s : shares) sb.carried_forces[static_cast<std::size_t>(s.vertex)] += s.share * force;
+  b.host_mapping->apply_transpose(sb.carried_forces, host.f_ext);
 }
 
 void SimulationLoop::publish(double t) {
@@ -190,6 +215,7 @@ void SimulationLoop::publish_patches(double t) {
 void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   const double period = 1.0 / stats_.rate;
   int iterations = 0;
+  if (live_) apply_live_parameters(t);
   if (step_ > 0) {
     // Scene loads and prescribed motions at the end of the period, then the newest contact
     // reaction of every device spread over the vertices around its contact point.
@@ -207,6 +233,11 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
       const ContactLoad& load = d->load.read();
       if (!load.active || load.body < 0 || static_cast<std::size_t>(load.body) >= bodies_.size()) continue;
       SimBody& sb = bodies_[static_cast<std::size_t>(load.body)];
+      if (model_.bodies[sb.index].host) {
+        // A fascia sheet or a vessel wall: its host's tetrahedra take the load.
+        carry_to_host(sb, spread(sb, load), load.force);
+        continue;
+      }
       if (!sb.body) continue;
       const std::span<const contact::LoadShare> shares = spread(sb, load);
       for (const contact::LoadShare& s : shares)
@@ -235,7 +266,10 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
     parts_[1].time.record(integrated - loads_done);
   }
   update_cspace_shapes();
+  const Nanos before_embedded = now_ns();
+  update_embedded_shapes();
   const Nanos before_publish = now_ns();
+  if (embedded_) parts_[4].time.record(before_publish - before_embedded);
   publish(t);
   const Nanos end = now_ns();
   parts_[2].time.record(end - before_publish);

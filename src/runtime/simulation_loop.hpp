@@ -18,6 +18,9 @@
 
 namespace tactus::runtime {
 
+class LiveParameters;
+class LiveMaterialModel;
+
 class SimulationLoop {
  public:
   /// `devices` are the haptic loops' channels (their contact loads are read here).
@@ -27,6 +30,8 @@ class SimulationLoop {
   [[nodiscard]] SurfaceSnapshot initial_snapshot() const;
   /// Adds a buffer that receives a surface snapshot after each step (before the loop runs).
   void add_output(TripleBuffer<SurfaceSnapshot>& output) { outputs_.push_back(&output); }
+  /// Material edits read at each step (runtime/live_parameters.hpp); before the loop runs.
+  void set_live_parameters(const LiveParameters* live);
 
   /// Advances every body by one period (1 / rate) and publishes the surfaces and the devices' local
   /// patches; `t` is the time reached.
@@ -54,6 +59,10 @@ class SimulationLoop {
     std::vector<Vec3> surface, surface_before;
     std::vector<double> surface_area;  ///< per surface vertex, at rest (spreads contact loads)
     std::shared_ptr<const CspaceBody> cspace;  ///< kind = "cspace": shaped, not simulated
+    std::shared_ptr<LiveMaterialModel> live;   ///< wraps body->model under live edits
+    /// kind = "embedded": carried by the host's tetrahedra (scene::Body::host_mapping); the
+    /// forces on its vertices and its mapped positions, sized once.
+    std::vector<Vec3> carried_forces, carried_positions;
   };
   /// A device whose local model is a patch: one builder per body it may touch, and the
   /// contact load the last step applied for it.
@@ -68,10 +77,16 @@ class SimulationLoop {
 
   /// Cspace bodies take the interpolated shape at the tool's position.
   void update_cspace_shapes();
+  /// Embedded surfaces follow their hosts' new node positions.
+  void update_embedded_shapes();
+  /// Adds a contact load on an embedded surface to its host's external forces.
+  void carry_to_host(SimBody& sb, std::span<const contact::LoadShare> shares, const Vec3& force);
   void publish(double t);
   void publish_patches(double t);
+  void apply_live_parameters(double t);  // live_parameters.cpp
 
   const scene::Model& model_;
+  bool embedded_ = false;  ///< some body is an embedded surface
   std::vector<DeviceChannels*> devices_;
   std::vector<TripleBuffer<SurfaceSnapshot>*> outputs_;
   std::vector<SimBody> bodies_;
@@ -82,6 +97,8 @@ class SimulationLoop {
   std::vector<PartStats> parts_;  ///< loads, integrate, publish
   SpscRing<SimulationStep> steps_ring_;
   std::uint64_t dropped_steps_ = 0;
+  const LiveParameters* live_ = nullptr;
+  std::uint64_t live_version_ = 0;
 };
 
 }  // namespace tactus::runtime

@@ -151,7 +151,8 @@ BodySolve solve_body(const scene::Model& model, std::size_t index, const SolveOp
 SolveResult solve(const scene::Model& model, const SolveOptions& options) {
   SolveResult result;
   for (std::size_t i = 0; i < model.bodies.size(); ++i)
-    if (model.bodies[i].kind != scene::BodyKind::rigid) result.bodies.push_back(solve_body(model, i, options));
+    if (model.bodies[i].kind != scene::BodyKind::rigid && model.bodies[i].kind != scene::BodyKind::embedded)
+      result.bodies.push_back(solve_body(model, i, options));
   if (result.bodies.empty()) throw InputError(SourceLocation{model.source, {}, {}, {}}, "the scene has no deformable body to solve");
   return result;
 }

@@ -4,6 +4,8 @@
 #include <map>
 #include <set>
 
+#include <numbers>
+
 #include <fmt/format.h>
 
 #include "mesh/generators.hpp"
@@ -123,8 +125,14 @@ LoadedMesh read_file_mesh(Reader& r, std::string_view key, const std::string& va
   return out;
 }
 
-void transform(std::vector<Vec3>& vertices, double scale, const Vec3& translate) {
-  for (Vec3& v : vertices) v = scale * v + translate;
+/// v → translate + scale · R v, where R turns by rotate.x() degrees about x, then rotate.y()
+/// about y, then rotate.z() about z.
+void transform(std::vector<Vec3>& vertices, double scale, const Vec3& rotate, const Vec3& translate) {
+  const double deg = std::numbers::pi / 180.0;
+  const Mat3 r = (Eigen::AngleAxisd(rotate.z() * deg, Vec3::UnitZ()) * Eigen::AngleAxisd(rotate.y() * deg, Vec3::UnitY()) *
+                  Eigen::AngleAxisd(rotate.x() * deg, Vec3::UnitX()))
+                     .toRotationMatrix();
+  for (Vec3& v : vertices) v = scale * (r * v) + translate;
 }
 
 struct TetOptions {
@@ -187,11 +195,12 @@ LoadedMesh read_mesh_key(Reader& r, bool volumetric) {
     m.fail(has_file ? "file" : "generator", e.what());
   }
   const double scale = m.number("scale", 1.0, Range::positive());
+  const Vec3 rotate = m.vec3("rotate", Vec3::Zero());
   const Vec3 translate = m.vec3("translate", Vec3::Zero());
-  if (scale != 1.0 || !translate.isZero()) {
-    if (out.surface) transform(out.surface->vertices, scale, translate);
-    if (out.volume) transform(out.volume->vertices, scale, translate);
-    if (out.quads) transform(out.quads->vertices, scale, translate);
+  if (scale != 1.0 || !rotate.isZero() || !translate.isZero()) {
+    if (out.surface) transform(out.surface->vertices, scale, rotate, translate);
+    if (out.volume) transform(out.volume->vertices, scale, rotate, translate);
+    if (out.quads) transform(out.quads->vertices, scale, rotate, translate);
   }
   if (volumetric && !out.volume && out.surface) {
     const TetOptions options = read_tet_options(m);
@@ -339,6 +348,24 @@ PrescribedMotion read_prescribed(Reader& f, const Body& b, std::size_t index) {
                            "prescribed motion");
 }
 
+/// The mapping of `mesh`'s vertices into body b's tetrahedra, refusing (at f["mesh"]) a vertex
+/// farther outside them than f's `tolerance` (default 0.1% of the body's size: vertices may sit
+/// on its boundary up to round-off and a mesher's tolerance). `what` names the surface.
+std::shared_ptr<const physics::BarycentricMapping> map_into_volume(Reader& f, const Body& b, const mesh::TriMesh& mesh,
+                                                                   const std::string& what) {
+  const double tolerance = f.number("tolerance", 1e-3 * b.volume->bounds().size().norm(), Range::non_negative());
+  auto mapping = std::make_shared<physics::BarycentricMapping>(*b.volume, mesh.vertices);
+  if (mapping->max_outside_distance() > tolerance)
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+      if (mapping->outside_distance(v) > tolerance) {
+        const Vec3& p = mesh.vertices[v];
+        f.fail("mesh", fmt::format("{}: vertex {} at ({:g}, {:g}, {:g}) m lies {:g} m outside body '{}''s tetrahedra "
+                                   "(tolerance {:g} m; set 'tolerance' or move the mesh)",
+                                   what, v, p.x(), p.y(), p.z(), mapping->outside_distance(v), b.name, tolerance));
+      }
+  return mapping;
+}
+
 /// bodies.<name>.mapped[i]: a surface carried by the body's tetrahedra, mapped at load time.
 MappedSurface read_mapped_surface(Reader& f, const Body& b, std::size_t index) {
   MappedSurface s;
@@ -361,21 +388,8 @@ MappedSurface read_mapped_surface(Reader& f, const Body& b, std::size_t index) {
   } else {
     f.fail("mesh", m.source + " holds no triangles");
   }
-  // Vertices may sit on the body's boundary up to round-off and a mesher's tolerance; the
-  // default allows 0.1% of the body's size.
-  const double tolerance = f.number("tolerance", 1e-3 * b.volume->bounds().size().norm(), Range::non_negative());
+  s.mapping = map_into_volume(f, b, s.mesh, "mapped surface '" + s.name + "' (" + s.source + ")");
   f.finish();
-  auto mapping = std::make_shared<physics::BarycentricMapping>(*b.volume, s.mesh.vertices);
-  if (mapping->max_outside_distance() > tolerance)
-    for (std::size_t v = 0; v < s.mesh.vertices.size(); ++v)
-      if (mapping->outside_distance(v) > tolerance) {
-        const Vec3& p = s.mesh.vertices[v];
-        f.fail("mesh", fmt::format("mapped surface '{}' ({}): vertex {} at ({:g}, {:g}, {:g}) m lies {:g} m outside "
-                                   "body '{}''s tetrahedra (tolerance {:g} m; set 'tolerance' or move the mesh)",
-                                   s.name, s.source, v, p.x(), p.y(), p.z(), mapping->outside_distance(v), b.name,
-                                   tolerance));
-      }
-  s.mapping = std::move(mapping);
   return s;
 }
 
@@ -397,6 +411,7 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
                                {"tet_mass_spring", BodyKind::tet_mass_spring},
                                {"fem", BodyKind::fem},
                                {"rigid", BodyKind::rigid},
+                               {"embedded", BodyKind::embedded},
                                {"cspace", BodyKind::fem}},  // an FEM body rendered from a precomputed space
                               std::nullopt);
   if (r.string("kind") == "cspace") {
@@ -409,6 +424,21 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
                                              {"rbf_thin_plate", precompute::Interpolation::rbf_thin_plate},
                                              {"polynomial", precompute::Interpolation::polynomial}},
                                             precompute::Interpolation::trilinear)};
+  }
+  if (b.kind == BodyKind::embedded) {
+    // Read after every other body (read_model), so the host exists whatever the order.
+    const std::size_t host = resolve_name(r, "host", r.required_string("host"), model.bodies, "body");
+    if (!model.bodies[host].volumetric())
+      r.fail("host", fmt::format("body '{}' is '{}'; an embedded surface rides on the tetrahedra of a 'fem' or "
+                                 "'tet_mass_spring' body", model.bodies[host].name, to_string(model.bodies[host].kind)));
+    LoadedMesh m = read_mesh_key(r, false);
+    b.mesh_source = m.source;
+    if (!m.surface || m.surface->triangles.empty()) r.fail("mesh", m.source + " holds no triangle surface");
+    b.surface = std::move(*m.surface);
+    b.host = host;
+    b.host_mapping = map_into_volume(r, model.bodies[host], b.surface, "embedded body '" + b.name + "' (" + b.mesh_source + ")");
+    r.finish();
+    return b;
   }
   const bool rigid = b.kind == BodyKind::rigid;
 

@@ -30,6 +30,7 @@ Trajectory read_trajectory(Reader& t) {
         Waypoint wp;
         wp.time = w.required_number("time", Range::non_negative());
         wp.position = w.required_vec3("position");
+        wp.direction = unit(w, "direction", wp.direction);
         w.finish();
         if (!p.points.empty() && wp.time <= p.points.back().time)
           w.fail("time", "waypoint times must increase strictly");

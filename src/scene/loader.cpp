@@ -94,8 +94,17 @@ Model read_model(Reader& root, const std::string& source_name) {
   // Sections in dependency order: each may refer to the ones before it.
   if (auto t = root.table("materials"))
     for (auto& [name, r] : t->named_tables()) m.materials.push_back(detail::read_material(r, name));
-  if (auto t = root.table("bodies"))
-    for (auto& [name, r] : t->named_tables()) m.bodies.push_back(detail::read_body(r, name, m));
+  if (auto t = root.table("bodies")) {
+    // Embedded surfaces last: they name the body that carries them.
+    std::vector<std::pair<std::string, Reader>> embedded;
+    for (auto& [name, r] : t->named_tables()) {
+      if (r.string("kind") == "embedded")
+        embedded.emplace_back(name, r);
+      else
+        m.bodies.push_back(detail::read_body(r, name, m));
+    }
+    for (auto& [name, r] : embedded) m.bodies.push_back(detail::read_body(r, name, m));
+  }
   if (auto t = root.table("devices"))
     for (auto& [name, r] : t->named_tables()) m.devices.push_back(detail::read_device(r, name));
   if (auto t = root.table("tools"))
@@ -112,6 +121,50 @@ Model read_model(Reader& root, const std::string& source_name) {
 }  // namespace
 }  // namespace detail
 
+namespace {
+
+/// `over`'s keys into `base`: tables merge key by key, anything else replaces.
+void merge_tables(toml::table& base, const toml::table& over) {
+  for (auto&& [key, node] : over) {
+    const toml::table* over_table = node.as_table();
+    toml::table* base_table = base[key].as_table();
+    if (over_table && base_table)
+      merge_tables(*base_table, *over_table);
+    else
+      base.insert_or_assign(key, node);
+  }
+}
+
+/// A scene that names `[scene] base = "FILE"` is that file's scene with its own keys on top
+/// (a scenario: the same patient, other devices). Bases may chain, at most 8 deep.
+void apply_base(toml::table& root, const detail::Context& ctx, int depth) {
+  toml::table* scene = root["scene"].as_table();
+  if (!scene || !scene->contains("base")) return;
+  const toml::node& node = *scene->get("base");
+  const auto name = node.value<std::string>();
+  if (!name) throw InputError(detail::location(ctx, node.source()), "'scene.base' must be a file name (a string)");
+  if (depth >= 8)
+    throw InputError(detail::location(ctx, node.source()), "'scene.base' chains more than 8 scenes deep (a cycle?)");
+  std::filesystem::path path(*name);
+  if (path.is_relative()) path = ctx.base_dir / path;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(detail::location(ctx, node.source()), "cannot open base scene '" + path.string() + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  toml::table base;
+  try {
+    base = toml::parse(text.str(), path.string());
+  } catch (const toml::parse_error& e) {
+    throw InputError(detail::location(ctx, e.source()), std::string(e.description()));
+  }
+  apply_base(base, ctx, depth + 1);
+  scene->erase("base");
+  merge_tables(base, root);
+  root = std::move(base);
+}
+
+}  // namespace
+
 Model parse_scene(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
   detail::Context ctx;
   ctx.file = source_name;
@@ -120,6 +173,7 @@ Model parse_scene(std::string_view toml_text, const std::string& source_name, co
   toml::table root;
   try {
     root = toml::parse(toml_text, source_name);
+    apply_base(root, ctx, 0);
   } catch (const toml::parse_error& e) {
     throw InputError(detail::location(ctx, e.source()), std::string(e.description()));
   }

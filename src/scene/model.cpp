@@ -55,6 +55,7 @@ const char* to_string(BodyKind k) {
     case BodyKind::tet_mass_spring: return "tet_mass_spring";
     case BodyKind::fem: return "fem";
     case BodyKind::rigid: return "rigid";
+    case BodyKind::embedded: return "embedded";
   }
   return "?";
 }

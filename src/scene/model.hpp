@@ -92,7 +92,9 @@ struct Material {
 // ---------------------------------------------------------------------------------------
 // Bodies
 
-enum class BodyKind { surface_mass_spring, tet_mass_spring, fem, rigid };
+/// embedded: a surface carried by another body's tetrahedra (seed 003 §3.1: a fascia sheet,
+/// a vessel wall inside the behaviour mesh); it has no dynamics of its own.
+enum class BodyKind { surface_mass_spring, tet_mass_spring, fem, rigid, embedded };
 enum class Integrator { explicit_euler, symplectic_euler, rk4, implicit_euler, static_solve };
 enum class LinearSolver { cg, cholesky };
 enum class MassMatrix { lumped, consistent };
@@ -189,6 +191,11 @@ struct Body {
     precompute::Interpolation interpolation = precompute::Interpolation::trilinear;
   };
   std::optional<ConfigurationSpace> cspace;
+  /// kind = "embedded": the volumetric body whose tetrahedra carry this surface (an earlier
+  /// index into Model::bodies is not guaranteed) and the mapping of `surface`'s rest vertices
+  /// into them. Loads on the surface go to the host's nodes by the mapping's transpose.
+  std::optional<std::size_t> host;
+  std::shared_ptr<const physics::BarycentricMapping> host_mapping;
 
   // Time stepping (deformable bodies).
   Integrator integrator = Integrator::implicit_euler;

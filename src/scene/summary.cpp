@@ -49,6 +49,7 @@ std::string material_line(const Material& m) {
 std::string body_lines(const Model& model, const Body& b) {
   std::string s = fmt::format("  {}: {}", b.name, to_string(b.kind));
   if (b.material) s += ", material " + model.materials[*b.material].name;
+  if (b.host) s += ", carried by " + model.bodies[*b.host].name;
   s += "\n    mesh: " + b.mesh_source + "\n";
   if (b.volume)
     s += fmt::format("    tet mesh: {} vertices, {} tets\n", b.volume->vertices.size(), b.volume->tets.size());
@@ -74,7 +75,7 @@ std::string body_lines(const Model& model, const Body& b) {
   for (const MappedSurface& m : b.mapped)
     s += fmt::format("    mapped {} surface '{}' ({}): {} vertices, {} triangles\n", to_string(m.role), m.name, m.source,
                      m.mesh.vertices.size(), m.mesh.triangles.size());
-  if (b.kind != BodyKind::rigid) {
+  if (b.kind != BodyKind::rigid && b.kind != BodyKind::embedded) {
     s += fmt::format("    stepping: {}, dt {} s, solver {} (tolerance {:g}, at most {} iterations), {} mass",
                      to_string(b.integrator), g(b.time_step), to_string(b.solver), b.solver_tolerance,
                      b.solver_max_iterations, to_string(b.mass_matrix));
@@ -130,7 +131,10 @@ std::string device_line(const Device& d) {
 
 std::string algorithm_line(const Model& model, const Algorithm& a) {
   std::string s = fmt::format("  {}: {}, tool {}", a.name, algorithm_type_name(a.params), model.tools[a.tool].name);
-  if (a.bodies.empty()) {
+  if (const auto* pulse = std::get_if<PulseParams>(&a.params)) {
+    s += fmt::format(", sources along {}: {} beats/min, duty cycle {}, {} N within {} m", model.bodies[pulse->body].name,
+                     g(pulse->rate), g(pulse->duty_cycle), g(pulse->amplitude), g(pulse->range));
+  } else if (a.bodies.empty()) {
     s += ", every body";
   } else {
     s += ", bodies";

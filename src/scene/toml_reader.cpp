@@ -33,6 +33,8 @@ std::string number_text(double v) {
 SourceLocation location(const Context& ctx, const toml::source_region& region) {
   SourceLocation loc;
   loc.file = ctx.file;
+  // A key inherited from a base scene ([scene] base) is located in that file.
+  if (region.path && !region.path->empty()) loc.file = *region.path;
   if (region.begin.line > 0) {
     loc.line = region.begin.line;
     if (region.begin.column > 0) loc.column = region.begin.column;

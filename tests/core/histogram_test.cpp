@@ -192,3 +192,20 @@ TEST(LatencyHistogram, RecordAndSnapshotCopyDoNotAllocate) {
 
 }  // namespace
 }  // namespace tactus
+
+TEST(LatencyHistogram, StandardDeviationIsTheSampleOne) {
+  // 2, 4, 4, 4, 5, 5, 7, 9: mean 5, sum of squared deviations 32, sample SD sqrt(32/7).
+  tactus::LatencyHistogram h;
+  EXPECT_EQ(h.standard_deviation(), 0.0);
+  for (const tactus::Nanos v : {2, 4, 4, 4, 5, 5, 7, 9}) h.record(v);
+  EXPECT_DOUBLE_EQ(h.mean(), 5.0);
+  EXPECT_NEAR(h.standard_deviation(), std::sqrt(32.0 / 7.0), 1e-12);
+  tactus::LatencyHistogram other;
+  for (const tactus::Nanos v : {2, 4, 4, 4}) other.record(v);
+  tactus::LatencyHistogram rest;
+  for (const tactus::Nanos v : {5, 5, 7, 9}) rest.record(v);
+  other.merge(rest);
+  EXPECT_NEAR(other.standard_deviation(), h.standard_deviation(), 1e-12);
+  h.reset();
+  EXPECT_EQ(h.standard_deviation(), 0.0);
+}

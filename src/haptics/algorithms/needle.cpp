@@ -21,8 +21,9 @@ NeedleInsertion::NeedleInsertion(NeedleConfig config) : config_(std::move(config
   if (config_.layers.size() > kMaxNeedleLayers)
     throw std::invalid_argument("a needle renders at most " + std::to_string(kMaxNeedleLayers) + " layers");
   if (!(config_.length > 0.0)) throw std::invalid_argument("needle length must be > 0");
-  if (!(config_.lateral_stiffness >= 0.0) || !(config_.stick_speed > 0.0) || !(config_.engage_slack >= 0.0))
-    throw std::invalid_argument("needle lateral_stiffness, stick_speed and engage_slack must be ≥ 0");
+  if (!(config_.lateral_stiffness >= 0.0) || !(config_.stick_speed > 0.0) || !(config_.engage_slack >= 0.0) ||
+      !(config_.new_site_distance >= 0.0))
+    throw std::invalid_argument("needle lateral_stiffness, stick_speed, engage_slack and new_site_distance must be ≥ 0");
   for (const NeedleLayer& l : config_.layers)
     if (!(l.rupture_force > 0.0) || !(l.stiffness > 0.0) || !(l.viscous_friction >= 0.0) ||
         !(l.coulomb_friction >= 0.0))
@@ -65,11 +66,21 @@ void NeedleInsertion::engage(const Vec3& tip, const Vec3& axis, const NeedleSurf
   deforming_ = best;
 }
 
+void NeedleInsertion::leave_site_if_moved(const Vec3& tip, const Vec3& axis) {
+  if (!punctured_ || deforming_ >= 0) return;
+  for (std::size_t i = 0; i < config_.layers.size(); ++i)
+    if (layers_[i].stage == NeedleStage::ruptured && axis.dot(tip - layers_[i].anchor) > 0.0) return;
+  if (off_line(tip, path_point_, path_axis_) <= config_.new_site_distance) return;
+  layers_ = {};
+  punctured_ = false;
+}
+
 NeedleOutput NeedleInsertion::update(const Vec3& tip, const Vec3& axis, const Vec3& velocity,
                                      const NeedleSurfaces& surfaces, double t) {
   NeedleOutput out;
   if (!tip.allFinite() || !axis.allFinite() || !velocity.allFinite()) return out;
   const double axial_speed = axis.dot(velocity);
+  leave_site_if_moved(tip, axis);
 
   // Before rupture: one layer at a time resists the tip (the needle cannot reach a deeper
   // layer through one that has not torn).

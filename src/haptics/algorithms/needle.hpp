@@ -21,6 +21,8 @@
 namespace tactus::haptics {
 
 inline constexpr std::size_t kMaxNeedleLayers = 8;
+/// Ruptures kept for the report (several insertions at new sites each tear every layer).
+inline constexpr std::size_t kMaxNeedleRuptures = 4 * kMaxNeedleLayers;
 
 /// One tissue layer the needle may pierce (a body's surface).
 struct NeedleLayer {
@@ -41,6 +43,9 @@ struct NeedleConfig {
   /// How far past a surface the tip may already be when it engages a layer and still have
   /// the spring start at the surface (farther, it starts at the tip: no force step) [m].
   double engage_slack = 5e-4;
+  /// Withdrawn from every hole and moved this far off the puncture path, the needle is at a
+  /// new site: the next insertion tears the layers anew (closer, it finds its old holes) [m].
+  double new_site_distance = 3e-3;
   std::vector<NeedleLayer> layers;  ///< at most kMaxNeedleLayers
   /// The planned path (entry → target) that the lateral deviation is measured against;
   /// absent: the path through the first puncture along the needle's axis then.
@@ -115,11 +120,13 @@ class NeedleInsertion {
     Vec3 barycentric = Vec3::Zero();
   };
   void engage(const Vec3& tip, const Vec3& axis, const NeedleSurfaces& surfaces);
+  /// Out of every hole and away from the puncture path: forget the holes (a new site).
+  void leave_site_if_moved(const Vec3& tip, const Vec3& axis);
 
   NeedleConfig config_;
   std::array<LayerState, kMaxNeedleLayers> layers_{};
   int deforming_ = -1;
-  std::array<NeedleRupture, kMaxNeedleLayers> ruptures_{};
+  std::array<NeedleRupture, kMaxNeedleRuptures> ruptures_{};
   std::size_t rupture_count_ = 0;
   bool punctured_ = false;
   Vec3 path_point_ = Vec3::Zero(), path_axis_ = Vec3::UnitZ();  ///< the puncture path

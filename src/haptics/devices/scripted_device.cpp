@@ -14,6 +14,7 @@ ScriptedDevice::ScriptedDevice(Trajectory trajectory, Tremor tremor, DeviceLimit
 DevicePose ScriptedDevice::read(double t) {
   DevicePose pose;
   pose.position = position_at(trajectory_, t) + tremor_at(tremor_, t, seed_);
+  pose.orientation = orientation_at(trajectory_, t);
   return pose;
 }
 

@@ -260,5 +260,26 @@ TEST(NeedleInsertion, UpdateAllocatesNothing) {
   EXPECT_EQ(needle.ruptures().size(), 2u);
 }
 
+TEST(NeedleInsertion, ANewSiteTearsTheLayersAgainAndTheOldHoleDoesNot) {
+  NeedleConfig c;
+  c.layers = {layer(0, 1.0, 1000.0, 100.0, 50.0)};
+  NeedleInsertion needle(c);
+  const NeedleSurfaces s = crossings({{0.0, -0.01}});
+  drive(needle, s, 0.0005, 0.005, 1000);
+  ASSERT_EQ(needle.ruptures().size(), 1u);
+  // Out of the hole and 2 mm aside (within new_site_distance): still the old site.
+  needle.update(Vec3(0.002, 0, 0.0005), kDown, Vec3::Zero(), s, 2.0);
+  EXPECT_EQ(needle.stage(0), NeedleStage::ruptured);
+  // 5 mm aside, out of the tissue: a new site; pressing in again tears the layer again.
+  needle.update(Vec3(0.005, 0, 0.0005), kDown, Vec3::Zero(), s, 2.1);
+  EXPECT_EQ(needle.stage(0), NeedleStage::untouched);
+  const NeedleSurfaces beside = crossings({{0.0, -0.01}}, 0.005);
+  double t = 2.2;
+  for (double z = 0.0005; z > -0.003 && needle.ruptures().size() < 2; z -= 1e-5, t += 1e-3)
+    needle.update(Vec3(0.005, 0, z), kDown, Vec3(0, 0, -0.01), beside, t);
+  ASSERT_EQ(needle.ruptures().size(), 2u);
+  EXPECT_NEAR(needle.ruptures()[1].force, 1.0, 0.02);
+}
+
 }  // namespace
 }  // namespace tactus::haptics
