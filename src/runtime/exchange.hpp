@@ -45,6 +45,11 @@ struct ContactLoad {
   Vec3 force = Vec3::Zero();  ///< on the tissue, scene coordinates [N]
   /// Radius of the contact disc the force is spread over (contact/load_spread.hpp) [m].
   double contact_radius = 0.0;
+  /// A needle's shaft inside the tissue: `shaft_force` (on the tissue) is shared by the
+  /// tissue nodes near the segment shaft_from → shaft_to of `body` (or its host).
+  bool shaft = false;
+  Vec3 shaft_from = Vec3::Zero(), shaft_to = Vec3::Zero();
+  Vec3 shaft_force = Vec3::Zero();
 };
 
 /// Deformed surfaces of every body, published after each simulation step.

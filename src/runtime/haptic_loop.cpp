@@ -266,6 +266,16 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
     load.barycentric = contact.barycentric;
   }
   load.force = -sent;
+  load.shaft = false;
+  if (needle_ && touching && needle_out_.shaft && load.body >= 0) {
+    // The lateral spring's reaction goes along the shaft; the point load keeps the rest.
+    const Vec3 lateral = kept * needle_out_.lateral_force;
+    load.shaft = true;
+    load.shaft_from = needle_out_.shaft_from;
+    load.shaft_to = position;
+    load.shaft_force = -lateral;
+    load.force += lateral;
+  }
   load.contact_radius = config_.spread_over_contact_disc ? rendered.contact_radius : -1.0;
   channels_.load.publish();
 

@@ -1,5 +1,8 @@
 #include "runtime/scenario_report.hpp"
 
+#include <algorithm>
+#include <variant>
+
 #include <fmt/format.h>
 
 namespace tactus::runtime {
@@ -32,7 +35,12 @@ std::string format_scenario_measures(const scene::Model& model, const SessionRep
   for (const scene::Device& d : model.devices) {
     s += fmt::format("  {}:\n", d.name);
     s += fmt::format("    CD   collision query, one object:  {}\n", micros(find_part(report, "interaction: " + d.name + ": query per body")));
-    s += fmt::format("    PS   proximity search:             — (no tissue dragging: no node search)\n");
+    const bool needle = std::any_of(model.tools.begin(), model.tools.end(), [&](const scene::Tool& t) {
+      return std::holds_alternative<scene::NeedleTool>(t.shape) && !t.devices.empty() &&
+             model.devices[t.devices.front()].name == d.name;
+    });
+    s += needle ? fmt::format("    PS   proximity search (shaft nodes): {}\n", micros(find_part(report, "simulation: shaft node search")))
+                : "    PS   proximity search:             — (no tissue dragging: no node search)\n";
     s += fmt::format("    IN   interaction handling:         {}\n", micros(find_part(report, "interaction: " + d.name + ": interaction")));
     s += fmt::format("    haptic frame (read -> force sent): {}\n",
                      micros(find_part(report, "haptic[" + d.name + "]: device read -> force written")));

@@ -17,7 +17,7 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
   stats_.name = "simulation";
   stats_.rate = model.rates.simulation;
   parts_ = {{"contact loads", {}}, {"integrate", {}}, {"publish surfaces", {}}, {"local models", {}},
-            {"embedded surfaces", {}}};
+            {"embedded surfaces", {}}, {"shaft node search", {}}};
   const double period = 1.0 / model.rates.simulation;
   for (std::size_t i = 0; i < model.bodies.size(); ++i) {
     const scene::Body& b = model.bodies[i];
@@ -50,6 +50,13 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
       for (std::size_t n = 0; n < sb.surface_to_node.size(); ++n) sb.surface_to_node[n] = static_cast<mesh::Index>(n);
     }
     sb.surface_area = contact::vertex_areas(b.surface.vertices, b.surface.triangles);
+    if (b.volume && !b.volume->tets.empty()) {
+      double edges = 0.0;
+      for (const auto& t : b.volume->tets)
+        for (std::size_t p = 0; p < 4; ++p)
+          for (std::size_t q = p + 1; q < 4; ++q) edges += (b.volume->vertices[t[p]] - b.volume->vertices[t[q]]).norm();
+      sb.shaft_reach = 0.75 * edges / (6.0 * static_cast<double>(b.volume->tets.size()));
+    }
     bodies_.push_back(std::move(sb));
   }
   for (DeviceChannels* d : devices_) {
@@ -126,6 +133,31 @@ void SimulationLoop::carry_to_host(SimBody& sb, std::span<const contact::LoadSha
   std::fill(sb.carried_forces.begin(), sb.carried_forces.end(), Vec3::Zero());
   for (const contact::LoadShare& s : shares) sb.carried_forces[static_cast<std::size_t>(s.vertex)] += s.share * force;
   b.host_mapping->apply_transpose(sb.carried_forces, host.f_ext);
+}
+
+void SimulationLoop::push_along_shaft(const ContactLoad& load) {
+  const Nanos start = now_ns();
+  if (load.body < 0 || static_cast<std::size_t>(load.body) >= bodies_.size()) return;
+  std::size_t index = static_cast<std::size_t>(load.body);
+  if (model_.bodies[index].host) index = *model_.bodies[index].host;
+  SimBody& sb = bodies_[index];
+  if (!sb.body || !(sb.shaft_reach > 0.0) || !load.shaft_force.allFinite()) return;
+  const Vec3 a = load.shaft_from, axis = load.shaft_to - load.shaft_from;
+  const double length2 = axis.squaredNorm();
+  // Weights fall linearly from 1 on the shaft to 0 at the reach; they share the force.
+  const auto weight = [&](Eigen::Index n) {
+    const Vec3 p = sb.state.x.segment<3>(3 * n);
+    const double s = length2 > 0.0 ? std::clamp((p - a).dot(axis) / length2, 0.0, 1.0) : 0.0;
+    const double d = (p - (a + s * axis)).norm();
+    return d < sb.shaft_reach ? 1.0 - d / sb.shaft_reach : 0.0;
+  };
+  const Eigen::Index nodes = sb.state.x.size() / 3;
+  double total = 0.0;
+  for (Eigen::Index n = 0; n < nodes; ++n) total += weight(n);
+  if (total > 0.0)
+    for (Eigen::Index n = 0; n < nodes; ++n)
+      if (const double w = weight(n); w > 0.0) sb.f_ext.segment<3>(3 * n) += (w / total) * load.shaft_force;
+  parts_[5].time.record(now_ns() - start);
 }
 
 void SimulationLoop::publish(double t) {
@@ -231,6 +263,7 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
     for (DeviceChannels* d : devices_) {
       d->load.update();
       const ContactLoad& load = d->load.read();
+      if (load.shaft) push_along_shaft(load);
       if (!load.active || load.body < 0 || static_cast<std::size_t>(load.body) >= bodies_.size()) continue;
       SimBody& sb = bodies_[static_cast<std::size_t>(load.body)];
       if (model_.bodies[sb.index].host) {

@@ -63,6 +63,9 @@ class SimulationLoop {
     /// kind = "embedded": carried by the host's tetrahedra (scene::Body::host_mapping); the
     /// forces on its vertices and its mapped positions, sized once.
     std::vector<Vec3> carried_forces, carried_positions;
+    /// Volumetric bodies: nodes within this distance of a needle's shaft share its push
+    /// (three quarters of the mean tetrahedron edge, so the shaft always finds some) [m].
+    double shaft_reach = 0.0;
   };
   /// A device whose local model is a patch: one builder per body it may touch, and the
   /// contact load the last step applied for it.
@@ -81,6 +84,9 @@ class SimulationLoop {
   void update_embedded_shapes();
   /// Adds a contact load on an embedded surface to its host's external forces.
   void carry_to_host(SimBody& sb, std::span<const contact::LoadShare> shares, const Vec3& force);
+  /// A needle shaft's push shared by the tissue nodes near it (seed 003 §3.3's proximity
+  /// search of behaviour-mesh nodes near the needle's ray).
+  void push_along_shaft(const ContactLoad& load);
   void publish(double t);
   void publish_patches(double t);
   void apply_live_parameters(double t);  // live_parameters.cpp

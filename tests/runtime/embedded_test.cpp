@@ -135,6 +135,43 @@ TEST(EmbeddedBody, APushOnTheSkinDentsTheTissueAndTheFasciaUnderItFollows) {
   EXPECT_GT(host_drop, 0.5 * skin_drop);
 }
 
+TEST(NeedleShaft, ItsPushIsSharedByTheTissueNodesAlongItAndTheTissueFollows) {
+  // A shaft 8 mm into the block through the skin, pushing the tissue along +x with 0.5 N
+  // (the reaction of a lateral pull on the hand): the tissue at the shaft moves along +x and
+  // not sideways; with the shaft flag off the same load record moves nothing.
+  const scene::Model m = scene::parse_scene(kBlock + kLayers, "embedded.toml");
+  const std::size_t tissue = static_cast<std::size_t>(m.find_body("tissue") - m.bodies.data());
+  const std::size_t skin = static_cast<std::size_t>(m.find_body("skin") - m.bodies.data());
+  auto run = [&](bool shaft) {
+    DeviceChannels channels(16);
+    SimulationLoop sim(m, {&channels});
+    ContactLoad& load = channels.load.write_buffer();
+    load.body = static_cast<std::int32_t>(skin);  // a layer of the host: the host takes it
+    load.shaft = shaft;
+    load.shaft_from = Vec3(0, 0, 0);
+    load.shaft_to = Vec3(0, 0, -0.008);
+    load.shaft_force = Vec3(0.5, 0, 0);
+    channels.load.publish();
+    for (int k = 0; k < 200; ++k) sim.step(k * 0.01, 0, 0, false);
+    if (shaft) {
+      const auto& search = sim.parts()[5];
+      EXPECT_EQ(search.name, "shaft node search");
+      EXPECT_GT(search.time.count(), 0u);
+    }
+    return VecX(*sim.positions(tissue));
+  };
+  const VecX pushed = run(true), idle = run(false);
+  const auto& rest = m.bodies[tissue].volume->vertices;
+  for (std::size_t n = 0; n < rest.size(); ++n) {
+    const Vec3 moved = pushed.segment<3>(3 * static_cast<Eigen::Index>(n)) - rest[n];
+    EXPECT_LT((idle.segment<3>(3 * static_cast<Eigen::Index>(n)) - rest[n]).norm(), 1e-12) << n;  // round-off
+    if (rest[n].norm() < 1e-9) {  // the node where the shaft enters
+      EXPECT_GT(moved.x(), 1e-4);
+      EXPECT_LT(std::abs(moved.y()), 0.1 * moved.x());
+    }
+  }
+}
+
 TEST(EmbeddedBody, WithoutALoadTheLayersStayAtRest) {
   const scene::Model m = scene::parse_scene(kBlock + kLayers, "embedded.toml");
   const std::size_t skin = static_cast<std::size_t>(m.find_body("skin") - m.bodies.data());

@@ -155,7 +155,10 @@ NeedleOutput NeedleInsertion::update(const Vec3& tip, const Vec3& axis, const Ve
     const double inserted = std::clamp(along, 0.0, length);
     if (inserted > 0.0) {
       const Vec3 lateral = rel - along * path_axis_;
-      out.force -= config_.lateral_stiffness * (inserted / length) * lateral;
+      out.lateral_force = -config_.lateral_stiffness * (inserted / length) * lateral;
+      out.force += out.lateral_force;
+      out.shaft = true;
+      out.shaft_from = path_point_;
       out.lateral_deviation = config_.planned ? off_line(tip, (*config_.planned)[0], planned_axis_) : lateral.norm();
       last_deviation_ = out.lateral_deviation;
       max_deviation_ = std::max(max_deviation_, out.lateral_deviation);

@@ -91,6 +91,12 @@ struct NeedleOutput {
   double spring_force = 0.0;   ///< of the deforming layer [N]
   double axial_friction = 0.0; ///< signed along the axis, on the hand [N]
   double lateral_deviation = 0.0;  ///< tip from the planned (or puncture) path [m]
+  /// The lateral spring's part of `force` (on the hand) [N]. Its reaction acts on the tissue
+  /// along the shaft inside it, from `shaft_from` (the first puncture) to the tip: the shaft
+  /// pushes the tissue it passes through, so a lateral move of the needle moves the tissue.
+  Vec3 lateral_force = Vec3::Zero();
+  bool shaft = false;  ///< the shaft is inside tissue past a puncture
+  Vec3 shaft_from = Vec3::Zero();
 };
 
 class NeedleInsertion {

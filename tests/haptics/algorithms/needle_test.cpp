@@ -210,6 +210,12 @@ TEST(NeedleInsertion, LateralSpringPullsTowardsThePuncturePathAndStiffensWithDep
   EXPECT_NEAR(deep.force.x(), -400.0 * (0.03 / 0.05) * offset, 1e-12);
   EXPECT_NEAR(deep.lateral_deviation, offset, 1e-12);
   EXPECT_NEAR(needle.max_deviation(), offset, 1e-12);
+  // The lateral part is reported apart (its reaction goes along the shaft into the tissue),
+  // from the first puncture to the tip.
+  EXPECT_NEAR(deep.lateral_force.x(), -400.0 * (0.03 / 0.05) * offset, 1e-12);
+  EXPECT_NEAR(deep.lateral_force.z(), 0.0, 1e-12);
+  EXPECT_TRUE(deep.shaft);
+  EXPECT_NEAR((deep.shaft_from - needle.ruptures()[0].point).norm(), 0.0, 1e-12);
 }
 
 TEST(NeedleInsertion, DeviationIsMeasuredFromThePlannedPath) {
