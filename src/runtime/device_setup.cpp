@@ -209,6 +209,8 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
     HapticConfig::MultiSurface c;
     c.force.stiffness = std::min(ms->stiffness, d.max_stiffness);  // never stiffer than the device renders stably
     c.force.damping = ms->damping;
+    c.force.static_friction = ms->static_friction;
+    c.force.kinetic_friction = ms->kinetic_friction;
     c.force.layers = s.bodies.size();
     c.force.radius = s.config.spheres.front().radius;
     // Seed 003 §3.5: interpolate linearly between the planes of successive ray queries.

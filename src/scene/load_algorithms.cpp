@@ -124,6 +124,9 @@ Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model)
       MultiSurfaceParams p;
       p.stiffness = r.number("stiffness", p.stiffness, Range::positive());
       p.damping = r.number("damping", p.damping, Range::non_negative());
+      p.static_friction = r.number("static_friction", p.static_friction, Range::non_negative());
+      p.kinetic_friction = r.number("kinetic_friction", p.kinetic_friction, Range::non_negative());
+      if (p.kinetic_friction > p.static_friction) r.fail("kinetic_friction", "must not exceed static_friction");
       a.params = p;
       break;
     }

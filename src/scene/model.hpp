@@ -345,6 +345,8 @@ struct FingerpadParams {
 struct MultiSurfaceParams {
   double stiffness = 500.0;
   double damping = 0.0;
+  double static_friction = 0.0;   ///< tissue dragging: μs (0 = frictionless)
+  double kinetic_friction = 0.0;  ///< μk ≤ μs
 };
 /// Rectangular pulse wave from point sources along a body (an artery).
 struct PulseParams {

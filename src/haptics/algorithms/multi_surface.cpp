@@ -19,6 +19,9 @@ MultiSurfaceForce::MultiSurfaceForce(MultiSurfaceConfig config) : config_(config
   if (!(config_.radius >= 0.0) || !std::isfinite(config_.radius) || !(config_.max_depth > 0.0) ||
       !(config_.behind_tolerance >= 0.0))
     throw std::invalid_argument("multi_surface radius and behind_tolerance must be ≥ 0, max_depth > 0");
+  if (!(config_.static_friction >= 0.0) || !(config_.kinetic_friction >= 0.0) ||
+      config_.kinetic_friction > config_.static_friction || !std::isfinite(config_.static_friction))
+    throw std::invalid_argument("multi_surface friction: need 0 ≤ kinetic_friction ≤ static_friction");
   enabled_.fill(true);
 }
 
@@ -78,9 +81,24 @@ MultiSurfaceOutput MultiSurfaceForce::evaluate(const Vec3& goal, const Vec3& goa
       out.touching = true;
       out.layer = static_cast<int>(i);
       out.depth = depth;
-      out.proxy = goal + depth * p.normal;
+      const Vec3 on_plane = goal + depth * p.normal;
+      out.proxy = on_plane;
       const double normal_speed = goal_velocity.allFinite() ? p.normal.dot(goal_velocity) : 0.0;
       out.force = std::max(0.0, config_.stiffness * depth - config_.damping * normal_speed) * p.normal;
+      if (config_.static_friction > 0.0 && anchored_ && anchor_layer_ == static_cast<int>(i)) {
+        // The anchor, carried onto the plane as shown now (it moves with the tissue's planes).
+        const Vec3 anchor = proxy_ - (p.normal.dot(proxy_) - p.offset) * p.normal;
+        const Vec3 pull = anchor - on_plane;
+        const double normal_force = config_.stiffness * depth;
+        const double pull_length = pull.norm();
+        if (config_.stiffness * pull_length <= config_.static_friction * normal_force) {
+          out.proxy = anchor;
+          out.sticking = true;
+        } else {
+          out.proxy = on_plane + (config_.kinetic_friction * depth) * (pull / pull_length);
+        }
+        out.force += config_.stiffness * (out.proxy - on_plane);
+      }
       out.triangle = l.hit.triangle;
       out.barycentric = l.hit.barycentric;
     }
@@ -103,6 +121,8 @@ MultiSurfaceOutput MultiSurfaceForce::update(const Vec3& goal, const Vec3& goal_
   }
   proxy_ = out.proxy;
   started_ = true;
+  anchored_ = out.touching;
+  anchor_layer_ = out.layer;
   return out;
 }
 

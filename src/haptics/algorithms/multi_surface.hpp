@@ -6,7 +6,10 @@
 // proxy is held on the outermost enabled plane the ray hit, so the fingers stay on the skin;
 // a virtual spring (and damper, along the normal) between proxy and device gives the force:
 //
-//   depth = max(0, −(n·goal − offset)),  offset = n·hit + radius,  F = max(0, k·depth − b·(n·v)) · n,  proxy = goal + depth·n.
+//   depth = max(0, −(n·goal − offset)),  offset = n·hit + radius,  F = max(0, k·depth − b·(n·v)) · n,  proxy = goal + depth·n,
+//
+// and, with friction, a tangential spring force k·(proxy − (goal + depth·n)) while the proxy
+// sticks (|F_t| ≤ μs·k·depth), μk·k·depth when it slides.
 //
 // The deeper planes take over when a layer is disabled (a torn layer, an interaction state
 // that switches it off). The hits come at the interaction rate: each new plane is reached by
@@ -56,6 +59,12 @@ struct MultiSurfaceConfig {
   /// surfaces it has not crossed). It must cover how far a free tool travels into a layer
   /// between two ray queries [m].
   double behind_tolerance = 0.005;
+  /// Coulomb friction on the holding plane (seed 003 §3.4's tissue dragging): the proxy sticks
+  /// where it touched while the spring's tangential force stays within static_friction times
+  /// the normal force, else slides with kinetic_friction times it trailing behind the device.
+  /// The tangential force reaches the hand and, as the contact load, drags the tissue.
+  double static_friction = 0.0;   ///< μs ≥ 0
+  double kinetic_friction = 0.0;  ///< μk in [0, μs]
 };
 
 struct MultiSurfaceOutput {
@@ -64,6 +73,7 @@ struct MultiSurfaceOutput {
   bool touching = false;
   int layer = -1;             ///< the layer whose plane holds the proxy; −1 free
   double depth = 0.0;         ///< of the device behind that plane [m]
+  bool sticking = false;      ///< friction holds the proxy where it is
   std::int32_t triangle = -1; ///< that layer's hit, where the reaction goes on the tissue
   Vec3 barycentric = Vec3::Zero();
 };
@@ -108,6 +118,8 @@ class MultiSurfaceForce {
   std::array<bool, kMaxSurfaceLayers> enabled_{};
   Vec3 proxy_ = Vec3::Zero();
   Vec3 direction_ = Vec3(0, 0, -1);
+  bool anchored_ = false;  ///< in contact with friction: proxy_ is the friction anchor
+  int anchor_layer_ = -1;
   bool started_ = false;  ///< proxy_ holds a rendered position
 };
 

@@ -125,6 +125,42 @@ TEST(MultiSurface, AFaceTheProxyIsBehindHoldsNothing) {
   EXPECT_NEAR(ms.update(Vec3(0, 0, 0.003), Vec3::Zero(), 0.003).force.z(), kStiffness * 0.001, 1e-9);
 }
 
+TEST(MultiSurface, FrictionSticksBelowTheStaticLimitAndSlidesAtTheKineticOne) {
+  MultiSurfaceConfig c;
+  c.stiffness = kStiffness;
+  c.layers = 1;
+  c.static_friction = 0.5;
+  c.kinetic_friction = 0.3;
+  MultiSurfaceForce ms(c);
+  ms.set_hits(flat_layers({0.0}), 0.0);
+  const double depth = 0.005;  // normal force k·depth = 4 N; static limit 2 N, kinetic 1.2 N
+  const MultiSurfaceOutput touch = ms.update(Vec3(0, 0, -depth), Vec3::Zero(), 0.0);
+  ASSERT_TRUE(touch.touching);
+  EXPECT_NEAR(touch.force.x(), 0.0, 1e-12);
+  // Sticking: the proxy stays where it touched; the drag is the spring, k·dx, against the move.
+  double x = 0.0;
+  for (int k = 1; k <= 24; ++k) {
+    x = 1e-4 * k;  // up to 2.4 mm: k·dx = 1.92 N < 2 N
+    const MultiSurfaceOutput o = ms.update(Vec3(x, 0, -depth), Vec3(0.1, 0, 0), k * kFrame);
+    ASSERT_TRUE(o.sticking) << x;
+    EXPECT_NEAR(o.proxy.x(), 0.0, 1e-12);
+    EXPECT_NEAR(o.force.x(), -kStiffness * x, 1e-9);
+    EXPECT_NEAR(o.force.z(), kStiffness * depth, 1e-9);
+  }
+  // Past the static limit it slides: the drag drops to μk·Fn and the proxy trails behind.
+  const MultiSurfaceOutput slip = ms.update(Vec3(0.0026, 0, -depth), Vec3(0.1, 0, 0), 0.1);
+  EXPECT_FALSE(slip.sticking);
+  EXPECT_NEAR(slip.force.x(), -0.3 * kStiffness * depth, 1e-9);
+  EXPECT_NEAR(slip.proxy.x(), 0.0026 - 0.3 * depth, 1e-12);
+  // Stopping there, it sticks again at the slid anchor.
+  const MultiSurfaceOutput rest = ms.update(Vec3(0.0026, 0, -depth), Vec3::Zero(), 0.2);
+  EXPECT_TRUE(rest.sticking);
+  EXPECT_NEAR(rest.force.x(), -0.3 * kStiffness * depth, 1e-9);
+  // Lifted off, the anchor is forgotten: touching again starts without drag.
+  EXPECT_FALSE(ms.update(Vec3(0.01, 0, 0.01), Vec3::Zero(), 0.3).touching);
+  EXPECT_NEAR(ms.update(Vec3(0.01, 0, -depth), Vec3::Zero(), 0.4).force.x(), 0.0, 1e-12);
+}
+
 TEST(MultiSurface, DampingActsAlongTheNormalAndNeverPulls) {
   MultiSurfaceForce ms = make(1, 0.0, 2.0);
   ms.set_hits(flat_layers({0.0}), 0.0);
@@ -235,6 +271,12 @@ TEST(MultiSurface, NeverNaNAndNoAllocation) {
 }
 
 TEST(MultiSurface, BadParametersAreRejected) {
+  {
+    MultiSurfaceConfig c;
+    c.static_friction = 0.2;
+    c.kinetic_friction = 0.3;
+    EXPECT_THROW(MultiSurfaceForce{c}, std::invalid_argument);
+  }
   MultiSurfaceConfig c;
   c.layers = 0;
   EXPECT_THROW(MultiSurfaceForce{c}, std::invalid_argument);
