@@ -40,7 +40,7 @@ std::string format_scenario_measures(const scene::Model& model, const SessionRep
              model.devices[t.devices.front()].name == d.name;
     });
     s += needle ? fmt::format("    PS   proximity search (shaft nodes): {}\n", micros(find_part(report, "simulation: shaft node search")))
-                : "    PS   proximity search:             — (no tissue dragging: no node search)\n";
+                : "    PS   proximity search:             — (the hand drags at its contact point: no node search)\n";
     s += fmt::format("    IN   interaction handling:         {}\n", micros(find_part(report, "interaction: " + d.name + ": interaction")));
     s += fmt::format("    haptic frame (read -> force sent): {}\n",
                      micros(find_part(report, "haptic[" + d.name + "]: device read -> force written")));
