@@ -364,7 +364,11 @@ TEST(ViewerWindow, EditsWhileTouchingShowsDebugViewsAndStopsOnTheKey) {
   }
   stbi_image_free(pixels);
   EXPECT_GT(magenta, 300u) << "BVH pixels";
-  EXPECT_GT(green, 20u) << "plane pixels";
+  // The plane is drawn where the finger touches; a tripped watchdog (the simulation fell
+  // behind, as in sanitizer builds) has released the contact, so there is none to draw.
+  if (watchdog_trips == 0) {
+    EXPECT_GT(green, 20u) << "plane pixels\n" << out;
+  }
 }
 
 // The scene switcher's choice (the script's `scene`, as the panel's list): the run ends with
