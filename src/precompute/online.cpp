@@ -35,19 +35,26 @@ double OnlineScheduler::priority(std::size_t point, const Vec3& position, const 
   return (g - nearest).norm() + settings_.along_weight * s * std::sqrt(len2);
 }
 
-std::int64_t OnlineScheduler::source_for(std::size_t point) const {
-  for (auto q : rule_.candidates(point))
-    if (status_[q] == PointStatus::solved) return static_cast<std::int64_t>(q);
+/// The grid points one step along each axis from `point` (at most six), in a fixed order.
+template <class Visit>
+void OnlineScheduler::for_each_neighbour(std::size_t point, Visit&& visit) const {
   const auto c = grid_.cell(point);
   for (int a = 0; a < 3; ++a)
     for (int d : {-1, 1}) {
       auto n = c;
       n[static_cast<std::size_t>(a)] += d;
-      if (!grid_.contains(n[0], n[1], n[2])) continue;
-      const std::size_t q = grid_.index(n[0], n[1], n[2]);
-      if (status_[q] == PointStatus::solved) return static_cast<std::int64_t>(q);
+      if (grid_.contains(n[0], n[1], n[2])) visit(grid_.index(n[0], n[1], n[2]));
     }
-  return -1;
+}
+
+std::int64_t OnlineScheduler::source_for(std::size_t point) const {
+  for (auto q : rule_.candidates(point))
+    if (status_[q] == PointStatus::solved) return static_cast<std::int64_t>(q);
+  std::int64_t found = -1;
+  for_each_neighbour(point, [&](std::size_t q) {
+    if (found < 0 && status_[q] == PointStatus::solved) found = static_cast<std::int64_t>(q);
+  });
+  return found;
 }
 
 std::optional<Task> OnlineScheduler::next(const Vec3& position, const Vec3& velocity) {
@@ -76,17 +83,11 @@ std::optional<Task> OnlineScheduler::next(const Vec3& position, const Vec3& velo
 }
 
 void OnlineScheduler::add_neighbours_to_frontier(std::size_t point) {
-  const auto c = grid_.cell(point);
-  for (int a = 0; a < 3; ++a)
-    for (int d : {-1, 1}) {
-      auto n = c;
-      n[static_cast<std::size_t>(a)] += d;
-      if (!grid_.contains(n[0], n[1], n[2])) continue;
-      const std::size_t q = grid_.index(n[0], n[1], n[2]);
-      if (status_[q] != PointStatus::pending || busy_[q]) continue;
-      busy_[q] = 1;
-      frontier_.push_back(q);
-    }
+  for_each_neighbour(point, [&](std::size_t q) {
+    if (status_[q] != PointStatus::pending || busy_[q]) return;
+    busy_[q] = 1;
+    frontier_.push_back(q);
+  });
 }
 
 void OnlineScheduler::complete(std::size_t point, PointStatus outcome) {

@@ -71,6 +71,9 @@ class OnlineScheduler {
 
  private:
   void add_neighbours_to_frontier(std::size_t point);
+  /// Calls visit(q) for each grid point one step along an axis from `point`.
+  template <class Visit>
+  void for_each_neighbour(std::size_t point, Visit&& visit) const;
 
   Grid grid_;
   std::size_t start_;
