@@ -67,6 +67,7 @@ struct PrecomputeArgs {
   unsigned threads = 0;
   std::size_t stop_after = 0;
   double reissue_floor = 60.0;
+  double reissue_factor = 10.0;
   bool online_speed = false;
   double online_first = 4.0;  ///< [mm/s]
   double online_dwell = 0.5;  ///< [s]
@@ -232,6 +233,7 @@ int run_precompute(const PrecomputeArgs& a) {
   options.threads = a.threads ? a.threads : std::max(1u, std::thread::hardware_concurrency());
   options.stop_after = a.stop_after;
   options.reissue_floor = a.reissue_floor;
+  options.reissue_factor = a.reissue_factor;
   options.on_result = [&](const pc::PointResult& r) { journal->append(r); };
   options.on_progress = [&](std::size_t done, std::size_t) { progress.update(done); };
   const double cpu0 = process_cpu_seconds();
@@ -285,6 +287,9 @@ Action add_precompute(CLI::App& app) {
       ->check(CLI::Range(0.0, 60.0));
   // After how many seconds at least an unanswered transition goes to another rank (MPI).
   app.add_option("--reissue-floor", a->reissue_floor, "")->group("")->check(CLI::Range(0.01, 1e6));
+  // The timeout's multiple of the median solve time; 0 makes the floor the whole timeout
+  // (tests, whose solve times swing with the machine's load).
+  app.add_option("--reissue-factor", a->reissue_factor, "")->group("")->check(CLI::Range(0.0, 1e6));
   // For tests of resume: behave as if killed after this many solves.
   app.add_option("--stop-after", a->stop_after, "")->group("");
   app.footer("Under mpirun or srun with N > 1 ranks, rank 0 schedules and ranks 1..N-1 solve. "

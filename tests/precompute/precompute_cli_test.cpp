@@ -120,13 +120,14 @@ TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameSpaceAsOneProcess) {
 
 TEST_F(PrecomputeCli, AStalledRanksTaskIsReissuedAndItsLateAnswerIgnored) {
   ASSERT_EQ(precompute("single.h5", "--threads 1"), 0) << log();
-  // Rank 1 stalls 4 s before its 3rd task; with a timeout of max(0.5 s, 10 x median solve)
-  // the task goes to rank 2, and rank 1's answer, when it comes, is ignored.
-  const std::string launcher = std::string("TACTUS_PRECOMPUTE_STALL=1:3:4 ") +
+  // Rank 1 stalls 8 s before its 3rd task; with a fixed timeout of 2 s (a sanitizer build
+  // on a loaded machine takes 0.5 s a solve, so 10 x the median solve would outlast the
+  // stall) the task goes to rank 2, and rank 1's answer, when it comes, is ignored.
+  const std::string launcher = std::string("TACTUS_PRECOMPUTE_STALL=1:3:8 ") +
                                "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '" + TACTUS_MPIEXEC +
                                "' -np 3 --oversubscribe" +
                                (::geteuid() == 0 ? " --allow-run-as-root" : "");
-  ASSERT_EQ(precompute("mpi.h5", "--reissue-floor 0.5", launcher), 0) << log();
+  ASSERT_EQ(precompute("mpi.h5", "--reissue-floor 2 --reissue-factor 0", launcher), 0) << log();
   // At least the stalled task was reissued and its answer ignored (a load spike on the
   // machine may add another), and no rank was left hung.
   // The summary line: "reissued R transitions after a timeout; ignored L late answers; U
