@@ -387,7 +387,8 @@ class TopDownBuilder {
   bool use_sah_;
 };
 
-/// Bottom-up box update. leaf_box(first, count, lo, hi) gives the exact box of a leaf.
+/// Bottom-up box update. leaf_box(leaf, lo, hi) gives the exact box of the leaf with that
+/// index in tree.leaves.
 template <class LeafBox>
 void refit_tree(detail::BvhTopology& tree, LeafBox&& leaf_box) {
   if (tree.empty()) return;
@@ -395,8 +396,9 @@ void refit_tree(detail::BvhTopology& tree, LeafBox&& leaf_box) {
   // parent's slot for it; then the inner nodes backward: children always follow their
   // parent in the array, so that sweep is bottom-up.
   Vec3 lo, hi;
-  for (const detail::BvhLeaf& leaf : tree.leaves) {
-    leaf_box(leaf.first, leaf.count, lo, hi);
+  for (std::size_t l = 0; l < tree.leaves.size(); ++l) {
+    const detail::BvhLeaf& leaf = tree.leaves[l];
+    leaf_box(l, lo, hi);
     if (leaf.parent < 0) {
       tree.root_lo = lo;
       tree.root_hi = hi;
@@ -423,14 +425,21 @@ void refit_tree(detail::BvhTopology& tree, LeafBox&& leaf_box) {
 }
 
 /// Surface-area cost of the tree: every child box's area (times its item count for a
-/// leaf) over the root's area.
+/// leaf) over the root's area. Both children's areas at once in single precision (a
+/// rebuild heuristic needs no more), one sum per side so that the two chains overlap.
 double area_cost(const detail::BvhTopology& tree) {
   const double root = tree.empty() ? 0.0 : surface_area(tree.root_lo, tree.root_hi);
   if (!(root > 0.0)) return 0.0;
-  double sum = 0.0;
-  for (const BvhNode& n : tree.nodes)
-    for (int k = 0; k < 2; ++k) sum += surface_area(child_lo(n, k), child_hi(n, k)) * std::max<int>(n.count[k], 1);
-  return sum / root;
+  double sum[2] = {0.0, 0.0};
+  for (const BvhNode& n : tree.nodes) {
+    float e[3][2];
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 2; ++k) e[a][k] = n.hi[a][k] - n.lo[a][k];
+    for (int k = 0; k < 2; ++k)
+      sum[k] += static_cast<double>(2.0f * (e[0][k] * e[1][k] + e[1][k] * e[2][k] + e[2][k] * e[0][k]) *
+                                    static_cast<float>(std::max<int>(n.count[k], 1)));
+  }
+  return (sum[0] + sum[1]) / root;
 }
 
 double abs_max_of(const detail::BvhTopology& tree) {
@@ -492,11 +501,22 @@ void TriangleBvh::build(std::span<const Vec3> positions, std::span<const mesh::T
   slot_of_.resize(tree_.order.size());
   for (std::size_t s = 0; s < tree_.order.size(); ++s)
     slot_of_[static_cast<std::size_t>(tree_.order[s])] = static_cast<std::int32_t>(s);
+  // Each leaf's distinct corners (about half of its up to 12), for the refit's leaf boxes.
+  leaf_vertices_.clear();
+  leaf_vertex_first_.assign(1, 0);
+  for (const detail::BvhLeaf& leaf : tree_.leaves) {
+    const auto begin = leaf_vertices_.size();
+    for (std::int32_t s = leaf.first; s < leaf.first + leaf.count; ++s)
+      for (const mesh::Index v : slots_[static_cast<std::size_t>(s)].corners)
+        if (std::find(leaf_vertices_.begin() + static_cast<std::ptrdiff_t>(begin), leaf_vertices_.end(), v) ==
+            leaf_vertices_.end())
+          leaf_vertices_.push_back(v);
+    leaf_vertex_first_.push_back(static_cast<std::int32_t>(leaf_vertices_.size()));
+  }
   positions_.resize(vertex_source_.size());
   for (std::size_t i = 0; i < vertex_source_.size(); ++i)
     positions_[i] = positions[static_cast<std::size_t>(vertex_source_[i])];
-  update_boxes();
-  build_cost_ = area_cost(tree_);
+  build_cost_ = update_boxes();
   quality_ = 1.0;
 }
 
@@ -509,22 +529,22 @@ void TriangleBvh::refit(std::span<const Vec3> positions) {
         fmt::format("triangle BVH refit: a vertex position is not finite or beyond ±{:g}", kMaxCoordinate));
   for (std::size_t i = 0; i < vertex_source_.size(); ++i)
     positions_[i] = positions[static_cast<std::size_t>(vertex_source_[i])];
-  update_boxes();
-  const double cost = area_cost(tree_);
+  const double cost = update_boxes();
   quality_ = build_cost_ > 0.0 && cost > 0.0 ? cost / build_cost_ : 1.0;
 }
 
-void TriangleBvh::update_boxes() {
-  refit_tree(tree_, [&](std::int32_t first, std::uint8_t count, Vec3& lo, Vec3& hi) {
-    const SlotTriangle* slot = slots_.data() + first;
-    lo = hi = positions_[static_cast<std::size_t>(slot->corners[0])];
-    for (const SlotTriangle* end = slot + count; slot != end; ++slot)
-      for (const mesh::Index v : slot->corners) {
-        lo = lo.cwiseMin(positions_[static_cast<std::size_t>(v)]);
-        hi = hi.cwiseMax(positions_[static_cast<std::size_t>(v)]);
-      }
+double TriangleBvh::update_boxes() {
+  refit_tree(tree_, [&](std::size_t leaf, Vec3& lo, Vec3& hi) {
+    const std::int32_t* v = leaf_vertices_.data() + leaf_vertex_first_[leaf];
+    const std::int32_t* end = leaf_vertices_.data() + leaf_vertex_first_[leaf + 1];
+    lo = hi = positions_[static_cast<std::size_t>(*v)];
+    for (++v; v != end; ++v) {
+      lo = lo.cwiseMin(positions_[static_cast<std::size_t>(*v)]);
+      hi = hi.cwiseMax(positions_[static_cast<std::size_t>(*v)]);
+    }
   });
   abs_max_ = abs_max_of(tree_);
+  return area_cost(tree_);
 }
 
 double TriangleBvh::margin(const Vec3& query) const { return kRelativeMargin * (abs_max_ + abs_max(query)); }
@@ -864,10 +884,11 @@ void PointTree::refit(std::span<const Vec3> points) {
   if (!in_range(points))
     throw InputError(fmt::format("point tree refit: a point is not finite or beyond ±{:g}", kMaxCoordinate));
   for (std::size_t s = 0; s < tree_.order.size(); ++s) points_[s] = points[static_cast<std::size_t>(tree_.order[s])];
-  refit_tree(tree_, [&](std::int32_t first, std::uint8_t count, Vec3& lo, Vec3& hi) {
-    const Vec3* q = points_.data() + first;
+  refit_tree(tree_, [&](std::size_t leaf, Vec3& lo, Vec3& hi) {
+    const detail::BvhLeaf& l = tree_.leaves[leaf];
+    const Vec3* q = points_.data() + l.first;
     lo = hi = q[0];
-    for (std::uint8_t k = 1; k < count; ++k) {
+    for (std::uint8_t k = 1; k < l.count; ++k) {
       lo = lo.cwiseMin(q[k]);
       hi = hi.cwiseMax(q[k]);
     }

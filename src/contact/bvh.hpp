@@ -164,7 +164,8 @@ class TriangleBvh {
   template <class Visit>
   void visit_box(const Vec3& lo, const Vec3& hi, Visit&& visit) const;
   int crossing_parity(const Vec3& p, const Vec3& direction, bool& degenerate) const;
-  void update_boxes();
+  /// Boxes from positions_; returns the tree's surface-area cost (quality() before dividing).
+  double update_boxes();
   [[nodiscard]] double margin(const Vec3& query) const;
 
   detail::BvhTopology tree_;
@@ -181,6 +182,8 @@ class TriangleBvh {
   std::vector<std::int32_t> slot_of_;        ///< caller's triangle index → slot
   std::vector<std::int32_t> vertex_source_;  ///< tree vertex → caller's vertex index
   std::vector<Vec3> positions_;              ///< in the tree's vertex numbering
+  std::vector<std::int32_t> leaf_vertices_;      ///< each leaf's distinct corners (tree numbering)
+  std::vector<std::int32_t> leaf_vertex_first_;  ///< leaf → its first entry there; one past the end last
   double build_cost_ = 0.0;
   double quality_ = 1.0;
   double abs_max_ = 0.0;  ///< largest |coordinate| of the surface: sets rounding margins
