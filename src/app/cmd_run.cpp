@@ -58,6 +58,28 @@ LoadedScene load(const std::string& path) {
   return {scene::parse_scene(text, path), text, path};
 }
 
+/// --space FILE: the scene with its [precompute] body rendered from that space, written as
+/// a scene on top of the file (`[scene] base`), so that a recording of the run holds a scene
+/// that replays the same way.
+LoadedScene with_space(const LoadedScene& scene, const std::string& space, const std::string& interpolation) {
+  namespace fs = std::filesystem;
+  if (scene.source.rfind("built-in:", 0) == 0)
+    throw InputError("--space: name the scene file the space was built from (the built-in scene has no [precompute])");
+  if (!scene.model.precompute)
+    throw InputError(SourceLocation{scene.source, {}, {}, {}},
+                     "--space: this scene has no [precompute] table, so no body of it has a space; run the scene the "
+                     "space was built from");
+  const std::string body = scene.model.precompute->body;
+  for (const char* bad : {"\"", "\\", "\n"})
+    if (space.find(bad) != std::string::npos || scene.source.find(bad) != std::string::npos)
+      throw InputError("--space: file names with quotes, backslashes or line breaks are not supported");
+  const std::string text = fmt::format(
+      "# {} with body '{}' rendered from a configuration space (tactus run --space)\n"
+      "[scene]\nbase = \"{}\"\n\n[bodies.{}]\nkind = \"cspace\"\nspace = \"{}\"\ninterpolation = \"{}\"\n",
+      scene.source, body, fs::absolute(scene.source).string(), body, fs::absolute(space).string(), interpolation);
+  return {scene::parse_scene(text, scene.source), text, scene.source};
+}
+
 void write_text(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   if (!out) throw InputError(SourceLocation{path, {}, {}, {}}, "cannot create the file");
@@ -76,6 +98,8 @@ struct RunFlags {
   std::optional<int> priority;
   std::optional<int> cpu;
   std::optional<double> spin_us;
+  std::string space;          ///< --space: render the [precompute] body from this file
+  std::string interpolation;  ///< with --space
   std::string force_map;  ///< PNG of the first device's force map (run only)
   std::string trace;      ///< folder for the force-trace CSVs and plot (bench only)
   bool view = false;        ///< run in a window (run only; docs/viewer.md)
@@ -101,6 +125,15 @@ void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
       ->check(CLI::Range(-1, 1023));
   app.add_option("--spin-us", f.spin_us, "Spin this long before each haptic deadline instead of sleeping [µs]")
       ->check(CLI::Range(0.0, 10000.0));
+  CLI::Option* space =
+      app.add_option("--space", f.space,
+                     "Render the body of the scene's [precompute] table from this configuration space (tactus "
+                     "precompute's file) instead of simulating it")
+          ->check(CLI::ExistingFile);
+  app.add_option("--interpolation", f.interpolation, "With --space: trilinear, rbf_cubic, rbf_thin_plate or polynomial")
+      ->default_val("trilinear")
+      ->check(CLI::IsMember({"trilinear", "rbf_cubic", "rbf_thin_plate", "polynomial"}))
+      ->needs(space);
 }
 
 /// How long the scene's scripted devices play, when every device is scripted (a scenario);
@@ -141,7 +174,7 @@ void write_trace(const RunFlags& f, const scene::Model& model, const runtime::Se
 }
 
 int run_with(const RunFlags& f, bool bench) {
-  const LoadedScene scene = load(f.scene);
+  const LoadedScene scene = f.space.empty() ? load(f.scene) : with_space(load(f.scene), f.space, f.interpolation);
   runtime::SessionOptions o;
   o.scheduling = f.lockstep ? runtime::Scheduling::lockstep : runtime::Scheduling::real_time;
   o.duration = f.duration;
@@ -201,6 +234,7 @@ int run_with(const RunFlags& f, bool bench) {
     RunFlags next = f;
     next.scene = window->next_scene;
     next.record.clear();     // a recording belongs to the run it was asked for
+    next.space.clear();      // and so does a space
     next.view_script.clear();
     return run_with(next, bench);
   }

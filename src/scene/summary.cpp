@@ -75,7 +75,10 @@ std::string body_lines(const Model& model, const Body& b) {
   for (const MappedSurface& m : b.mapped)
     s += fmt::format("    mapped {} surface '{}' ({}): {} vertices, {} triangles\n", to_string(m.role), m.name, m.source,
                      m.mesh.vertices.size(), m.mesh.triangles.size());
-  if (b.kind != BodyKind::rigid && b.kind != BodyKind::embedded) {
+  if (b.cspace) {
+    s += fmt::format("    rendered from the configuration space {} ({} interpolation), not simulated\n",
+                     b.cspace->file.string(), precompute::to_string(b.cspace->interpolation));
+  } else if (b.kind != BodyKind::rigid && b.kind != BodyKind::embedded) {
     s += fmt::format("    stepping: {}, dt {} s, solver {} (tolerance {:g}, at most {} iterations), {} mass",
                      to_string(b.integrator), g(b.time_step), to_string(b.solver), b.solver_tolerance,
                      b.solver_max_iterations, to_string(b.mass_matrix));

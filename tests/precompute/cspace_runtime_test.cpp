@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <vector>
 #include <memory>
 #include <string>
 
@@ -23,17 +25,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// The block's body as a cspace body, pressed by a scripted fingertip 4 mm down from the
-/// contact point (the grid's start) and held.
-std::string run_scene(const std::string& interpolation, double young = 5.0e3) {
-  std::string body = testing::block_scene("");
-  body = body.substr(0, body.find("[precompute]"));
-  const std::string fem = "kind = \"fem\"";
-  body.replace(body.find(fem), fem.size(),
-               "kind = \"cspace\"\nspace = \"space.h5\"\ninterpolation = \"" + interpolation + "\"");
-  const std::string modulus = "young_modulus = 5.0e3";
-  body.replace(body.find(modulus), modulus.size(), "young_modulus = " + std::to_string(young));
-  return body + R"(
+/// A scripted fingertip pressing 4 mm down from the block's contact point (the grid's
+/// start) and holding.
+const std::string kPressingHand = R"(
 [devices.hand]
 type = "scripted"
 max_force = 10.0
@@ -56,6 +50,17 @@ type = "proxy"
 tool = "finger"
 stiffness = 1000.0
 )";
+
+/// The block's body as a cspace body, pressed by kPressingHand.
+std::string run_scene(const std::string& interpolation, double young = 5.0e3) {
+  std::string body = testing::block_scene("");
+  body = body.substr(0, body.find("[precompute]"));
+  const std::string fem = "kind = \"fem\"";
+  body.replace(body.find(fem), fem.size(),
+               "kind = \"cspace\"\nspace = \"space.h5\"\ninterpolation = \"" + interpolation + "\"");
+  const std::string modulus = "young_modulus = 5.0e3";
+  body.replace(body.find(modulus), modulus.size(), "young_modulus = " + std::to_string(young));
+  return body + kPressingHand;
 }
 
 class CspaceRuntime : public ::testing::Test {
@@ -75,6 +80,17 @@ max = [0.006, 0.006, 0.013]
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "tactus precompute failed";
   }
   void TearDown() override { fs::remove_all(dir_); }
+
+  /// Exit code of `tactus -q ARGS` run in the test's folder, its output appended to log.txt.
+  int tactus(const std::string& args) {
+    const std::string cmd = "cd '" + dir_.string() + "' && CI=1 '" + TACTUS_BINARY + "' -q " + args + " >>log.txt 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  std::string log() const {
+    std::ifstream in(dir_ / "log.txt");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
 
   scene::Model model(const std::string& text) {
     std::ofstream(dir_ / "run.toml") << text;
@@ -147,6 +163,74 @@ TEST_F(CspaceRuntime, RefusesASpaceBuiltForAnotherMaterial) {
   o.scheduling = runtime::Scheduling::lockstep;
   o.duration = 0.01;
   EXPECT_THROW(runtime::run_session(m, o), InputError);
+}
+
+TEST_F(CspaceRuntime, RunWithSpaceFlagFeelsTheSpaceAndReplaysBitForBit) {
+  // The scene the space was built from (block.toml, its [precompute] body simulated by
+  // default) with a hand: --space renders that body from the space instead.
+  std::string scene;
+  {
+    std::ifstream in(dir_ / "block.toml");
+    scene.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::ofstream(dir_ / "hand.toml") << scene + kPressingHand;
+  ASSERT_EQ(tactus("run hand.toml --space space.h5 --interpolation rbf_cubic --lockstep -d 0.35 --record run.tactus"),
+            0)
+      << log();
+  EXPECT_NE(log().find("rendered from the configuration space"), std::string::npos) << log();
+  ASSERT_EQ(tactus("export run.tactus --csv frames.csv"), 0) << log();
+
+  // Every unclamped frame's force is the space's cubic-RBF force at the finger's centre.
+  const Interpolator direct(std::make_shared<const Space>(read_space(dir_ / "space.h5")),
+                            Interpolation::rbf_cubic);
+  std::ifstream csv(dir_ / "frames.csv");
+  std::string line;
+  std::getline(csv, line);  // t,device,frame,x,y,z,qw,qx,qy,qz,buttons,fx,fy,fz,...,contact,flags
+  std::size_t compared = 0;
+  double deepest_force = 0.0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 19u) << line;
+    std::vector<double> v(19, 0.0);  // the device column (1) is its name
+    for (std::size_t i : {3u, 4u, 5u, 11u, 12u, 13u, 18u}) v[i] = std::stod(cells[i]);
+    if (v[18] != 0.0) continue;  // the safety layer changed this frame's force
+    const Query q = direct.force(Vec3(v[3], v[4], v[5]));
+    ASSERT_TRUE(q.valid) << line;
+    // The CSV holds the shortest text that reads back to the same double.
+    EXPECT_LT((Vec3(v[11], v[12], v[13]) - q.force).norm(), 1e-12 + 1e-9 * q.force.norm()) << line;
+    deepest_force = std::max(deepest_force, v[13]);
+    ++compared;
+  }
+  EXPECT_GT(compared, 300u);
+  EXPECT_GT(deepest_force, 0.05);
+
+  // The recording holds a scene that names the space, so its replay renders the same forces.
+  ASSERT_EQ(tactus("replay run.tactus"), 0) << log();
+  EXPECT_NE(log().find("forces identical bit for bit"), std::string::npos) << log();
+}
+
+TEST_F(CspaceRuntime, RunWithSpaceFlagNeedsTheScenesPrecomputeTable) {
+  std::string scene = testing::block_scene("");
+  scene = scene.substr(0, scene.find("[precompute]"));
+  std::ofstream(dir_ / "plain.toml") << scene + kPressingHand;
+  EXPECT_EQ(tactus("run plain.toml --space space.h5 --lockstep -d 0.05"), 1);
+  EXPECT_NE(log().find("no [precompute] table"), std::string::npos) << log();
+  // A space of another material: refused with the difference named, before any loop runs.
+  std::string stiffer;
+  {
+    std::ifstream in(dir_ / "block.toml");
+    stiffer.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::string modulus = "young_modulus = 5.0e3";
+  stiffer.replace(stiffer.find(modulus), modulus.size(), "young_modulus = 7.0e3");
+  std::ofstream(dir_ / "stiffer.toml") << stiffer + kPressingHand;
+  EXPECT_EQ(tactus("run stiffer.toml --space space.h5 --lockstep -d 0.05"), 1);
+  EXPECT_NE(log().find("model hash"), std::string::npos) << log();
+  // --interpolation is for --space only.
+  EXPECT_NE(tactus("run plain.toml --interpolation rbf_cubic --lockstep -d 0.05"), 0);
+  EXPECT_NE(log().find("--interpolation requires --space"), std::string::npos) << log();
 }
 
 }  // namespace
