@@ -88,7 +88,11 @@ void run_real_time(const scene::Model& m, const SessionOptions& o, Loops& loops,
         const Nanos deadline = timer.deadline();
         timer.wait(spin);
         const Nanos start = now_ns();
-        step(static_cast<double>(deadline - t0) * 1e-9, deadline, start);
+        // The period's number over the rate: the very instants a lockstep run visits (a
+        // scaled nanosecond count rounds differently, and a lockstep replay of this run's
+        // recording would then read each pose one frame late).
+        const std::int64_t period_index = (deadline - t0) / timer.period();
+        step(static_cast<double>(period_index) / rate, deadline, start);
       }
     } catch (...) {
       std::lock_guard lock(mutex);

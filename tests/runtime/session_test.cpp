@@ -158,6 +158,33 @@ TEST(Session, ForceNeverExceedsTheDeviceLimit) {
   EXPECT_GE(r.events.at("force_clamped"), 1u);
 }
 
+TEST(Session, RealTimeRecordingReplaysInLockstepAtTheSameInstantsAndPoses) {
+  // A real-time run's frames are stamped with the instants a lockstep run visits, so a
+  // lockstep replay of its recording reads, at each frame, the pose recorded for that frame.
+  const fs::path file = temp_file("realtime.tacrec");
+  SessionOptions o;
+  o.scheduling = Scheduling::real_time;
+  o.duration = 0.5;
+  o.record = file;
+  run_session(scene::default_scene(), o);
+  const Recording rec = read_recording(file);
+  ASSERT_GT(rec.frames.size(), 100u);
+  SessionOptions r = lockstep(rec.frames.back().t);
+  r.replay = recorded_motion(rec, file.string());
+  const SessionReport replayed = run_session(scene::default_scene(), r);
+  std::size_t matched = 0;
+  for (const HapticFrame& f : rec.frames) {
+    // Frame k of the lockstep run is at k / 1000 s; a real-time frame may have been skipped.
+    const auto k = static_cast<std::size_t>(std::llround(f.t * 1000.0));
+    ASSERT_LT(k, replayed.frames.size());
+    const HapticFrame& g = replayed.frames[k];
+    ASSERT_EQ(g.t, f.t) << "frame " << f.frame;
+    ASSERT_EQ(g.position, f.position) << "t = " << f.t;
+    ++matched;
+  }
+  EXPECT_EQ(matched, rec.frames.size());
+}
+
 TEST(Session, RealTimeHapticLoopKeepsItsRateWhileTheSimulationOverruns) {
 #if defined(__SANITIZE_THREAD__)
   GTEST_SKIP() << "ThreadSanitizer slows every loop 5-15x: a rate test measures the sanitizer";
