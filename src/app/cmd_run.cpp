@@ -70,12 +70,12 @@ LoadedScene with_space(const LoadedScene& scene, const std::string& space, const
                      "--space: this scene has no [precompute] table, so no body of it has a space; run the scene the "
                      "space was built from");
   const std::string body = scene.model.precompute->body;
-  for (const char* bad : {"\"", "\\", "\n"})
-    if (space.find(bad) != std::string::npos || scene.source.find(bad) != std::string::npos)
-      throw InputError("--space: file names with quotes, backslashes or line breaks are not supported");
+  for (const std::string& name : {space, scene.source, body})
+    if (name.find_first_of("\"\\\n") != std::string::npos)
+      throw InputError("--space: file or body names with quotes, backslashes or line breaks are not supported");
   const std::string text = fmt::format(
       "# {} with body '{}' rendered from a configuration space (tactus run --space)\n"
-      "[scene]\nbase = \"{}\"\n\n[bodies.{}]\nkind = \"cspace\"\nspace = \"{}\"\ninterpolation = \"{}\"\n",
+      "[scene]\nbase = \"{}\"\n\n[bodies.\"{}\"]\nkind = \"cspace\"\nspace = \"{}\"\ninterpolation = \"{}\"\n",
       scene.source, body, fs::absolute(scene.source).string(), body, fs::absolute(space).string(), interpolation);
   return {scene::parse_scene(text, scene.source), text, scene.source};
 }
