@@ -396,7 +396,8 @@ class Window {
       glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
       glReadBuffer(GL_BACK);
       png::write_rgb(screenshot_, width, height, read_rgb(width, height));
-      std::printf("view: screenshot %s (%dx%d)\n", screenshot_.c_str(), width, height);
+      std::printf("view: screenshot %s (%dx%d; %zu constraint planes, %zu BVH boxes)\n", screenshot_.c_str(), width,
+                  height, frame.quads.size(), frame.boxes.size());
       std::fflush(stdout);
       screenshot_.clear();
     }

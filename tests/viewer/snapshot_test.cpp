@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "scene/scene.hpp"
+#include "viewer/debug_views.hpp"
 #include "viewer/snapshot.hpp"
 
 namespace tactus::viewer {
@@ -140,6 +141,46 @@ TEST(ViewerSnapshot, RendersASceneWithoutADevice) {
     if (rest[v].x() > 0.0499) tip = std::min(tip, now[v].z() - rest[v].z());
   EXPECT_LT(tip, -0.25 * 0.40e-3) << "tip displacement " << tip;
   EXPECT_GT(tip, -2.0 * 0.40e-3) << "tip displacement " << tip;
+}
+
+}  // namespace
+}  // namespace tactus::viewer
+
+namespace tactus::viewer {
+namespace {
+
+// The constraint-plane view: a square on the touched surface's tangent plane, for a tool
+// that touches, and none for one that does not.
+TEST(DebugViews, ConstraintPlaneOnlyWhereTheToolTouches) {
+  const scene::Model model = scene::default_scene();
+  DebugViews debug(model);
+  ViewOptions view;
+  view.show_planes = true;
+  view.show_bvh = false;
+  FrameView frame;
+  SurfaceView flat;  // a unit square in z = 0.02, counter-clockwise seen from +z
+  flat.positions = {Vec3(0, 0, 0.02), Vec3(1, 0, 0.02), Vec3(1, 1, 0.02), Vec3(0, 1, 0.02)};
+  flat.triangles = {{0, 1, 2}, {0, 2, 3}};
+  frame.surfaces.push_back(flat);
+  ToolView tool;
+  tool.seen = true;
+  tool.touching = true;
+  tool.radius = 0.005;
+  tool.contact_point = Vec3(0.1, 0.1, 0.02);
+  debug.add({tool}, view, frame);
+  ASSERT_EQ(frame.quads.size(), 1u);
+  EXPECT_TRUE(frame.quads[0].centre.isApprox(tool.contact_point));
+  EXPECT_NEAR(frame.quads[0].normal.dot(Vec3::UnitZ()), 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(frame.quads[0].half, 0.01);
+
+  frame.quads.clear();
+  tool.touching = false;
+  debug.add({tool}, view, frame);
+  EXPECT_TRUE(frame.quads.empty());
+  tool.touching = true;
+  view.show_planes = false;
+  debug.add({tool}, view, frame);
+  EXPECT_TRUE(frame.quads.empty());
 }
 
 }  // namespace
