@@ -65,6 +65,7 @@ struct StaticResult {
   bool stagnated = false;  ///< stopped at round-off before reaching the tolerance
   int iterations = 0;
   double residual = 0.0;  ///< final |f| over free dofs, relative to the load
+  int projected_iterations = 0;  ///< Newton steps on the projected tangent (the exact one not definite)
 };
 /// Newton with backtracking line search to static equilibrium f(x) + f_ext + m·g = 0 over the
 /// free dofs (the fixed dofs hold their current positions).

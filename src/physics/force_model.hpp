@@ -59,6 +59,10 @@ class ForceModel {
 
   /// Prepares K = -df/dx and D = -df/dv at (x, v, q) for the products below.
   virtual void linearize(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const = 0;
+  /// Like linearize, but with the exact tangent where linearize would make it positive
+  /// semi-definite (hyperelastic laws). Returns false, having done nothing, where the two do
+  /// not differ. The exact K may be indefinite: only for solvers that detect it (Cholesky).
+  virtual bool linearize_exact(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const;
   /// out += K dx (after linearize).
   virtual void add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const = 0;
   /// out += D dv (after linearize). Default: no velocity dependence.

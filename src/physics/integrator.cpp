@@ -21,6 +21,8 @@ void ForceModel::add_mass_triplets(double scale, std::vector<Triplet>& out) cons
   for (Eigen::Index i = 0; i < m.size(); ++i) out.emplace_back(i, i, scale * m[i]);
 }
 
+bool ForceModel::linearize_exact(const VecX&, const VecX&, const VecX&, Scratch&) const { return false; }
+
 const BlockMatrix* ForceModel::assemble_system(double, double, double, Scratch&) const { return nullptr; }
 
 void ForceModel::linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
@@ -290,6 +292,9 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
     w.matrix.resize(n, n);
     w.matrix.setFromTriplets(w.triplets.begin(), w.triplets.end());
     if (!w.pattern_analyzed) {
+      // An indefinite matrix is reported through info() below (the static solve expects it
+      // of an exact tangent), not printed by CHOLMOD.
+      w.cholesky.cholmod().print = 0;
       w.cholesky.analyzePattern(w.matrix);
       w.pattern_analyzed = true;
     }
@@ -514,6 +519,10 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int
   if (scale == 0.0) return {true, false, 0, 0.0};
 
   StaticResult result;
+  // Iterations until the exact tangent is tried again after its factorization failed: 1, 2,
+  // 4, ... so a solve that stays indefinite wastes a logarithmic number of factorizations.
+  const bool exact_possible = body.settings.solver == LinearSolver::cholesky;
+  int exact_wait = 0, exact_backoff = 1;
   for (int it = 0; it < max_iterations; ++it) {
     total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
     w.force.array() *= w.free_mask.array();
@@ -524,9 +533,32 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int
       result.converged = true;
       return result;
     }
-    model.linearize(s.x, s.v, s.q, *s.model_scratch);
-    w.delta.setZero();
-    solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
+    // The exact tangent where it is positive definite, which Cholesky detects: Newton then
+    // converges quadratically, where the projected tangent (the fallback) converges linearly
+    // once elements are compressed or stretched far.
+    bool direction = false, fell_back = false;
+    if (exact_possible && exact_wait > 0) {
+      --exact_wait;
+      fell_back = true;
+    } else if (exact_possible && model.linearize_exact(s.x, s.v, s.q, *s.model_scratch)) {
+      try {
+        w.delta.setZero();
+        solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
+        direction = w.delta.allFinite();
+      } catch (const std::runtime_error&) {
+      }
+      if (!direction) {
+        fell_back = true;
+        exact_wait = exact_backoff;
+        exact_backoff *= 2;
+      }
+    }
+    if (!direction) {
+      if (fell_back) ++result.projected_iterations;
+      model.linearize(s.x, s.v, s.q, *s.model_scratch);
+      w.delta.setZero();
+      solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
+    }
     if (!w.delta.allFinite()) break;
     // Backtracking line search. The merit is the total potential energy (elastic minus the
     // work of the loads and weight) with an Armijo condition: along a Newton direction from a

@@ -86,11 +86,12 @@ TEST(Build, FailedSolvesAreRecordedWithTheirReason) {
 
 TEST(Build, AFailedLoadStepIsRefinedByHalving) {
   // Pressing 16 mm into the 20 mm block in one load step needs more Newton iterations than
-  // allowed; halving the step gets there, to the equilibrium of a finely stepped solve.
+  // allowed (7-8 with the exact tangent, against 5); halving the step gets there, to the
+  // equilibrium of a finely stepped solve.
   const physics::Body body = testing::block_body(5.0e3, 0.45);
   SpaceSettings s = testing::block_settings(body);
   s.load_steps = 1;
-  s.max_iterations = 25;
+  s.max_iterations = 5;
   s.max_step_halvings = 0;
   const Vec3 rest = ConfigurationSolver(body, s).contact_rest();
   const Vec3 target = rest - Vec3(0, 0, 0.016);

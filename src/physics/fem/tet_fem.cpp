@@ -420,7 +420,17 @@ void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, cons
   }
 }
 
-void TetFem::linearize(const VecX& x, const VecX&, const VecX& q, Scratch& s) const {
+void TetFem::linearize(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const {
+  linearize_tangent(x, v, q, s, material_.project_tangent);
+}
+
+bool TetFem::linearize_exact(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const {
+  if (!material_.project_tangent || law_.law == FemLaw::linear || law_.law == FemLaw::corotational) return false;
+  linearize_tangent(x, v, q, s, false);
+  return true;
+}
+
+void TetFem::linearize_tangent(const VecX& x, const VecX&, const VecX& q, Scratch& s, bool project) const {
   Cache& c = cache(s);
   if (law_.law == FemLaw::linear) return;
   if (law_.law == FemLaw::corotational || material_.rayleigh_stiffness > 0.0) ensure_rotations(x, c);
@@ -440,7 +450,7 @@ void TetFem::linearize(const VecX& x, const VecX&, const VecX& q, Scratch& s) co
           for (int j = 0; j < 3; ++j)
             for (int l = 0; l < 3; ++l) A(i + 3 * j, i + 3 * l) += O(l, j);
       }
-      if (material_.project_tangent) project_psd(A);
+      if (project) project_psd(A);
     }
   }, kElementGrain);
 }

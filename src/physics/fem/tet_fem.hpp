@@ -42,6 +42,7 @@ class TetFem final : public ForceModel {
 
   void forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratch& s) const override;
   void linearize(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const override;
+  bool linearize_exact(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const override;
   /// Linear: K0. Corotational: R K0 R^T per element (the usual corotational stiffness,
   /// without the derivative of R). Hyperelastic: the (projected) tangent at the linearization.
   void add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const override;
@@ -73,6 +74,7 @@ class TetFem final : public ForceModel {
   [[nodiscard]] Mat3 deformation_gradient(const VecX& x, std::size_t e) const;
 
  private:
+  void linearize_tangent(const VecX& x, const VecX& v, const VecX& q, Scratch& s, bool project) const;
   struct Cache;
   Cache& cache(Scratch& s) const;
   const Cache& cache(const Scratch& s) const;

@@ -170,5 +170,59 @@ TEST(FemStatic, BlockInUniaxialTensionMatchesEachLawsStress) {
   }
 }
 
+TEST(StaticSolve, NewtonTakesTheExactTangentWhereItIsDefiniteAndTheProjectedOneWhereNot) {
+  // A 2 cm StVK cube on its bottom face, its top face's centre node pushed down. A 1 mm press
+  // keeps every element's exact tangent close to the rest one: Newton on it converges
+  // quadratically, in a handful of steps, and never falls back. A 14 mm press in one go puts
+  // the elements under that node in deep compression, where StVK's exact tangent is not
+  // definite: the first steps fall back to the projected tangent, and the solve still
+  // converges.
+  const double L = 0.02;
+  mesh::TetMesh m = mesh::box_volume(Vec3(L, L, L), 4, 4, 4);
+  for (auto& v : m.vertices) v += Vec3(L / 2, L / 2, L / 2);
+  Body body;
+  body.model = std::make_shared<TetFem>(m, material(FemLaw::stvk, 1e4, 0.45));
+  body.settings.solver = LinearSolver::cholesky;
+  body.gravity = Vec3::Zero();
+  body.fix_nodes(fem_test::nodes_at(m, 2, 0.0));
+  std::size_t top = 0;
+  for (std::size_t i = 0; i < m.vertices.size(); ++i)
+    if ((m.vertices[i] - Vec3(L / 2, L / 2, L)).norm() < 1e-9) top = i;
+  body.fix_nodes({static_cast<std::int32_t>(top)});
+  struct Outcome {
+    StaticResult r;
+    double reaction = 0.0;
+  };
+  auto press = [&](const Body& b, double depth, int iterations = 100) {
+    BodyState s = make_state(b);
+    s.x[3 * static_cast<Eigen::Index>(top) + 2] -= depth;
+    Outcome o{solve_static(b, s, {}, iterations, 1e-10), 0.0};
+    VecX f;
+    b.model->forces(s.x, s.v, s.q, f, *s.model_scratch);
+    o.reaction = f[3 * static_cast<Eigen::Index>(top) + 2];
+    return o;
+  };
+  const Outcome shallow = press(body, 0.001);
+  ASSERT_TRUE(shallow.r.converged) << shallow.r.residual;
+  EXPECT_EQ(shallow.r.projected_iterations, 0);
+  EXPECT_LE(shallow.r.iterations, 6);
+
+  const Outcome deep = press(body, 0.014);
+  ASSERT_TRUE(deep.r.converged) << deep.r.residual << " after " << deep.r.iterations << ", stagnated "
+                                << deep.r.stagnated << ", projected " << deep.r.projected_iterations;
+  EXPECT_GT(deep.r.projected_iterations, 0);
+
+  // The same equilibria as the projected-only Newton (CG on the projected tangent), to the
+  // tolerance: the tangent changes the path, not the answer.
+  Body projected = body;
+  projected.settings.solver = LinearSolver::conjugate_gradient;
+  for (double depth : {0.001, 0.014}) {
+    const Outcome a = press(body, depth), b = press(projected, depth, 2000);
+    ASSERT_TRUE(b.r.converged) << depth << ": " << b.r.residual;
+    EXPECT_EQ(b.r.projected_iterations, 0);
+    EXPECT_NEAR(a.reaction, b.reaction, 1e-6 * std::abs(b.reaction)) << depth;
+  }
+}
+
 }  // namespace
 }  // namespace tactus::physics
