@@ -58,26 +58,38 @@ LoadedScene load(const std::string& path) {
   return {scene::parse_scene(text, path), text, path};
 }
 
-/// --space FILE: the scene with its [precompute] body rendered from that space, written as
-/// a scene on top of the file (`[scene] base`), so that a recording of the run holds a scene
-/// that replays the same way.
-LoadedScene with_space(const LoadedScene& scene, const std::string& space, const std::string& interpolation) {
+/// --space FILE or --online: the scene with its [precompute] body rendered from that space
+/// (or from one built during the run), written as a scene on top of the file (`[scene]
+/// base`), so that a recording of the run holds a scene that replays the same way.
+/// `body_keys` are the cspace body's keys after `kind`.
+LoadedScene with_cspace(const LoadedScene& scene, const std::string& flag, const std::string& file,
+                        const std::string& body_keys) {
   namespace fs = std::filesystem;
   if (scene.source.rfind("built-in:", 0) == 0)
-    throw InputError("--space: name the scene file the space was built from (the built-in scene has no [precompute])");
+    throw InputError(flag + ": name a scene file with a [precompute] table (the built-in scene has none)");
   if (!scene.model.precompute)
     throw InputError(SourceLocation{scene.source, {}, {}, {}},
-                     "--space: this scene has no [precompute] table, so no body of it has a space; run the scene the "
-                     "space was built from");
+                     flag + ": this scene has no [precompute] table, so no body of it has a space; run the scene the "
+                            "space is built from");
   const std::string body = scene.model.precompute->body;
-  for (const std::string& name : {space, scene.source, body})
+  for (const std::string& name : {file, scene.source, body})
     if (name.find_first_of("\"\\\n") != std::string::npos)
-      throw InputError("--space: file or body names with quotes, backslashes or line breaks are not supported");
+      throw InputError(flag + ": file or body names with quotes, backslashes or line breaks are not supported");
   const std::string text = fmt::format(
-      "# {} with body '{}' rendered from a configuration space (tactus run --space)\n"
-      "[scene]\nbase = \"{}\"\n\n[bodies.\"{}\"]\nkind = \"cspace\"\nspace = \"{}\"\ninterpolation = \"{}\"\n",
-      scene.source, body, fs::absolute(scene.source).string(), body, fs::absolute(space).string(), interpolation);
+      "# {} with body '{}' rendered from a configuration space (tactus run {})\n"
+      "[scene]\nbase = \"{}\"\n\n[bodies.\"{}\"]\nkind = \"cspace\"\n{}",
+      scene.source, body, flag, fs::absolute(scene.source).string(), body, body_keys);
   return {scene::parse_scene(text, scene.source), text, scene.source};
+}
+
+LoadedScene with_space(const LoadedScene& scene, const std::string& space, const std::string& interpolation) {
+  return with_cspace(scene, "--space", space,
+                     fmt::format("space = \"{}\"\ninterpolation = \"{}\"\n",
+                                 std::filesystem::absolute(space).string(), interpolation));
+}
+
+LoadedScene with_online_space(const LoadedScene& scene, int threads) {
+  return with_cspace(scene, "--online", "", fmt::format("online = true\nworkers = {}\n", threads));
 }
 
 void write_text(const std::string& path, const std::string& text) {
@@ -100,6 +112,8 @@ struct RunFlags {
   std::optional<double> spin_us;
   std::string space;          ///< --space: render the [precompute] body from this file
   std::string interpolation;  ///< with --space
+  bool online = false;        ///< --online: build the [precompute] body's space during the run
+  int online_threads = 1;
   std::string force_map;  ///< PNG of the first device's force map (run only)
   std::string trace;      ///< folder for the force-trace CSVs and plot (bench only)
   bool view = false;        ///< run in a window (run only; docs/viewer.md)
@@ -134,6 +148,14 @@ void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
       ->default_val("trilinear")
       ->check(CLI::IsMember({"trilinear", "rbf_cubic", "rbf_thin_plate", "polynomial"}))
       ->needs(space);
+  CLI::Option* online =
+      app.add_flag("--online", f.online,
+                   "Render the body of the scene's [precompute] table from a configuration space built during the "
+                   "run, around the tool and ahead of it (docs/precompute.md, \"On-line construction\")")
+          ->excludes(space);
+  app.add_option("--online-threads", f.online_threads, "With --online: solver threads (default 1)")
+      ->check(CLI::Range(1, 256))
+      ->needs(online);
 }
 
 /// How long the scene's scripted devices play, when every device is scripted (a scenario);
@@ -174,7 +196,9 @@ void write_trace(const RunFlags& f, const scene::Model& model, const runtime::Se
 }
 
 int run_with(const RunFlags& f, bool bench) {
-  const LoadedScene scene = f.space.empty() ? load(f.scene) : with_space(load(f.scene), f.space, f.interpolation);
+  const LoadedScene scene = !f.space.empty() ? with_space(load(f.scene), f.space, f.interpolation)
+                            : f.online       ? with_online_space(load(f.scene), f.online_threads)
+                                             : load(f.scene);
   runtime::SessionOptions o;
   o.scheduling = f.lockstep ? runtime::Scheduling::lockstep : runtime::Scheduling::real_time;
   o.duration = f.duration;

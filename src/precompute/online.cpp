@@ -236,6 +236,19 @@ CellLookup OnlineBuilder::lookup(const Vec3& p) const noexcept {
       [&](std::size_t q) -> const Vec3& { return forces_[q]; });
 }
 
+bool OnlineBuilder::shape(const Vec3& p, VecX& u) const {
+  std::lock_guard lock(mutex_);
+  u.setZero(space_.displacement.rows());
+  double sum_w = 0.0;
+  for_each_cell_corner(grid_, p, [&](std::size_t q, double w) {
+    if (!space_.solved(q)) return;
+    u += w * space_.displacement.col(static_cast<Eigen::Index>(q));
+    sum_w += w;
+  });
+  if (sum_w > 0.0 && sum_w != 1.0) u /= sum_w;
+  return sum_w > 0.0;
+}
+
 OnlineQuery OnlineBuilder::render(const Vec3& p) noexcept {
   return render_step(lookup(p), last_force_, settings_.max_force_step);
 }

@@ -141,6 +141,10 @@ class OnlineBuilder {
   OnlineQuery render(const Vec3& p) noexcept;
   /// The raw lookup (no fallback, no step bound).
   [[nodiscard]] CellLookup lookup(const Vec3& p) const noexcept;
+  /// Nodal displacement (3N) at p for the viewer (any thread but the haptic one: it locks):
+  /// trilinear over the solved corners of p's cell, weights renormalized; zero when none is
+  /// solved. Returns whether one was. Allocates only when u has another size.
+  bool shape(const Vec3& p, VecX& u) const;
 
   /// Stops the workers after their current solve. Idempotent.
   void stop();
@@ -265,9 +269,10 @@ SpeedSearch online_speed(const physics::Body& body, const SpaceSettings& setting
 
 // ---------------------------------------------------------------------------------------
 
-template <class StateFn, class ForceFn>
-CellLookup lookup_cell(const Grid& grid, const Vec3& p, StateFn&& state, ForceFn&& force) noexcept {
-  CellLookup out;
+/// Calls visit(q, w) for each corner q of the cell of p (clamped onto the grid's box) with a
+/// nonzero trilinear weight w.
+template <class Visit>
+void for_each_cell_corner(const Grid& grid, const Vec3& p, Visit&& visit) noexcept {
   int lower[3];
   double t[3];
   for (int a = 0; a < 3; ++a) {
@@ -281,9 +286,6 @@ CellLookup lookup_cell(const Grid& grid, const Vec3& p, StateFn&& state, ForceFn
     lower[a] = c;
     t[a] = n > 1 ? u - c : 0.0;
   }
-  double best = -1.0, sum_w = 0.0;
-  Vec3 sum = Vec3::Zero();
-  bool resolved = true;
   for (int corner = 0; corner < 8; ++corner) {
     int idx[3];
     double w = 1.0;
@@ -294,11 +296,21 @@ CellLookup lookup_cell(const Grid& grid, const Vec3& p, StateFn&& state, ForceFn
     }
     if (w == 0.0) continue;
     if (!grid.contains(idx[0], idx[1], idx[2])) continue;
-    const std::size_t q = grid.index(idx[0], idx[1], idx[2]);
+    visit(grid.index(idx[0], idx[1], idx[2]), w);
+  }
+}
+
+template <class StateFn, class ForceFn>
+CellLookup lookup_cell(const Grid& grid, const Vec3& p, StateFn&& state, ForceFn&& force) noexcept {
+  CellLookup out;
+  double best = -1.0, sum_w = 0.0;
+  Vec3 sum = Vec3::Zero();
+  bool resolved = true;
+  for_each_cell_corner(grid, p, [&](std::size_t q, double w) {
     const int s = state(q);
     if (s != 1) {
       resolved = resolved && s != 0;
-      continue;
+      return;
     }
     const Vec3 f = force(q);
     sum += w * f;
@@ -307,7 +319,7 @@ CellLookup lookup_cell(const Grid& grid, const Vec3& p, StateFn&& state, ForceFn
       best = w;
       out.force = f;
     }
-  }
+  });
   out.found = best >= 0.0;
   out.complete = resolved && out.found;
   if (out.complete) out.force = sum_w == 1.0 ? sum : Vec3(sum / sum_w);

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
+#include "precompute/builder.hpp"
 #include "precompute/model_identity.hpp"
 #include "precompute/space_file.hpp"
 #include "runtime/bodies.hpp"
@@ -12,6 +14,25 @@ namespace tactus::runtime {
 std::shared_ptr<const CspaceBody> CspaceBody::load(const scene::Model& model, std::size_t index) {
   const scene::Body& b = model.bodies.at(index);
   if (!b.cspace) throw InputError(fmt::format("body '{}' is not a cspace body", b.name));
+  if (b.cspace->online) {
+    if (!model.precompute || model.precompute->body != b.name)
+      throw InputError(SourceLocation{model.source, {}, {}, {}},
+                       fmt::format("body '{}' is built on-line (online = true) from the scene's [precompute] table, "
+                                   "and {}",
+                                   b.name,
+                                   model.precompute ? fmt::format("that table is for body '{}'", model.precompute->body)
+                                                    : std::string("the scene has none")));
+    const physics::Body body = make_physics_body(model, index);
+    precompute::Space space = precompute::make_space(body, *model.precompute, "");
+    // The solvers' element loops run on their own thread: the parallelism is across points,
+    // and the haptic thread keeps a core.
+    set_thread_limit(1);
+    auto factory = precompute::solver_transitions(body, *model.precompute, space.grid);
+    VecX rest = space.rest_positions;
+    auto online = std::make_unique<precompute::OnlineBuilder>(std::move(space), std::move(factory),
+                                                              static_cast<unsigned>(b.cspace->workers));
+    return std::make_shared<CspaceBody>(index, std::move(online), std::move(rest));
+  }
   const auto& file = b.cspace->file;
   auto space = std::make_shared<precompute::Space>(precompute::read_space(file));
   // The identity of this scene's body with the settings the space was built with: a space of
@@ -28,11 +49,36 @@ std::shared_ptr<const CspaceBody> CspaceBody::load(const scene::Model& model, st
 
 CspaceBody::CspaceBody(std::size_t body, std::shared_ptr<const precompute::Space> space,
                        precompute::Interpolation method)
-    : body_(body), interpolator_(std::move(space), method) {}
+    : body_(body), interpolator_(std::in_place, std::move(space), method) {}
 
-CspaceForce CspaceBody::force(const Vec3& p) const noexcept {
-  const precompute::Query q = interpolator_.force(p);
+CspaceBody::CspaceBody(std::size_t body, std::unique_ptr<precompute::OnlineBuilder> online, VecX rest)
+    : body_(body), online_(std::move(online)), rest_(std::move(rest)) {}
+
+CspaceBody::~CspaceBody() {
+  if (online_) online_->stop();
+}
+
+CspaceForce CspaceBody::force(const Vec3& p, double t) const noexcept {
   CspaceForce out;
+  if (online_) {
+    const precompute::Grid& g = online_->grid();
+    online_->observe(p, t);
+    const precompute::OnlineQuery q = online_->render(p);
+    const Vec3 far = g.origin + g.spacing * Vec3(g.counts[0] - 1, g.counts[1] - 1, g.counts[2] - 1);
+    const bool inside = (p.array() >= g.origin.array()).all() && (p.array() <= far.array()).all();
+    // Attached once a point is solved; before that the render is zero. The render changes
+    // by at most max_force_step per call, also when a cell completes.
+    if (inside && q.force.allFinite()) {
+      out.force = q.force;
+      out.touching = online_->solved_count() > 0;
+    }
+    if (inside) {
+      queries_.fetch_add(1, std::memory_order_relaxed);
+      if (q.complete) complete_.fetch_add(1, std::memory_order_relaxed);
+    }
+    return out;
+  }
+  const precompute::Query q = interpolator_->force(p);
   if (q.valid && !q.outside && q.force.allFinite()) {
     out.force = q.force;
     out.touching = true;
@@ -41,9 +87,40 @@ CspaceForce CspaceBody::force(const Vec3& p) const noexcept {
 }
 
 void CspaceBody::positions(const Vec3& p, VecX& x) const {
-  const precompute::Query q = interpolator_.shape(p, x);
+  if (online_) {
+    if (!online_->shape(p, x) || !x.allFinite()) x.setZero(rest_.size());
+    x += rest_;
+    return;
+  }
+  const precompute::Query q = interpolator_->shape(p, x);
   if (!q.valid || !x.allFinite()) x.setZero();
-  x += interpolator_.space().rest_positions;
+  x += interpolator_->space().rest_positions;
+}
+
+CspaceBody::OnlineCounts CspaceBody::online_counts() const {
+  OnlineCounts n;
+  n.solved = solved_points();
+  n.points = online_ ? online_->grid().size() : interpolator_->space().grid.size();
+  n.queries = queries_.load(std::memory_order_relaxed);
+  n.complete = complete_.load(std::memory_order_relaxed);
+  return n;
+}
+
+std::size_t CspaceBody::solved_points() const {
+  if (online_) return online_->solved_count();
+  return interpolator_->space().count(precompute::PointStatus::solved);
+}
+
+CspaceBodies load_cspace_bodies(const scene::Model& model) {
+  CspaceBodies out(model.bodies.size());
+  for (std::size_t i = 0; i < model.bodies.size(); ++i)
+    if (model.bodies[i].cspace) out[i] = CspaceBody::load(model, i);
+  return out;
+}
+
+std::shared_ptr<const CspaceBody> cspace_body(const scene::Model& model, std::size_t index, const CspaceBodies& bodies) {
+  if (index < bodies.size() && bodies[index]) return bodies[index];
+  return CspaceBody::load(model, index);
 }
 
 }  // namespace tactus::runtime

@@ -2,11 +2,19 @@
 // A body rendered from a precomputed configuration space (scene kind = "cspace"): the haptic
 // loop reads the force at the tool's interaction point from the space's Interpolator, and
 // the simulation loop publishes the interpolated shape instead of simulating the body.
+// With `online = true` the space is built during the run (precompute::OnlineBuilder): solver
+// threads work around the tool and ahead of it, and the force comes from the points solved
+// so far.
+#include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "core/math.hpp"
 #include "precompute/interpolator.hpp"
+#include "precompute/online.hpp"
 #include "scene/model.hpp"
 
 namespace tactus::runtime {
@@ -21,23 +29,51 @@ class CspaceBody {
   /// Loads the space of scene body `index` (its kind = "cspace") and checks that it was built
   /// for this body: throws InputError, located at the space file, for another mesh, material,
   /// fixed region or a missing or malformed file.
+  /// An on-line body (online = true) starts its solver threads here, from the scene's
+  /// [precompute] table (InputError, located, when there is none for this body). Load each
+  /// body once per run and share it: the haptic and simulation loops hold the same object.
   static std::shared_ptr<const CspaceBody> load(const scene::Model& model, std::size_t index);
 
-  /// The force at interaction point p [m]. Outside the grid's box the tool is not attached
-  /// and feels nothing. Allocation-free.
-  [[nodiscard]] CspaceForce force(const Vec3& p) const noexcept;
+  /// The force at interaction point p [m] at loop time t [s]. Outside the grid's box the tool
+  /// is not attached and feels nothing. Allocation-free. On-line: the tool's position feeds
+  /// the solvers' prediction, and only the haptic thread may call it.
+  [[nodiscard]] CspaceForce force(const Vec3& p, double t) const noexcept;
   /// Node positions (3N) of the configuration at p: rest + interpolated displacement; the
   /// rest shape where the space has no value. Allocates only when x has another size.
   void positions(const Vec3& p, VecX& x) const;
 
   [[nodiscard]] std::size_t body() const { return body_; }
-  [[nodiscard]] const precompute::Interpolator& interpolator() const { return interpolator_; }
+  [[nodiscard]] bool online() const { return online_ != nullptr; }
+  /// Points solved so far (on-line), or the space's solved points.
+  [[nodiscard]] std::size_t solved_points() const;
+  struct OnlineCounts {
+    std::size_t solved = 0, points = 0;  ///< grid points solved, of all
+    std::uint64_t queries = 0;           ///< force() calls inside the grid's box
+    std::uint64_t complete = 0;          ///< of those, with every corner of their cell resolved
+  };
+  [[nodiscard]] OnlineCounts online_counts() const;
+  /// The file's interpolator (not on-line).
+  [[nodiscard]] const precompute::Interpolator& interpolator() const { return *interpolator_; }
 
   CspaceBody(std::size_t body, std::shared_ptr<const precompute::Space> space, precompute::Interpolation method);
+  CspaceBody(std::size_t body, std::unique_ptr<precompute::OnlineBuilder> online, VecX rest);
+  ~CspaceBody();
 
  private:
   std::size_t body_;
-  precompute::Interpolator interpolator_;
+  std::optional<precompute::Interpolator> interpolator_;
+  /// On-line: written by its solver threads, read by the haptic thread (force) and the
+  /// simulation thread (shape); its own synchronization makes that safe.
+  std::unique_ptr<precompute::OnlineBuilder> online_;
+  VecX rest_;
+  // Counted by the haptic thread, read after the run (or while it runs, approximately).
+  mutable std::atomic<std::uint64_t> queries_{0}, complete_{0};
 };
+
+/// Per scene body, its cspace body (null for the others): what one run shares between loops.
+using CspaceBodies = std::vector<std::shared_ptr<const CspaceBody>>;
+CspaceBodies load_cspace_bodies(const scene::Model& model);
+/// The shared one of `bodies` when given, else a fresh load.
+std::shared_ptr<const CspaceBody> cspace_body(const scene::Model& model, std::size_t index, const CspaceBodies& bodies);
 
 }  // namespace tactus::runtime

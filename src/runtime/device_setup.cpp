@@ -125,7 +125,7 @@ DeviceSetup setup_needle(const scene::Model& m, const scene::Device& d, const sc
 
 }  // namespace
 
-DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
+DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceBodies& cspaces) {
   const scene::Device& d = m.devices[index];
   DeviceSetup s;
   s.config.device = static_cast<std::uint16_t>(index);
@@ -171,7 +171,7 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index) {
   if (pulse) s.config.pulse.emplace(make_pulse(m, *pulse));
   s.bodies = bodies_of(m, *a);
   for (std::size_t b : s.bodies)
-    if (m.bodies[b].cspace && !s.config.cspace) s.config.cspace = CspaceBody::load(m, b);
+    if (m.bodies[b].cspace && !s.config.cspace) s.config.cspace = cspace_body(m, b, cspaces);
   if (const auto* p = std::get_if<scene::ProxyParams>(&a->params)) {
     s.config.stiffness = std::min(p->stiffness, d.max_stiffness);
     s.config.damping = p->damping;

@@ -22,6 +22,6 @@ struct DeviceSetup {
 };
 
 /// Throws InputError for a tool or algorithm the runtime cannot render yet.
-DeviceSetup setup_device(const scene::Model& model, std::size_t device);
+DeviceSetup setup_device(const scene::Model& model, std::size_t device, const CspaceBodies& cspaces = {});
 
 }  // namespace tactus::runtime

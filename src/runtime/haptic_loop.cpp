@@ -158,7 +158,7 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
     rendered = render_multi_surface(position, orientation, t);
   } else if (config_.cspace) {
     const Vec3 arm = config_.spheres.empty() ? Vec3::Zero() : Vec3(orientation * config_.spheres.front().offset);
-    const CspaceForce f = config_.cspace->force(position + arm);
+    const CspaceForce f = config_.cspace->force(position + arm, t);
     rendered.force = f.force;
     rendered.torque = arm.cross(f.force);
     rendered.touching = f.touching;

@@ -14,8 +14,11 @@ constexpr std::size_t kFrameRingCapacity = 1 << 15;
 Loops build_loops(const scene::Model& m, const SessionOptions& o) {
   Loops loops;
   std::vector<InteractionTarget> targets;
+  // Loaded once: an on-line space's solver threads serve the haptic and simulation loops alike.
+  loops.cspaces = load_cspace_bodies(m);
+  const CspaceBodies& cspaces = loops.cspaces;
   for (std::size_t i = 0; i < m.devices.size(); ++i) {
-    DeviceSetup setup = setup_device(m, i);
+    DeviceSetup setup = setup_device(m, i, cspaces);
     std::unique_ptr<haptics::Device> device;
     if (const auto it = o.replay.find(m.devices[i].name); it != o.replay.end())
       device = std::make_unique<haptics::ReplayDevice>(it->second.poses, device_limits(m.devices[i]), it->second.source);
@@ -34,7 +37,7 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
   }
   if (o.live) o.live->devices_described();
   // The simulation publishes into a buffer pre-sized with the rest surfaces.
-  loops.simulation = std::make_unique<SimulationLoop>(m, loops.channel_ptrs());
+  loops.simulation = std::make_unique<SimulationLoop>(m, loops.channel_ptrs(), cspaces);
   loops.surfaces = std::make_unique<TripleBuffer<SurfaceSnapshot>>(loops.simulation->initial_snapshot());
   loops.simulation->add_output(*loops.surfaces);
   if (o.visual) loops.simulation->add_output(o.visual->surface_buffer(loops.simulation->initial_snapshot()));

@@ -61,6 +61,7 @@ std::string format_report(const SessionReport& r) {
   for (const auto& note : r.realtime_notes) out += "  " + note + "\n";
   if (r.palpation) out += format_feedback(*r.palpation);
   for (const NeedleReport& n : r.needles) out += format_needle_report(n);
+  for (const auto& note : r.cspace_notes) out += note + "\n";
   return out;
 }
 

@@ -52,6 +52,15 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
   for (const auto& p : loops.interaction->parts())
     if (p.time.count() > 0) report.parts.push_back({"interaction: " + p.name, p.time});
   report.dropped_steps = loops.simulation->dropped_steps();
+  for (std::size_t b = 0; b < loops.cspaces.size(); ++b)
+    if (const auto& c = loops.cspaces[b]; c && c->online()) {
+      const CspaceBody::OnlineCounts n = c->online_counts();
+      report.cspace_notes.push_back(fmt::format(
+          "on-line space of body '{}': {} of {} grid points solved during the run; {} of {} force queries in the grid "
+          "found their cell complete ({:.1f}%)",
+          model.bodies[b].name, n.solved, n.points, n.complete, n.queries,
+          n.queries ? 100.0 * static_cast<double>(n.complete) / static_cast<double>(n.queries) : 0.0));
+    }
   return report;
 }
 

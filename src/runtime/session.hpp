@@ -106,6 +106,7 @@ struct SessionReport {
   std::vector<HapticFrame> frames;  ///< only with SessionOptions::keep_frames
   std::optional<PalpationFeedback> palpation;  ///< scenes with nodules (docs/scenes.md)
   std::vector<NeedleReport> needles;           ///< one per device driving a needle
+  std::vector<std::string> cspace_notes;       ///< what on-line spaces solved during the run
 };
 
 /// Runs the scene. Throws InputError for a scene the runtime cannot run (named in the

@@ -12,7 +12,8 @@
 
 namespace tactus::runtime {
 
-SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices)
+SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices,
+                               const CspaceBodies& cspaces)
     : model_(model), devices_(std::move(devices)), steps_ring_(1 << 14) {
   stats_.name = "simulation";
   stats_.rate = model.rates.simulation;
@@ -27,7 +28,7 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
     sb.rest.resize(static_cast<Eigen::Index>(3 * nodes.size()));
     for (std::size_t n = 0; n < nodes.size(); ++n) sb.rest.segment<3>(static_cast<Eigen::Index>(3 * n)) = nodes[n];
     if (b.cspace) {
-      sb.cspace = CspaceBody::load(model, i);
+      sb.cspace = cspace_body(model, i, cspaces);
       sb.state.x = sb.rest;
     } else if (b.kind == scene::BodyKind::embedded) {
       embedded_ = true;

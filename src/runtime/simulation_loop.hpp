@@ -24,7 +24,7 @@ class LiveMaterialModel;
 class SimulationLoop {
  public:
   /// `devices` are the haptic loops' channels (their contact loads are read here).
-  SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices);
+  SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices, const CspaceBodies& cspaces = {});
 
   /// The rest surfaces, sized as every snapshot will be: the initial value of an output.
   [[nodiscard]] SurfaceSnapshot initial_snapshot() const;

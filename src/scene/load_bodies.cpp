@@ -415,15 +415,25 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
                                {"cspace", BodyKind::fem}},  // an FEM body rendered from a precomputed space
                               std::nullopt);
   if (r.string("kind") == "cspace") {
-    const std::string file = r.required_string("space");
-    b.cspace = Body::ConfigurationSpace{
-        resolve_file(r, "space", file),
-        r.choice<precompute::Interpolation>("interpolation",
-                                            {{"trilinear", precompute::Interpolation::trilinear},
-                                             {"rbf_cubic", precompute::Interpolation::rbf_cubic},
-                                             {"rbf_thin_plate", precompute::Interpolation::rbf_thin_plate},
-                                             {"polynomial", precompute::Interpolation::polynomial}},
-                                            precompute::Interpolation::trilinear)};
+    Body::ConfigurationSpace c;
+    c.online = r.boolean("online", false);
+    if (c.online) {
+      // Forces from the solved points as they come (trilinear over a cell, the nearest solved
+      // corner until it is complete): no other interpolation applies.
+      if (r.has("space")) r.fail("space", "an on-line space is built during the run; give either `space` or `online = true`");
+      if (r.has("interpolation")) r.fail("interpolation", "an on-line space is interpolated trilinearly over its solved points");
+      c.workers = r.integer("workers", 1, 1, 256);
+    } else {
+      c.file = resolve_file(r, "space", r.required_string("space"));
+      c.interpolation = r.choice<precompute::Interpolation>("interpolation",
+                                                            {{"trilinear", precompute::Interpolation::trilinear},
+                                                             {"rbf_cubic", precompute::Interpolation::rbf_cubic},
+                                                             {"rbf_thin_plate", precompute::Interpolation::rbf_thin_plate},
+                                                             {"polynomial", precompute::Interpolation::polynomial}},
+                                                            precompute::Interpolation::trilinear);
+      if (r.has("workers")) r.fail("workers", "`workers` is for an on-line space (online = true)");
+    }
+    b.cspace = std::move(c);
   }
   if (b.kind == BodyKind::embedded) {
     // Read after every other body (read_model), so the host exists whatever the order.

@@ -187,8 +187,12 @@ struct Body {
   /// kind = "cspace": an FEM body whose haptic force and shape come from a precomputed
   /// configuration space (docs/precompute.md) instead of a simulation.
   struct ConfigurationSpace {
-    std::filesystem::path file;  ///< the .h5 file `tactus precompute` wrote
+    std::filesystem::path file;  ///< the .h5 file `tactus precompute` wrote (empty when online)
     precompute::Interpolation interpolation = precompute::Interpolation::trilinear;
+    /// Built on-line during the run from the scene's [precompute] table instead of read from
+    /// a file: solver threads work around the tool and ahead of it (precompute/online.hpp).
+    bool online = false;
+    int workers = 1;  ///< online: solver threads
   };
   std::optional<ConfigurationSpace> cspace;
   /// kind = "embedded": the volumetric body whose tetrahedra carry this surface (an earlier

@@ -75,7 +75,11 @@ std::string body_lines(const Model& model, const Body& b) {
   for (const MappedSurface& m : b.mapped)
     s += fmt::format("    mapped {} surface '{}' ({}): {} vertices, {} triangles\n", to_string(m.role), m.name, m.source,
                      m.mesh.vertices.size(), m.mesh.triangles.size());
-  if (b.cspace) {
+  if (b.cspace && b.cspace->online) {
+    s += fmt::format("    rendered from a configuration space built on-line during the run ({} solver thread{}), "
+                     "not simulated\n",
+                     b.cspace->workers, b.cspace->workers == 1 ? "" : "s");
+  } else if (b.cspace) {
     s += fmt::format("    rendered from the configuration space {} ({} interpolation), not simulated\n",
                      b.cspace->file.string(), precompute::to_string(b.cspace->interpolation));
   } else if (b.kind != BodyKind::rigid && b.kind != BodyKind::embedded) {

@@ -9,6 +9,9 @@
 #include <fstream>
 #include <sstream>
 #include <vector>
+#include <array>
+#include <chrono>
+#include <thread>
 #include <memory>
 #include <string>
 
@@ -145,9 +148,9 @@ TEST_F(CspaceRuntime, ShapeFollowsTheToolAndForceIsZeroOutsideTheGrid) {
   // configuration holds it at its grid point).
   const auto n = 3 * static_cast<Eigen::Index>(space.settings.contact_node);
   EXPECT_LT((x.segment<3>(n) - p).norm(), 1e-9);
-  EXPECT_TRUE(body->force(p).touching);
-  EXPECT_FALSE(body->force(Vec3(0.0, 0.0, 0.05)).touching);
-  EXPECT_EQ(body->force(Vec3(0.0, 0.0, 0.05)).force, Vec3::Zero());
+  EXPECT_TRUE(body->force(p, 0.0).touching);
+  EXPECT_FALSE(body->force(Vec3(0.0, 0.0, 0.05), 0.0).touching);
+  EXPECT_EQ(body->force(Vec3(0.0, 0.0, 0.05), 0.0).force, Vec3::Zero());
 }
 
 TEST_F(CspaceRuntime, RefusesASpaceBuiltForAnotherMaterial) {
@@ -231,6 +234,84 @@ TEST_F(CspaceRuntime, RunWithSpaceFlagNeedsTheScenesPrecomputeTable) {
   // --interpolation is for --space only.
   EXPECT_NE(tactus("run plain.toml --interpolation rbf_cubic --lockstep -d 0.05"), 0);
   EXPECT_NE(log().find("--interpolation requires --space"), std::string::npos) << log();
+}
+
+/// block.toml with its [precompute] body built on-line during the run.
+std::string online_scene(const std::string& block, const std::string& keys = "online = true\nworkers = 2") {
+  std::string text = block;
+  const std::string fem = "kind = \"fem\"";
+  text.replace(text.find(fem), fem.size(), "kind = \"cspace\"\n" + keys);
+  return text;
+}
+
+TEST_F(CspaceRuntime, OnlineBodySolvesAroundTheToolAndFeelsWhatTheBuiltSpaceHolds) {
+  std::string block;
+  {
+    std::ifstream in(dir_ / "block.toml");
+    block.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const scene::Model m = model(online_scene(block));
+  std::size_t index = 0;
+  while (!m.bodies[index].cspace) ++index;
+  const auto body = runtime::CspaceBody::load(m, index);
+  ASSERT_TRUE(body->online());
+  // The tool holds one grid spacing below the contact point, a grid point: once it is solved
+  // the force there is that point's, the one the space built before the run holds (the same
+  // transition from the same source).
+  const Space built = read_space(dir_ / "space.h5");
+  const std::array<int, 3> start = built.grid.cell(built.start);
+  const std::size_t below = built.grid.index(start[0], start[1], start[2] - 1);
+  ASSERT_TRUE(built.solved(below));
+  const Vec3 p = built.grid.point(below);
+  const Vec3 expected = built.force[below];
+  Vec3 last = Vec3::Zero();
+  double t = 0.0;
+  bool reached = false;
+  // Real time: the solvers run beside this loop at 1 kHz (10 s is far more than the few
+  // solves this takes, even under a sanitizer).
+  for (int frame = 0; frame < 10000 && !reached; ++frame, t += 1e-3) {
+    const runtime::CspaceForce f = body->force(p, t);
+    ASSERT_TRUE(f.force.allFinite());
+    EXPECT_LE((f.force - last).norm(), 0.1 + 1e-12) << "frame " << frame;  // OnlineSettings::max_force_step
+    last = f.force;
+    reached = f.touching && (f.force - expected).norm() <= 1e-9 * expected.norm();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_TRUE(reached) << "online force " << last.transpose() << " against " << expected.transpose();
+  EXPECT_GT(body->solved_points(), 1u);
+  // The shape there: the contact node at the tool (every configuration holds it at its
+  // grid point).
+  VecX x;
+  body->positions(p, x);
+  const auto n = 3 * static_cast<Eigen::Index>(built.settings.contact_node);
+  EXPECT_LT((x.segment<3>(n) - p).norm(), 1e-9);
+  // Outside the grid's box the tool is not attached.
+  EXPECT_FALSE(body->force(Vec3(0.0, 0.0, 0.05), t).touching);
+}
+
+TEST_F(CspaceRuntime, RunWithOnlineFlagBuildsTheSpaceDuringTheRun) {
+  std::string block;
+  {
+    std::ifstream in(dir_ / "block.toml");
+    block.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::ofstream(dir_ / "hand.toml") << block + kPressingHand;
+  ASSERT_EQ(tactus("run hand.toml --online --online-threads 2 -d 0.5 --priority 0 --cpu -1"), 0) << log();
+  EXPECT_NE(log().find("built on-line during the run (2 solver threads)"), std::string::npos) << log();
+  EXPECT_NE(log().find("grid points solved during the run"), std::string::npos) << log();
+  // Not with a space file, not without a [precompute] table, and a scene says one or the other.
+  EXPECT_NE(tactus("run hand.toml --online --space space.h5 --lockstep -d 0.05"), 0);
+  std::string plain = testing::block_scene("");
+  plain = plain.substr(0, plain.find("[precompute]"));
+  std::ofstream(dir_ / "plain.toml") << plain + kPressingHand;
+  EXPECT_EQ(tactus("run plain.toml --online --lockstep -d 0.05"), 1);
+  EXPECT_NE(log().find("--online: this scene has no [precompute] table"), std::string::npos) << log();
+  try {
+    (void)model(online_scene(block, "online = true\nspace = \"space.h5\""));
+    FAIL() << "a body with both online and space loaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("either `space` or `online = true`"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
