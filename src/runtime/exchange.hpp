@@ -5,6 +5,7 @@
 //
 //   haptic ──ToolState──▶ interaction ──LocalContact──▶ haptic
 //   haptic ──ContactLoad──▶ simulation ──SurfaceSnapshot──▶ interaction, visual
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -45,6 +46,17 @@ struct ContactLoad {
   Vec3 force = Vec3::Zero();  ///< on the tissue, scene coordinates [N]
   /// Radius of the contact disc the force is spread over (contact/load_spread.hpp) [m].
   double contact_radius = 0.0;
+  /// A sphere-set finger on a patch: each touching sphere's contact and its share of `force`
+  /// (the shares sum to 1), spread each over its own disc. None: the contact above takes all.
+  struct Part {
+    std::int32_t triangle = -1;
+    Vec3 barycentric = Vec3::Zero();
+    double share = 0.0;
+    double contact_radius = 0.0;
+  };
+  static constexpr int kMaxParts = 8;
+  std::array<Part, kMaxParts> parts{};
+  int part_count = 0;
   /// A needle's shaft inside the tissue: `shaft_force` (on the tissue) is shared by the
   /// tissue nodes near the segment shaft_from → shaft_to of `body` (or its host).
   bool shaft = false;

@@ -222,6 +222,7 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   const double kept = in_norm > 0.0 ? std::min(1.0, out.force.norm() / in_norm) : 0.0;
   const Vec3 sent = config_.map.rotation * out.force - kept * pulse;
   ContactLoad& load = channels_.load.write_buffer();
+  load.part_count = 0;
   if (needle_) {
     needle_load(load, touching);
   } else if (multi_surface_) {
@@ -252,6 +253,16 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
         sphere_contacts_[static_cast<std::size_t>(i)].stiffness *= scale;
       }
       local_->advance({sphere_contacts_.data(), static_cast<std::size_t>(sphere_contact_count_)}, dt);
+      // The tissue takes each sphere's force where that sphere touches, in proportion.
+      double total = 0.0;
+      for (int i = 0; i < sphere_contact_count_; ++i) total += sphere_contacts_[static_cast<std::size_t>(i)].force;
+      for (int i = 0; i < sphere_contact_count_ && i < ContactLoad::kMaxParts && total > 0.0; ++i) {
+        const contact::PatchContact& c = sphere_contacts_[static_cast<std::size_t>(i)];
+        if (c.triangle < 0 || c.triangle >= patch.triangle_count || !(c.force > 0.0)) continue;
+        load.parts[static_cast<std::size_t>(load.part_count++)] = {
+            patch.surface_triangle[static_cast<std::size_t>(c.triangle)], c.barycentric, c.force / total,
+            c.contact_radius};
+      }
     } else {
       local_->advance(on_patch, dt);
     }

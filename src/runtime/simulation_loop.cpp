@@ -80,9 +80,26 @@ std::span<const contact::LoadShare> SimulationLoop::spread(SimBody& sb, const Co
   sb.surface.resize(sb.surface_to_node.size());
   for (std::size_t v = 0; v < sb.surface.size(); ++v)
     sb.surface[v] = sb.state.x.segment<3>(3 * static_cast<Eigen::Index>(sb.surface_to_node[v]));
-  const int count = contact::spread_load(sb.surface, triangles, sb.surface_area, load.triangle, load.barycentric,
-                                         load.contact_radius, shares_);
-  return {shares_.data(), static_cast<std::size_t>(count)};
+  if (load.part_count <= 0) {
+    const int count = contact::spread_load(sb.surface, triangles, sb.surface_area, load.triangle, load.barycentric,
+                                           load.contact_radius, std::span(shares_.data(), kSharesPerContact));
+    return {shares_.data(), static_cast<std::size_t>(count)};
+  }
+  // A sphere-set finger: each sphere's part spread over its own disc, weighted by its share;
+  // each gets an equal slice of the buffer.
+  const int parts = std::min(load.part_count, ContactLoad::kMaxParts);
+  const std::size_t slice = std::min(kSharesPerContact, shares_.size() / static_cast<std::size_t>(parts));
+  std::size_t used = 0;
+  for (int i = 0; i < parts; ++i) {
+    const ContactLoad::Part& part = load.parts[static_cast<std::size_t>(i)];
+    if (part.triangle < 0 || static_cast<std::size_t>(part.triangle) >= triangles.size()) continue;
+    const std::span<contact::LoadShare> out(shares_.data() + used, slice);
+    const int count = contact::spread_load(sb.surface, triangles, sb.surface_area, part.triangle, part.barycentric,
+                                           part.contact_radius, out);
+    for (int k = 0; k < count; ++k) out[static_cast<std::size_t>(k)].share *= part.share;
+    used += static_cast<std::size_t>(count);
+  }
+  return {shares_.data(), used};
 }
 
 SurfaceSnapshot SimulationLoop::initial_snapshot() const {

@@ -97,7 +97,8 @@ class SimulationLoop {
   std::vector<TripleBuffer<SurfaceSnapshot>*> outputs_;
   std::vector<SimBody> bodies_;
   std::vector<PatchSource> patch_sources_;
-  std::array<contact::LoadShare, 64> shares_{};
+  static constexpr std::size_t kSharesPerContact = 64;  ///< vertices one contact's load spreads over, at most
+  std::array<contact::LoadShare, 256> shares_{};         ///< up to 32 per sphere of an 8-sphere finger
   std::uint64_t step_ = 0;
   LoopStats stats_;
   std::vector<PartStats> parts_;  ///< loads, integrate, publish
