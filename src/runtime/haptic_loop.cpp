@@ -92,8 +92,9 @@ HapticLoop::Rendered HapticLoop::render_patch(const LocalContact& contact, conta
   }
   sphere_contact_count_ = 0;
   if (!local_->valid()) return out;
-  // Every sphere against the patch's current triangles; the deepest one's contact carries the
-  // sum of the normal forces to the simulation, and each sphere's own contact dents the patch.
+  // Every sphere against the patch's current triangles: each sphere's own contact dents the
+  // patch, and goes to the simulation with its share of the load (step()); the deepest one's
+  // is the frame's contact point.
   double deepest = 0.0;
   for (const HapticConfig::Sphere& sphere : config_.spheres) {
     const Vec3 arm = orientation * sphere.offset;
