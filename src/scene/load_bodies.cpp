@@ -425,12 +425,7 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
       c.workers = r.integer("workers", 1, 1, 256);
     } else {
       c.file = resolve_file(r, "space", r.required_string("space"));
-      c.interpolation = r.choice<precompute::Interpolation>("interpolation",
-                                                            {{"trilinear", precompute::Interpolation::trilinear},
-                                                             {"rbf_cubic", precompute::Interpolation::rbf_cubic},
-                                                             {"rbf_thin_plate", precompute::Interpolation::rbf_thin_plate},
-                                                             {"polynomial", precompute::Interpolation::polynomial}},
-                                                            precompute::Interpolation::trilinear);
+      c.interpolation = read_interpolation(r, "interpolation");
       if (r.has("workers")) r.fail("workers", "`workers` is for an on-line space (online = true)");
     }
     b.cspace = std::move(c);

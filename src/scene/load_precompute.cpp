@@ -9,6 +9,15 @@
 
 namespace tactus::scene::detail {
 
+precompute::Interpolation read_interpolation(Reader& r, std::string_view key) {
+  return r.choice<precompute::Interpolation>(key,
+                                             {{"trilinear", precompute::Interpolation::trilinear},
+                                              {"rbf_cubic", precompute::Interpolation::rbf_cubic},
+                                              {"rbf_thin_plate", precompute::Interpolation::rbf_thin_plate},
+                                              {"polynomial", precompute::Interpolation::polynomial}},
+                                             precompute::Interpolation::trilinear);
+}
+
 precompute::SpaceSettings read_precompute(Reader& r, const Model& model) {
   precompute::SpaceSettings s;
   std::optional<std::size_t> index;
@@ -60,12 +69,7 @@ precompute::SpaceSettings read_precompute(Reader& r, const Model& model) {
   s.max_iterations = r.integer("max_iterations", s.max_iterations, 1, 1000);
   s.tolerance = r.number("tolerance", s.tolerance, Range::open_closed(0.0, 1e-2));
   s.gravity = r.boolean("gravity", s.gravity);
-  s.interpolation = r.choice<precompute::Interpolation>("interpolation",
-                                                        {{"trilinear", precompute::Interpolation::trilinear},
-                                                         {"rbf_cubic", precompute::Interpolation::rbf_cubic},
-                                                         {"rbf_thin_plate", precompute::Interpolation::rbf_thin_plate},
-                                                         {"polynomial", precompute::Interpolation::polynomial}},
-                                                        precompute::Interpolation::trilinear);
+  s.interpolation = read_interpolation(r, "interpolation");
   precompute::Grid grid;
   try {
     grid = precompute::Grid::through(node, s.bounds_min, s.bounds_max, s.spacing);

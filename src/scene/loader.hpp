@@ -3,6 +3,7 @@
 // table into its Model part, resolving references against what `model` already holds:
 // materials, then bodies, devices, tools, algorithms.
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "scene/model.hpp"
@@ -16,6 +17,8 @@ Device read_device(Reader& r, const std::string& name);
 Tool read_tool(Reader& r, const std::string& name, const Model& model);
 Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model);
 precompute::SpaceSettings read_precompute(Reader& r, const Model& model);
+/// An interpolation method by name (`trilinear`, default, `rbf_cubic`, `rbf_thin_plate`, `polynomial`).
+precompute::Interpolation read_interpolation(Reader& r, std::string_view key);
 /// bodies.<name>.nodules of a body whose mesh and fixed regions are read (load_nodules.cpp).
 std::vector<Nodule> read_nodules(Reader& r, const Body& body);
 Feedback read_feedback(Reader& root);

@@ -98,7 +98,8 @@ TEST(ContactLoadParts, EachPartDentsTheTissueUnderItAsItsShareAloneWould) {
               "on the right: %.4f (left %.4f)\n",
               1e3 * left, 1e3 * right, 1e3 * left_only, 1e3 * left_only_far, 1e3 * right_only, 1e3 * right_only_far);
   // Each side sinks as its part alone sinks it, to within the little (under 5 % here) the
-  // other part adds there. The whole load on one triangle would sink the left 4 times as far.
+  // other part adds there. The whole 0.4 N on the left triangle would sink the left about
+  // 4 times as far as its 0.1 N part (linear at these depths), far outside the tolerance.
   EXPECT_NEAR(left, left_only, 0.1 * left_only);
   EXPECT_NEAR(right, right_only, 0.1 * right_only);
   EXPECT_LT(right_only_far, 0.2 * right_only);
