@@ -117,6 +117,8 @@ class PatchBuilder {
     /// Contact load the step applied: the surface vertices' shares of the force on the tissue.
     std::span<const LoadShare> load_shares;
     Vec3 load_force = Vec3::Zero();
+    /// The body does not deform (a rigid body): the patch does not yield, whatever the kind.
+    bool rigid = false;
     /// compliance: the body, its state after the step and its surface vertex → node map.
     const physics::Body* physics_body = nullptr;
     const physics::BodyState* physics_state = nullptr;

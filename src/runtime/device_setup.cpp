@@ -248,6 +248,7 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   // §IV: the cursor's position and its finite velocity bound the contact region).
   s.patch_radius = extent + a->max_tool_speed / m.rates.simulation;
   s.config.force_smoothing = a->force_smoothing;
+  s.config.passivity_control = a->passivity_control;
   s.config.spread_over_contact_disc = a->load_spread == scene::LoadSpread::contact_disc;
   return s;
 }

@@ -9,7 +9,7 @@ namespace tactus::runtime {
 HapticLoop::HapticLoop(HapticConfig config, std::unique_ptr<haptics::Device> device,
                        DeviceChannels& channels)
     : config_(std::move(config)), device_(std::move(device)), channels_(channels),
-      safety_(config_.safety), planes_(config_.plane_blend), smoother_(config_.force_smoothing) {
+      safety_(config_.safety), planes_(config_.plane_blend), smoother_(config_.force_smoothing), passivity_(config_.passivity_control) {
   stats_.rate = config_.rate;
   // Sized from the channel's own request, so a patch copied out of it never reallocates.
   if (channels_.patch) local_.emplace(channels_.patch_request.kind, channels_.patch_request.capacity);
@@ -200,9 +200,10 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
     }
     shown_contact_ = contact;
   }
-  const Vec3 force = smoother_.apply(rendered.force, position, velocity_, dt);
-  const Vec3 torque = rendered.torque;
   const bool touching = rendered.touching;
+  const Vec3 force =
+      passivity_.apply(smoother_.apply(rendered.force, position, velocity_, dt), touching, position, velocity_, dt);
+  const Vec3 torque = rendered.torque;
 
   haptics::SafetyInput in;
   // The pulse joins the contact force after the smoothing: its beats are no model update.

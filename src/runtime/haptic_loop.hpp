@@ -23,6 +23,7 @@
 #include "runtime/cspace_body.hpp"
 #include "runtime/exchange.hpp"
 #include "runtime/force_smoothing.hpp"
+#include "runtime/passivity_control.hpp"
 #include "runtime/loop_stats.hpp"
 #include "runtime/recording.hpp"
 
@@ -97,6 +98,9 @@ struct HapticConfig {
   contact::PatchCapacity patch_capacity;
   /// Time constant of the passive smoothing of force steps at model updates [s]; 0 = off.
   double force_smoothing = 0.0;
+  /// Weaken a contact force that would return more energy to the hand than the hand put
+  /// into the contact (runtime/passivity_control.hpp).
+  bool passivity_control = false;
   /// Spread the tissue's load over the contact disc instead of the contact triangle
   /// (contact/load_spread.hpp); the patch models then dent their nodes the same way.
   bool spread_over_contact_disc = false;
@@ -193,6 +197,7 @@ class HapticLoop {
   int sphere_contact_count_ = 0;
   LocalContact shown_contact_;  ///< the plane rendered last frame (to measure an update's step)
   ForceSmoother smoother_;
+  PassivityControl passivity_;
   bool proxy_started_ = false;
   Vec3 last_position_ = Vec3::Zero();
   Vec3 velocity_ = Vec3::Zero();

@@ -246,6 +246,7 @@ void SimulationLoop::publish_patches(double t) {
         in.load_shares = source.applied_shares;
         in.load_force = source.applied.force;
       }
+      in.rigid = !sb.body;
       if (sb.body) {
         in.physics_body = &*sb.body;
         in.physics_state = &sb.state;

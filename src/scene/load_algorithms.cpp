@@ -90,6 +90,7 @@ Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model)
   a.force_smoothing = r.number("force_smoothing", a.force_smoothing, Range::closed(0.0, 0.1));
   a.load_spread = r.choice<LoadSpread>(
       "load_spread", {{"triangle", LoadSpread::triangle}, {"contact_disc", LoadSpread::contact_disc}}, a.load_spread);
+  a.passivity_control = r.boolean("passivity_control", a.passivity_control);
 
   switch (type) {
     case proxy: {

@@ -387,13 +387,18 @@ struct Algorithm {
   std::vector<std::size_t> bodies;   ///< indices into Model::bodies; empty = every body
   bool enabled = true;
   AlgorithmParams params;
-  LocalModel local_model = LocalModel::plane;
+  /// The local mass-spring patch errs least against a simulation at the haptic rate
+  /// (tests/contact/local_model_choice_test.cpp).
+  LocalModel local_model = LocalModel::mass_spring;
   /// Fastest tool motion the local patch must cover between two simulation steps [m/s].
   double max_tool_speed = 0.2;
   /// Time constant over which a force step at a model update is smoothed out, passively [s];
   /// 0 = off.
   double force_smoothing = 0.0;
   LoadSpread load_spread = LoadSpread::triangle;
+  /// Keep the contact from returning more energy to the hand than the hand put in
+  /// (runtime/passivity_control.hpp).
+  bool passivity_control = true;
 };
 
 // ---------------------------------------------------------------------------------------

@@ -279,9 +279,9 @@ void Renderer::build(const FrameView& frame, const ViewOptions& options, Batches
       const Vec3 c00 = q.centre - u - w, c10 = q.centre + u - w, c11 = q.centre + u + w, c01 = q.centre - u + w;
       for (const Vec3& p : {c00, c10, c11, c00, c11, c01}) push(out.translucent, p, n, q.colour, q.opacity);
       // Its outline and normal, so that it shows edge-on too.
-      for (const Vec3& p : {c00, c10, c10, c11, c11, c01, c01, c00}) push(out.lines, p, n, q.colour, 1.0);
-      push(out.lines, q.centre, n, q.colour, 1.0);
-      push(out.lines, q.centre + n * q.half, n, q.colour, 1.0);
+      for (const Vec3& p : {c00, c10, c10, c11, c11, c01, c01, c00}) push(out.overlay, p, n, q.colour, 1.0);
+      push(out.overlay, q.centre, n, q.colour, 1.0);
+      push(out.overlay, q.centre + n * q.half, n, q.colour, 1.0);
     }
   if (options.show_bvh)
     for (const BoxView& b : frame.boxes) {
@@ -399,6 +399,14 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
   }
+  if (!batches.overlay.empty()) {
+    glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 1);
+    glDisable(GL_DEPTH_TEST);
+    draw(batches.overlay, GL_LINES);
+    glEnable(GL_DEPTH_TEST);
+    glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
+  }
+
   glBindVertexArray(0);
   glUseProgram(0);
 }

@@ -32,6 +32,9 @@ class Renderer {
   };
   struct Batches {
     std::vector<Vertex> opaque, translucent, wire, lines;
+    /// Lines drawn over everything: a contact's constraint plane lies where the haptic loop
+    /// has the tissue, which between simulation steps may be under the shown surface.
+    std::vector<Vertex> overlay;
   };
   void build(const FrameView& frame, const ViewOptions& options, Batches& out) const;
   void draw(const std::vector<Vertex>& vertices, GLenum mode = GL_TRIANGLES);

@@ -1,0 +1,45 @@
+#pragma once
+// Keeps a contact from giving the hand more energy than the hand put into it, after
+// Hannaford & Ryu's passivity observer and controller (2002). A local model between
+// simulation steps is not exactly the body: at an update the new shape may push a little
+// harder than the old one did, and over a press and release that can return more energy
+// than went in. The observer sums the work the contact force has done on the hand since
+// the contact began; while that is positive, the controller takes away as much of the
+// force's part along the hand's motion as would remove the excess within one frame. It
+// only ever weakens that part, never reverses it, so it adds nothing the device would have
+// to render stably (no stiffness, no damping beyond the force already there).
+#include "core/math.hpp"
+
+namespace tactus::runtime {
+
+class PassivityControl {
+ public:
+  explicit PassivityControl(bool enabled = false) : enabled_(enabled) {}
+
+  [[nodiscard]] bool enabled() const { return enabled_; }
+
+  /// The force to render for the contact force `force`, the tool at `position` moving at
+  /// `velocity`, over a frame of length `dt` [s]; `touching` whether the contact renders a
+  /// force. Call once per frame.
+  [[nodiscard]] Vec3 apply(const Vec3& force, bool touching, const Vec3& position, const Vec3& velocity, double dt);
+
+  /// Net work the contact force has done on the hand in this contact [J] (a debt from an
+  /// earlier contact included): ≤ 0 while the contact is passive.
+  [[nodiscard]] double observed_work() const { return work_; }
+  /// Energy the controller has taken away so far [J].
+  [[nodiscard]] double removed() const { return removed_; }
+
+ private:
+  bool enabled_;
+  double work_ = 0.0;
+  double removed_ = 0.0;
+  Vec3 last_force_ = Vec3::Zero();
+  Vec3 last_removed_ = Vec3::Zero();  ///< the force taken away last frame
+  Vec3 last_position_ = Vec3::Zero();
+  bool has_position_ = false;
+  double free_time_ = 0.0;  ///< time since the contact last rendered a force [s]
+  /// Out of contact this long, a contact has ended [s].
+  static constexpr double kContactEnded = 0.02;
+};
+
+}  // namespace tactus::runtime
