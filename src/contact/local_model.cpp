@@ -269,7 +269,6 @@ void PatchBuilder::fit_mass_spring(const Inputs& in, LocalPatch& out) {
     out.mass.segment<3>(dof(i)).setConstant(mat.density * area * std::sqrt(area));
   }
   const double h = in.frame_time;
-  out.frame_time = h;
   out.stiffness.topLeftCorner(f3, f3) = full_.topLeftCorner(f3, f3);
   // Border at constant velocity: force on the free nodes per second of it, K_FB·v_B.
   border_velocity_.setZero(dof(nodes) - f3);

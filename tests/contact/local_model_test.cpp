@@ -18,9 +18,10 @@ struct Plate {
   PatchCapacity capacity;
   PatchBuilder builder{mesh.vertices.size(), mesh.triangles, capacity};
 
-  LocalPatch build(LocalModelKind kind, const Vec3& centre, double radius) {
+  LocalPatch build(LocalModelKind kind, const Vec3& centre, double radius, bool rigid = false) {
     LocalPatch patch(kind, capacity);
     PatchBuilder::Inputs in;
+    in.rigid = rigid;
     in.kind = kind;
     in.body = 0;
     in.center = centre;
@@ -79,6 +80,23 @@ TEST(LocalPatch, MassSpringSettlesUnderAConstantForceAndReleasesWithout) {
   c.triangle = -1;
   for (int k = 0; k < 2000; ++k) model.advance(c, 1e-3);
   EXPECT_LT(model.displacement().head(3 * p.free_count).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+TEST(LocalPatch, ARigidBodysPatchDoesNotYieldUnderEitherModel) {
+  Plate plate;
+  for (const LocalModelKind kind : {LocalModelKind::mass_spring, LocalModelKind::compliance}) {
+    const LocalPatch p = plate.build(kind, Vec3(0.0, 0.0, 0.004), 0.008, /*rigid=*/true);
+    ASSERT_TRUE(p.valid);
+    LocalModel model(kind, plate.capacity);
+    model.reset(p, 0.0);
+    PatchContact c;
+    c.triangle = 0;
+    c.barycentric = Vec3::Constant(1.0 / 3.0);
+    c.normal = Vec3::UnitZ();
+    c.force = 5.0;
+    for (int k = 0; k < 100; ++k) model.advance(c, 1e-3);
+    EXPECT_EQ(model.displacement().head(3 * p.free_count).norm(), 0.0) << local_model_name(kind);
+  }
 }
 
 TEST(LocalPatch, ImplicitContactIsStableForAContactMuchStifferThanThePatch) {
