@@ -52,6 +52,38 @@ LocalPatch::LocalPatch(LocalModelKind k, const PatchCapacity& c) : kind(k) {
   border_drift = VecX::Zero(ms);
 }
 
+void LocalPatch::assign_used(const LocalPatch& from) {
+  if (from.position.size() != position.size() || from.triangles.size() != triangles.size() ||
+      from.response.rows() != response.rows() || from.stiffness.rows() != stiffness.rows())
+    throw std::invalid_argument("local patch: copying between patches of different capacities");
+  kind = from.kind;
+  valid = from.valid;
+  body = from.body;
+  time = from.time;
+  center = from.center;
+  radius = from.radius;
+  free_count = from.free_count;
+  node_count = from.node_count;
+  triangle_count = from.triangle_count;
+  frame_time = from.frame_time;
+  const auto nodes = static_cast<std::ptrdiff_t>(node_count), tris = static_cast<std::ptrdiff_t>(triangle_count);
+  std::copy_n(from.position.begin(), nodes, position.begin());
+  std::copy_n(from.velocity.begin(), nodes, velocity.begin());
+  std::copy_n(from.area.begin(), nodes, area.begin());
+  std::copy_n(from.triangles.begin(), tris, triangles.begin());
+  std::copy_n(from.surface_triangle.begin(), tris, surface_triangle.begin());
+  const Eigen::Index f3 = 3 * static_cast<Eigen::Index>(free_count);
+  release.head(f3) = from.release.head(f3);
+  applied.head(f3) = from.applied.head(f3);
+  response.topLeftCorner(f3, f3) = from.response.topLeftCorner(f3, f3);
+  if (stiffness.rows() >= f3) {  // the mass-spring arrays, where this kind has them
+    stiffness.topLeftCorner(f3, f3) = from.stiffness.topLeftCorner(f3, f3);
+    system_inverse.topLeftCorner(f3, f3) = from.system_inverse.topLeftCorner(f3, f3);
+    mass.head(f3) = from.mass.head(f3);
+    border_drift.head(f3) = from.border_drift.head(f3);
+  }
+}
+
 // --- PatchBuilder (simulation thread) ------------------------------------------------------
 
 PatchBuilder::PatchBuilder(std::size_t vertex_count, std::span<const mesh::Triangle> triangles,
@@ -319,7 +351,7 @@ LocalModel::LocalModel(LocalModelKind kind, const PatchCapacity& capacity)
 }
 
 void LocalModel::reset(const LocalPatch& patch, double now) {
-  patch_ = patch;  // same sizes on both sides: the buffers are reused, nothing allocates
+  patch_.assign_used(patch);  // same capacity on both sides: nothing allocates
   u_.setZero();
   v_.setZero();
   now_ = now;
