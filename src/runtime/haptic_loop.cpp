@@ -223,6 +223,7 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   const double in_norm = in.force.norm();
   const double kept = in_norm > 0.0 ? std::min(1.0, out.force.norm() / in_norm) : 0.0;
   const Vec3 sent = config_.map.rotation * out.force - kept * pulse;
+  passivity_.record_sent(sent);
   ContactLoad& load = channels_.load.write_buffer();
   load.part_count = 0;
   if (needle_) {

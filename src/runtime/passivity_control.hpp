@@ -23,6 +23,13 @@ class PassivityControl {
   /// force. Call once per frame.
   [[nodiscard]] Vec3 apply(const Vec3& force, bool touching, const Vec3& position, const Vec3& velocity, double dt);
 
+  /// The contact force that actually reached the hand this frame, after the safety layer
+  /// clamped or ramped it (scene coordinates): the observer counts this one, not what apply()
+  /// returned. Optional; call after apply().
+  void record_sent(const Vec3& sent) {
+    if (enabled_) last_force_ = sent.allFinite() ? sent : Vec3::Zero();
+  }
+
   /// Net work the contact force has done on the hand in this contact [J] (a debt from an
   /// earlier contact included): ≤ 0 while the contact is passive.
   [[nodiscard]] double observed_work() const { return work_; }

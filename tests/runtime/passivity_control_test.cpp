@@ -124,6 +124,13 @@ TEST(PassivityControl, PassesANonFiniteForceOnToTheSafetyLayerAndOffDoesNothing)
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const Vec3 out = pc.apply(Vec3(nan, 0.0, 1.0), true, Vec3(0.0, 0.0, 0.002), Vec3(0.0, 0.0, 1.0), kDt);
   EXPECT_TRUE(std::isnan(out.x()));  // the safety layer replaces it by zero and counts it
+  // It sent nothing, so it did no work, and the observer still counts afterwards.
+  (void)pc.apply(Vec3::Zero(), true, Vec3(nan, 0.0, 0.0), Vec3(0.0, 0.0, 1.0), kDt);  // a glitched pose too
+  EXPECT_TRUE(std::isfinite(pc.observed_work()));
+  const double before = pc.observed_work();
+  (void)pc.apply(Vec3(0.0, 0.0, 1.0), true, Vec3(0.0, 0.0, 0.003), Vec3::Zero(), kDt);
+  (void)pc.apply(Vec3(0.0, 0.0, 1.0), true, Vec3(0.0, 0.0, 0.004), Vec3::Zero(), kDt);
+  EXPECT_NEAR(pc.observed_work(), before + 1e-3, 1e-12);
 
   PassivityControl off(false);
   const Vec3 f(0.3, -0.2, 1.0);
