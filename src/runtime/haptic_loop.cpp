@@ -9,7 +9,8 @@ namespace tactus::runtime {
 HapticLoop::HapticLoop(HapticConfig config, std::unique_ptr<haptics::Device> device,
                        DeviceChannels& channels)
     : config_(std::move(config)), device_(std::move(device)), channels_(channels),
-      safety_(config_.safety), planes_(config_.plane_blend), smoother_(config_.force_smoothing), passivity_(config_.passivity_control) {
+      safety_(config_.safety), planes_(config_.plane_blend), smoother_(config_.force_smoothing),
+      passivity_(config_.passivity_control) {
   stats_.rate = config_.rate;
   // Sized from the channel's own request, so a patch copied out of it never reallocates.
   if (channels_.patch) local_.emplace(channels_.patch_request.kind, channels_.patch_request.capacity);

@@ -144,6 +144,8 @@ class HapticLoop {
   /// Time from the pose read returning to the force written: the loop's own latency.
   [[nodiscard]] const LatencyHistogram& device_to_force() const { return device_to_force_; }
   [[nodiscard]] haptics::SafetyCounters safety_counters() const { return safety_.counters(); }
+  /// The contact's passivity controller (read after the loop has stopped).
+  [[nodiscard]] const PassivityControl& passivity() const { return passivity_; }
   [[nodiscard]] std::uint64_t dropped_frames() const { return dropped_frames_; }
   [[nodiscard]] const haptics::Device& device() const { return *device_; }
   /// The needle's insertion state (ruptures, deviation); null for other tools.

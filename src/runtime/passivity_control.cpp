@@ -36,7 +36,10 @@ Vec3 PassivityControl::apply(const Vec3& force, bool touching, const Vec3& posit
   if (work_ > 0.0 && speed > 0.0 && dt > 0.0 && force.allFinite() && std::isfinite(speed)) {
     const Vec3 direction = velocity / speed;
     const double along = force.dot(direction);
-    if (along > 0.0) last_removed_ = std::min(along, work_ / (speed * dt)) * direction;
+    if (along > 0.0) {
+      last_removed_ = std::min(along, work_ / (speed * dt)) * direction;
+      ++frames_acted_;
+    }
   }
   last_force_ -= last_removed_;
   return force - last_removed_;

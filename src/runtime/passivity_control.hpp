@@ -8,6 +8,8 @@
 // force's part along the hand's motion as would remove the excess within one frame. It
 // only ever weakens that part, never reverses it, so it adds nothing the device would have
 // to render stably (no stiffness, no damping beyond the force already there).
+#include <cstdint>
+
 #include "core/math.hpp"
 
 namespace tactus::runtime {
@@ -33,13 +35,17 @@ class PassivityControl {
   /// Net work the contact force has done on the hand in this contact [J] (a debt from an
   /// earlier contact included): ≤ 0 while the contact is passive.
   [[nodiscard]] double observed_work() const { return work_; }
-  /// Energy the controller has taken away so far [J].
+  /// Energy the controller has kept from the hand so far [J]: the force it took away times
+  /// the hand's motion.
   [[nodiscard]] double removed() const { return removed_; }
+  /// Frames in which it weakened the force.
+  [[nodiscard]] std::uint64_t frames_acted() const { return frames_acted_; }
 
  private:
   bool enabled_;
   double work_ = 0.0;
   double removed_ = 0.0;
+  std::uint64_t frames_acted_ = 0;
   Vec3 last_force_ = Vec3::Zero();
   Vec3 last_removed_ = Vec3::Zero();  ///< the force taken away last frame
   Vec3 last_position_ = Vec3::Zero();

@@ -47,9 +47,11 @@ std::string format_report(const SessionReport& r) {
   for (const DeviceReport& d : r.devices) {
     const auto& s = d.safety;
     out += fmt::format("  {} ({}): max force sent {:.3f} N, {} frames in contact, clamped {}, non-finite {}, ramps in {} "
-                       "out {}, watchdog trips {}, device stalls {}, emergency stops {}, dropped frames {}\n",
+                       "out {}, watchdog trips {}, device stalls {}, emergency stops {}, dropped frames {}, passivity control "
+                       "{} frames ({:.3f} mJ kept from the hand)\n",
                        d.name, d.kind, d.max_force_sent, d.contact_frames, s.clamped, s.non_finite, s.ramp_in, s.ramp_out,
-                       s.watchdog_trips, s.device_stalls, s.emergency_stops, d.dropped_frames);
+                       s.watchdog_trips, s.device_stalls, s.emergency_stops, d.dropped_frames, d.passivity_frames,
+                       1e3 * d.passivity_energy);
   }
   if (!r.events.empty()) {
     out += "events:";
@@ -88,10 +90,11 @@ std::string report_json(const SessionReport& r) {
     const auto& s = d.safety;
     out += fmt::format("    {{\"name\": {}, \"kind\": {}, \"max_force_sent_n\": {}, \"contact_frames\": {}, "
                        "\"clamped\": {}, \"non_finite\": {}, \"ramp_in\": {}, \"ramp_out\": {}, \"watchdog_trips\": {}, "
-                       "\"device_stalls\": {}, \"emergency_stops\": {}, \"dropped_frames\": {}}}{}\n",
+                       "\"device_stalls\": {}, \"emergency_stops\": {}, \"dropped_frames\": {}, \"passivity_frames\": {}, "
+                       "\"passivity_energy_j\": {}}}{}\n",
                        text::json_quoted(d.name), text::json_quoted(d.kind), d.max_force_sent, d.contact_frames, s.clamped, s.non_finite,
                        s.ramp_in, s.ramp_out, s.watchdog_trips, s.device_stalls, s.emergency_stops, d.dropped_frames,
-                       i + 1 < r.devices.size() ? "," : "");
+                       d.passivity_frames, d.passivity_energy, i + 1 < r.devices.size() ? "," : "");
   }
   out += "  ],\n  \"events\": {";
   bool first = true;

@@ -38,6 +38,8 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
     report.loops.push_back(std::move(s));
     report.devices[i].safety = loops.haptic[i]->safety_counters();
     report.devices[i].dropped_frames = loops.haptic[i]->dropped_frames();
+    report.devices[i].passivity_frames = loops.haptic[i]->passivity().frames_acted();
+    report.devices[i].passivity_energy = loops.haptic[i]->passivity().removed();
     if (const haptics::NeedleInsertion* needle = loops.haptic[i]->needle())
       report.needles.push_back(needle_report(model, model.devices[i].name, *needle));
   }

@@ -7,8 +7,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <random>
+#include <string>
+
+#include "runtime/report.hpp"
+#include "runtime/session.hpp"
+#include "scene/scene.hpp"
 
 namespace tactus::runtime {
 namespace {
@@ -136,6 +142,30 @@ TEST(PassivityControl, PassesANonFiniteForceOnToTheSafetyLayerAndOffDoesNothing)
   const Vec3 f(0.3, -0.2, 1.0);
   EXPECT_EQ(off.apply(f, true, Vec3::Zero(), Vec3(0.0, 0.0, 1.0), kDt), f);
   EXPECT_EQ(off.observed_work(), 0.0);
+}
+
+TEST(PassivityControl, TheRunReportSaysHowOftenItActed) {
+  // The stiff press with the default local model: the controller acts at the first touch and
+  // late in the release (docs/contact-mechanics.md), and the report says so; switched off,
+  // it never does.
+  for (const bool on : {true, false}) {
+    scene::Model m = scene::load_scene(std::filesystem::path(TACTUS_SOURCE_DIR) / "tests/runtime/data/stiff_press.toml");
+    for (scene::Algorithm& a : m.algorithms) a.passivity_control = on;
+    SessionOptions o;
+    o.scheduling = Scheduling::lockstep;
+    const SessionReport r = run_session(m, o);
+    ASSERT_EQ(r.devices.size(), 1u);
+    const std::string text = format_report(r);
+    if (on) {
+      EXPECT_GT(r.devices[0].passivity_frames, 0u);
+      EXPECT_GT(r.devices[0].passivity_energy, 0.0);
+      EXPECT_NE(text.find("passivity control " + std::to_string(r.devices[0].passivity_frames) + " frames"), std::string::npos)
+          << text;
+    } else {
+      EXPECT_EQ(r.devices[0].passivity_frames, 0u);
+      EXPECT_NE(text.find("passivity control 0 frames (0.000 mJ"), std::string::npos) << text;
+    }
+  }
 }
 
 }  // namespace
