@@ -181,11 +181,20 @@ void PatchBuilder::select(const Inputs& in, LocalPatch& out) {
   }
 }
 
+void PatchBuilder::hold_still(LocalPatch& out) {
+  const Eigen::Index f3 = dof(out.free_count);
+  out.response.topLeftCorner(f3, f3).setZero();
+  out.release.head(f3).setZero();
+  if (out.stiffness.rows() >= f3) {  // the mass-spring arrays, where this kind has them
+    out.stiffness.topLeftCorner(f3, f3).setZero();
+    out.system_inverse.topLeftCorner(f3, f3).setZero();
+    out.border_drift.head(f3).setZero();
+  }
+}
+
 void PatchBuilder::condense_compliance(const Inputs& in, LocalPatch& out) {
-  const Eigen::Index f3_all = dof(out.free_count);
-  if (in.rigid || !in.physics_body || !in.physics_state) {  // a rigid body does not yield
-    out.response.topLeftCorner(f3_all, f3_all).setZero();
-    out.release.head(f3_all).setZero();
+  if (!in.physics_body || !in.physics_state) {  // no body to condense: it does not yield
+    hold_still(out);
     return;
   }
   if (in.surface_to_node.size() != vertex_count_)
@@ -247,20 +256,10 @@ void PatchBuilder::condense_compliance(const Inputs& in, LocalPatch& out) {
 }
 
 void PatchBuilder::fit_mass_spring(const Inputs& in, LocalPatch& out) {
-  const int nodes = out.node_count, free = out.free_count;
-  out.frame_time = in.frame_time;
-  if (in.rigid) {
-    const Eigen::Index f3_all = dof(free);
-    out.response.topLeftCorner(f3_all, f3_all).setZero();
-    out.system_inverse.topLeftCorner(f3_all, f3_all).setZero();
-    out.stiffness.topLeftCorner(f3_all, f3_all).setZero();
-    out.border_drift.head(f3_all).setZero();
-    out.release.head(f3_all).setZero();
-    return;
-  }
   const PatchMaterial& mat = in.material;
   if (!(mat.young_modulus > 0.0) || !(mat.density > 0.0) || !(in.frame_time > 0.0))
     throw std::runtime_error("local model: the mass_spring model needs a material and a haptic period");
+  const int nodes = out.node_count, free = out.free_count;
   const double shear = mat.young_modulus / (2.0 * (1.0 + mat.poisson_ratio));
   const double plane_strain = mat.young_modulus / (1.0 - mat.poisson_ratio * mat.poisson_ratio);
   full_.setZero(dof(nodes), dof(nodes));
@@ -332,7 +331,9 @@ void PatchBuilder::build(const Inputs& in, LocalPatch& out) {
     out.free_count = out.node_count = out.triangle_count = 0;
     return;
   }
-  if (in.kind == LocalModelKind::compliance) condense_compliance(in, out);
+  out.frame_time = in.frame_time;
+  if (in.rigid) hold_still(out);  // whatever the kind: a rigid body does not yield
+  else if (in.kind == LocalModelKind::compliance) condense_compliance(in, out);
   else if (in.kind == LocalModelKind::mass_spring) fit_mass_spring(in, out);
   out.valid = true;
 }

@@ -142,6 +142,8 @@ class PatchBuilder {
 
  private:
   void select(const Inputs& in, LocalPatch& out);
+  /// A patch that does not yield: zero response, nothing to release, no dynamics.
+  static void hold_still(LocalPatch& out);
   void condense_compliance(const Inputs& in, LocalPatch& out);
   void fit_mass_spring(const Inputs& in, LocalPatch& out);
 

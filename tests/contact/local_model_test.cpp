@@ -89,11 +89,7 @@ TEST(LocalPatch, ARigidBodysPatchDoesNotYieldUnderEitherModel) {
     ASSERT_TRUE(p.valid);
     LocalModel model(kind, plate.capacity);
     model.reset(p, 0.0);
-    PatchContact c;
-    c.triangle = 0;
-    c.barycentric = Vec3::Constant(1.0 / 3.0);
-    c.normal = Vec3::UnitZ();
-    c.force = 5.0;
+    const PatchContact c{0, Vec3::Constant(1.0 / 3.0), Vec3::UnitZ(), 5.0, 0.0};  // 5 N at the centroid
     for (int k = 0; k < 100; ++k) model.advance(c, 1e-3);
     EXPECT_EQ(model.displacement().head(3 * p.free_count).norm(), 0.0) << local_model_name(kind);
   }
