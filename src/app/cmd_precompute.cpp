@@ -4,9 +4,9 @@
 // `tactus precompute SCENE --online-speed`: the largest tool speed on-line construction
 // sustains on this machine's cores (no file).
 #include <fmt/format.h>
-#include <sys/resource.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "app/commands.hpp"
+#include "core/clock.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/parallel.hpp"
@@ -61,6 +62,15 @@ std::string without_numbers(const std::string& text) {
 
 namespace pc = precompute;
 
+/// "N x REASON at grid point (i, j, k) = (x, y, z) mm": the first failure of a group of N.
+std::string failure_line(const pc::Space& space, std::size_t point, int count) {
+  const std::array<int, 3> c = space.grid.cell(point);
+  const Vec3 x = 1e3 * space.grid.point(point);
+  const std::string reason = space.reason[point].empty() ? std::string("no reason recorded") : space.reason[point];
+  return fmt::format("{} x {}{} at grid point ({}, {}, {}) = ({:.2f}, {:.2f}, {:.2f}) mm", count,
+                     count > 1 ? "first: " : "", reason, c[0], c[1], c[2], x.x(), x.y(), x.z());
+}
+
 struct PrecomputeArgs {
   std::string scene, output;
   bool resume = false;
@@ -86,13 +96,6 @@ std::string duration_text(double seconds) {
   if (s >= 3600) return fmt::format("{}h{:02}m", s / 3600, (s / 60) % 60);
   if (s >= 60) return fmt::format("{}m{:02}s", s / 60, s % 60);
   return fmt::format("{}s", s);
-}
-
-double process_cpu_seconds() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 /// Points done, rate and time left: redrawn on a terminal, a line per tenth otherwise.
@@ -133,19 +136,30 @@ void print_summary(const pc::Space& space, const pc::BuildStats& stats, double c
   std::printf("  solved %zu, failed %zu, unreachable %zu%s\n", space.count(pc::PointStatus::solved),
               space.count(pc::PointStatus::failed), space.count(pc::PointStatus::unreachable),
               resumed ? fmt::format(" ({} taken from the journal)", resumed).c_str() : "");
-  std::map<std::string, int> reasons;
+  // Failures that differ only in their numbers are one line: how many, then the first of
+  // them in full with its grid point, so the numbers are never lost to the grouping.
+  struct FailureGroup {
+    int count = 0;
+    std::size_t first = 0;
+  };
+  std::map<std::string, FailureGroup> groups;
   for (std::size_t p = 0; p < space.grid.size(); ++p)
     if (space.status[p] == pc::PointStatus::failed || space.status[p] == pc::PointStatus::unreachable) {
-      ++reasons[without_numbers(space.reason[p])];
+      FailureGroup& g = groups[without_numbers(space.reason[p])];
+      if (g.count++ == 0) g.first = p;
     }
-  for (const auto& [reason, n] : reasons) std::printf("    %d x %s\n", n, reason.c_str());
+  for (const auto& [pattern, g] : groups) std::printf("    %s\n", failure_line(space, g.first, g.count).c_str());
   const double per_point = stats.computed ? stats.solve_seconds / static_cast<double>(stats.computed) : 0.0;
-  std::printf("  %zu solves in %.2f s wall on %u %s: %.3f solver-seconds per point, %.3f CPU-seconds per point\n",
+  std::printf("  %zu solves in %.2f s wall on %u %s: %.3f solver-seconds per point (wall time of a solve), %.3f "
+              "CPU-seconds per point (getrusage, %s)\n",
               stats.computed, stats.wall_seconds, stats.workers, where.c_str(), per_point,
-              stats.computed ? cpu_seconds / static_cast<double>(stats.computed) : 0.0);
+              stats.computed ? cpu_seconds / static_cast<double>(stats.computed) : 0.0,
+              stats.solver_cpu_seconds > 0.0 ? "summed over every rank" : "this process");
+  // CPU time, not solver wall time: a solver that waits for a core still counts its wall time.
+  const double busy = stats.solver_cpu_seconds > 0.0 ? stats.solver_cpu_seconds : cpu_seconds;
   if (stats.wall_seconds > 0.0)
-    std::printf("  parallel efficiency %.0f%% (solver time / (workers x wall time))\n",
-                100.0 * stats.solve_seconds / (stats.workers * stats.wall_seconds));
+    std::printf("  parallel efficiency %.0f%% (solver CPU time / (workers x wall time))\n",
+                100.0 * busy / (stats.workers * stats.wall_seconds));
 }
 
 /// --online-speed: the largest tool speed on-line construction sustains on this machine
@@ -247,8 +261,8 @@ int run_precompute(const PrecomputeArgs& a) {
     where = stats.workers == 1 ? "thread" : "threads";
   }
   progress.finish();
-  // Under MPI the solves ran on the other ranks: their CPU time is the solver time.
-  const double cpu = session.size() > 1 ? stats.solve_seconds : process_cpu_seconds() - cpu0;
+  // Under MPI the solves ran on the other ranks: each reports its own CPU time at the stop.
+  const double cpu = process_cpu_seconds() - cpu0 + stats.solver_cpu_seconds;
   print_summary(space, stats, cpu, resumed, where);
   if (stats.reissued || stats.late || stats.unresponsive)
     std::printf("  reissued %zu transitions after a timeout; ignored %zu late answers; %d ranks unresponsive\n",

@@ -225,7 +225,7 @@ int run_with(const RunFlags& f, bool bench) {
     o.replay = runtime::recorded_motion(runtime::read_recording(file), file);
   }
   o.keep_frames = !f.force_map.empty() || !f.trace.empty();
-  if (!bench) std::fputs(scene::summarize(scene.model).c_str(), stdout);
+  if (!bench) std::fputs(scene::summarize(scene.model, !f.lockstep).c_str(), stdout);
   install_interrupt_handlers();
   std::optional<viewer::WindowReport> window;
   runtime::SessionReport report;

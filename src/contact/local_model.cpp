@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <stdexcept>
 
@@ -82,6 +83,61 @@ void LocalPatch::assign_used(const LocalPatch& from) {
     mass.head(f3) = from.mass.head(f3);
     border_drift.head(f3) = from.border_drift.head(f3);
   }
+}
+
+// --- Patch sizing --------------------------------------------------------------------------
+
+PatchSizing size_patch(std::span<const Vec3> vertices, std::span<const mesh::Triangle> triangles, double radius,
+                       int max_free_nodes) {
+  PatchSizing out;
+  if (vertices.empty() || triangles.empty() || !(radius > 0.0)) return out;
+  double edge = 0.0;
+  for (const mesh::Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const auto a = static_cast<std::size_t>(t[static_cast<std::size_t>(k)]);
+      const auto b = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)]);
+      if (a < vertices.size() && b < vertices.size()) edge = std::max(edge, (vertices[a] - vertices[b]).norm());
+    }
+  // Every vertex within the radius is free (the builder keeps the nearest): then every
+  // triangle with a corner inside has a free corner and is in the patch. The centre lies
+  // anywhere, not on a vertex: half an edge more. Border nodes: one ring more.
+  const double free_reach = radius + 0.5 * edge;
+  const double node_reach = free_reach + edge;
+  // Vertices binned in cubes of node_reach: each count looks at the 27 cubes around.
+  const double cell = node_reach;
+  auto key = [cell](const Vec3& p) {
+    return std::array<long, 3>{static_cast<long>(std::floor(p.x() / cell)), static_cast<long>(std::floor(p.y() / cell)),
+                               static_cast<long>(std::floor(p.z() / cell))};
+  };
+  std::map<std::array<long, 3>, std::vector<std::int32_t>> bins;
+  for (std::size_t v = 0; v < vertices.size(); ++v) bins[key(vertices[v])].push_back(static_cast<std::int32_t>(v));
+  int most_free = 0, most_nodes = 0;
+  for (const Vec3& centre : vertices) {
+    const std::array<long, 3> c = key(centre);
+    int free = 0, nodes = 0;
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dz = -1; dz <= 1; ++dz) {
+          const auto it = bins.find({c[0] + dx, c[1] + dy, c[2] + dz});
+          if (it == bins.end()) continue;
+          for (const std::int32_t v : it->second) {
+            const double d = (vertices[static_cast<std::size_t>(v)] - centre).norm();
+            free += d <= free_reach ? 1 : 0;
+            nodes += d <= node_reach ? 1 : 0;
+          }
+        }
+    most_free = std::max(most_free, free);
+    most_nodes = std::max(most_nodes, nodes);
+  }
+  out.needed_free_nodes = most_free;
+  out.capped = most_free > max_free_nodes;
+  // Never smaller than the default: a coarse mesh keeps the patch it always had.
+  const PatchCapacity fallback;
+  out.capacity.free_nodes = std::max(fallback.free_nodes, std::min(most_free, max_free_nodes));
+  out.capacity.nodes = std::max({fallback.nodes, most_nodes, out.capacity.free_nodes + (most_nodes - most_free)});
+  // A triangle mesh has about two triangles per vertex; a patch's rim adds one per node.
+  out.capacity.triangles = std::max(fallback.triangles, 3 * out.capacity.nodes);
+  return out;
 }
 
 // --- PatchBuilder (simulation thread) ------------------------------------------------------

@@ -49,6 +49,20 @@ struct PatchCapacity {
   int triangles = 160;
 };
 
+/// The capacity a patch of `radius` needs on this surface: the most vertices a sphere of
+/// that radius can hold anywhere on the surface (and their triangles and border ring), so
+/// that every triangle with a corner in the sphere is in the patch and the tool never
+/// reaches the patch's rim between two simulation steps. Capped at
+/// `max_free_nodes` (the haptic frame's cost grows with the square of the free nodes);
+/// `capped` then says the surface is too fine for a patch of this radius.
+struct PatchSizing {
+  PatchCapacity capacity;
+  int needed_free_nodes = 0;  ///< before the cap
+  bool capped = false;
+};
+[[nodiscard]] PatchSizing size_patch(std::span<const Vec3> vertices, std::span<const mesh::Triangle> triangles,
+                                     double radius, int max_free_nodes = 48);
+
 /// Material of the tissue under the patch (mass_spring fits its springs to it).
 struct PatchMaterial {
   double young_modulus = 0.0;  ///< [Pa]

@@ -1,5 +1,7 @@
 #include "core/clock.hpp"
 
+#include <sys/resource.h>
+
 #include <cerrno>
 #include <ctime>
 #include <stdexcept>
@@ -22,6 +24,13 @@ Nanos now_ns() {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return static_cast<Nanos>(ts.tv_sec) * kNanosPerSecond + static_cast<Nanos>(ts.tv_nsec);
+}
+
+double process_cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 void cpu_relax() {

@@ -19,6 +19,10 @@ inline constexpr Nanos kNanosPerSecond = 1'000'000'000;
 /// (still never early). A deadline in the past returns at once.
 void sleep_until(Nanos deadline, Nanos spin_window = 0);
 
+/// CPU time this process has used so far, user plus system, over all its threads
+/// (getrusage) [s].
+[[nodiscard]] double process_cpu_seconds();
+
 /// One CPU pause in a busy-wait loop (x86 `pause`; a yield elsewhere).
 void cpu_relax();
 

@@ -35,6 +35,9 @@ struct BuildStats {
   double wall_seconds = 0.0;
   double solve_seconds = 0.0;   ///< sum of the solves' wall times over all workers
   unsigned workers = 1;
+  /// MPI: CPU time (user + system, getrusage) of the solver ranks, summed; each rank sends
+  /// its own when it stops. 0 for a build on local threads.
+  double solver_cpu_seconds = 0.0;
   bool stopped = false;         ///< stop_after cut the build short
   std::size_t reissued = 0;     ///< MPI: transitions handed to another rank after a timeout
   std::size_t late = 0;         ///< MPI: answers that came after another rank's and were ignored

@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/clock.hpp"
 #include "core/log.hpp"
 #include "precompute/wavefront.hpp"
 #endif
@@ -44,6 +45,7 @@ namespace {
 constexpr int kTaskTag = 1;
 constexpr int kStopTag = 2;
 constexpr int kResultTag = 3;
+constexpr int kCpuTag = 4;  // a solver rank's CPU seconds, sent when it stops
 
 }  // namespace
 
@@ -250,6 +252,9 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
       continue;  // a hung rank takes no message
     }
     MPI_Send(nullptr, 0, MPI_INT64_T, rank, kStopTag, MPI_COMM_WORLD);
+    double cpu = 0.0;
+    MPI_Recv(&cpu, 1, MPI_DOUBLE, rank, kCpuTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    stats.solver_cpu_seconds += cpu;
   }
   stats.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
   return stats;
@@ -264,7 +269,11 @@ void serve(ConfigurationSolver& solver, const Space& space, const Session& sessi
     std::int64_t head[2];
     MPI_Status st;
     MPI_Recv(head, 2, MPI_INT64_T, 0, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
-    if (st.MPI_TAG == kStopTag) return;
+    if (st.MPI_TAG == kStopTag) {
+      const double cpu = process_cpu_seconds();
+      MPI_Send(&cpu, 1, MPI_DOUBLE, 0, kCpuTag, MPI_COMM_WORLD);
+      return;
+    }
     if (head[1] >= 0) MPI_Recv(source.data(), dofs, MPI_DOUBLE, 0, kTaskTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     if (++tasks == stall.task && session.rank() == stall.rank)
       std::this_thread::sleep_for(std::chrono::duration<double>(stall.seconds));

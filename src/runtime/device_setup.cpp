@@ -8,6 +8,7 @@
 #include <variant>
 
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "contact/proxy.hpp"
 #include "runtime/cspace_body.hpp"
 #include "runtime/devices.hpp"
@@ -247,6 +248,22 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   // The patch covers the tool and where it can move until the next simulation step (seed 002
   // §IV: the cursor's position and its finite velocity bound the contact region).
   s.patch_radius = extent + a->max_tool_speed / m.rates.simulation;
+  // Sized to the surface: a patch cut short of its radius leaves the tool at the patch's open
+  // rim between steps, where the proxy slips off the edge and the force jumps.
+  if (s.config.local_model != contact::LocalModelKind::plane)
+    for (std::size_t b : s.bodies) {
+      const auto& surface = m.bodies[b].surface;
+      const contact::PatchSizing sizing = contact::size_patch(surface.vertices, surface.triangles, s.patch_radius);
+      contact::PatchCapacity& c = s.config.patch_capacity;
+      c.free_nodes = std::max(c.free_nodes, sizing.capacity.free_nodes);
+      c.nodes = std::max(c.nodes, sizing.capacity.nodes);
+      c.triangles = std::max(c.triangles, sizing.capacity.triangles);
+      if (sizing.capped)
+        log::warn("algorithm '{}': a local patch of {:.1f} mm on body '{}' would hold {} free nodes; it keeps the "
+                  "nearest {}, and the tool may reach its rim between simulation steps (a coarser surface or a "
+                  "higher simulation rate avoids it)",
+                  a->name, 1e3 * s.patch_radius, m.bodies[b].name, sizing.needed_free_nodes, c.free_nodes);
+    }
   s.config.force_smoothing = a->force_smoothing;
   s.config.passivity_control = a->passivity_control;
   s.config.spread_over_contact_disc = a->load_spread == scene::LoadSpread::contact_disc;

@@ -38,7 +38,8 @@ Model default_scene();
 std::string_view default_scene_text();
 
 /// A human-readable multi-line summary (rates, materials, bodies with mesh counts,
-/// bounds, volume and fixed nodes, tools, devices, algorithms, recording).
-std::string summarize(const Model& model);
+/// bounds, volume and fixed nodes, tools, devices, algorithms, recording). `real_time`
+/// false leaves out the real-time settings, which a lockstep run does not use.
+std::string summarize(const Model& model, bool real_time = true);
 
 }  // namespace tactus::scene

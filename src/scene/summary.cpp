@@ -153,12 +153,13 @@ std::string algorithm_line(const Model& model, const Algorithm& a) {
 
 }  // namespace
 
-std::string summarize(const Model& m) {
+std::string summarize(const Model& m, bool real_time) {
   std::string s = fmt::format("scene '{}' ({})\n", m.name, m.source);
   if (!m.description.empty()) s += "  " + m.description + "\n";
   s += fmt::format("  rates: haptic {} Hz, simulation {} Hz, interaction {} Hz, visual {} Hz\n", g(m.rates.haptic),
                    g(m.rates.simulation), g(m.rates.interaction), g(m.rates.visual));
-  s += fmt::format("  real time: SCHED_FIFO priority {}, haptic CPU {}, {}\n", m.realtime.priority,
+  if (real_time)
+    s += fmt::format("  real time: SCHED_FIFO priority {}, haptic CPU {}, {}\n", m.realtime.priority,
                    m.realtime.haptic_cpu < 0 ? std::string("any") : std::to_string(m.realtime.haptic_cpu),
                    m.realtime.dedicated_core ? std::string("spinning through every period")
                                              : fmt::format("spin {} us before each deadline", g(m.realtime.spin * 1e6)));

@@ -66,6 +66,32 @@ TEST_F(PrecomputeCli, BuildsTheSpace) {
   EXPECT_NE(s.scene_text.find("[precompute]"), std::string::npos);
 }
 
+TEST_F(PrecomputeCli, FailureSummaryGivesTheNumbersAndTheGridPoint) {
+  // One Newton iteration to 1e-14 never converges: every transition fails, and the summary
+  // must say how (load step, residual, iterations) and where, not "load step #/#".
+  const std::string failing = testing::block_scene(R"(contact_point = [0.0, 0.0, 0.01]
+spacing = 0.003
+min = [-0.003, -0.003, 0.004]
+max = [0.003, 0.003, 0.013]
+load_steps = 2
+max_iterations = 1
+max_step_halvings = 0
+tolerance = 1e-14
+)");
+  std::ofstream(dir_ / "failing.toml") << failing;
+  const std::string cmd = "cd '" + dir_.string() + "' && CI=1 '" + TACTUS_BINARY +
+                          "' precompute failing.toml -o failing.h5 --threads 1 >>log.txt 2>&1";
+  (void)std::system(cmd.c_str());
+  const std::string text = log();
+  const auto at = text.find(" x ");
+  ASSERT_NE(at, std::string::npos) << text;
+  const std::string line = text.substr(text.rfind('\n', at) + 1, text.find('\n', at) - text.rfind('\n', at) - 1);
+  EXPECT_EQ(line.find('#'), std::string::npos) << line;
+  EXPECT_NE(line.find("load step 1/2"), std::string::npos) << line;
+  EXPECT_NE(line.find("at grid point ("), std::string::npos) << line;
+  EXPECT_NE(line.find(" mm"), std::string::npos) << line;
+}
+
 TEST_F(PrecomputeCli, ResumeAfterAStopComputesNothingTwiceAndLosesNothing) {
   ASSERT_EQ(precompute("whole.h5", "--threads 1"), 0) << log();
   // Stopped after 10 solves: the journal stays, no space file yet.
@@ -115,6 +141,14 @@ TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameSpaceAsOneProcess) {
                                "' -np 3 --oversubscribe" + (::geteuid() == 0 ? " --allow-run-as-root" : "");
   ASSERT_EQ(precompute("mpi.h5", "", launcher), 0) << log();
   EXPECT_NE(log().find("MPI"), std::string::npos) << log();
+  // CPU time is the ranks' own (getrusage), summed, and efficiency comes from it, not from
+  // the solves' wall time, which counts the waits of three ranks on fewer cores.
+  const std::string text = log();
+  const auto cpu = text.find("CPU-seconds per point (getrusage, summed over every rank)");
+  ASSERT_NE(cpu, std::string::npos) << text;
+  const auto per = text.rfind(", ", cpu);
+  ASSERT_NE(per, std::string::npos);
+  EXPECT_GT(std::stod(text.substr(per + 2)), 0.0) << text;
   expect_same(read_space(dir_ / "single.h5"), read_space(dir_ / "mpi.h5"));
 }
 

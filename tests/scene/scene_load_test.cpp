@@ -107,6 +107,9 @@ TEST(SceneLoad, DefaultSceneParsesWithExpectedCounts) {
   EXPECT_NE(s.find("finger: sphere, radius 0.008 m"), std::string::npos) << s;
   EXPECT_NE(s.find("hand: scripted (press trajectory)"), std::string::npos) << s;
   EXPECT_NE(s.find("touch: proxy, tool finger"), std::string::npos) << s;
+  // The real-time settings are the real-time run's business: a lockstep run does not use them.
+  EXPECT_NE(s.find("real time: SCHED_FIFO"), std::string::npos) << s;
+  EXPECT_EQ(summarize(m, /*real_time=*/false).find("SCHED_FIFO"), std::string::npos);
 }
 
 TEST(SceneLoad, BodiesKeepFileOrder) {
