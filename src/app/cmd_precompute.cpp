@@ -62,13 +62,15 @@ std::string without_numbers(const std::string& text) {
 
 namespace pc = precompute;
 
-/// "N x REASON at grid point (i, j, k) = (x, y, z) mm": the first failure of a group of N.
+/// "N points, the first at grid point (i, j, k) = (x, y, z) mm: REASON", for a group of N
+/// failures that differ only in their numbers (those of the first are given).
 std::string failure_line(const pc::Space& space, std::size_t point, int count) {
   const std::array<int, 3> c = space.grid.cell(point);
   const Vec3 x = 1e3 * space.grid.point(point);
   const std::string reason = space.reason[point].empty() ? std::string("no reason recorded") : space.reason[point];
-  return fmt::format("{} x {}{} at grid point ({}, {}, {}) = ({:.2f}, {:.2f}, {:.2f}) mm", count,
-                     count > 1 ? "first: " : "", reason, c[0], c[1], c[2], x.x(), x.y(), x.z());
+  return fmt::format("{} at grid point ({}, {}, {}) = ({:.2f}, {:.2f}, {:.2f}) mm: {}",
+                     count == 1 ? std::string("1 point") : fmt::format("{} points, the first", count), c[0], c[1],
+                     c[2], x.x(), x.y(), x.z(), reason);
 }
 
 struct PrecomputeArgs {

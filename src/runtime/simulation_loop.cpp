@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "contact/closest_point.hpp"
 #include "runtime/bodies.hpp"
 #include "runtime/cspace_body.hpp"
 
@@ -218,16 +219,18 @@ void SimulationLoop::publish_patches(double t) {
     out.valid = false;
     out.time = t;
     out.free_count = out.node_count = out.triangle_count = 0;
-    // The body with the surface vertex nearest the tool, within the patch's sphere.
+    // The body whose surface (its triangles, as PatchBuilder::select tests them) comes
+    // nearest the tool, within the patch's sphere. Its vertices would not do: on a coarse
+    // mesh a face's centre lies far from every corner, the patch appeared only deep in the
+    // face, and the first load's dent pushed the corner out of reach again (on/off at 50 Hz).
     std::size_t best_body = bodies_.size();
-    double best = d.patch_request.radius * d.patch_request.radius;
+    double best = d.patch_request.radius;
     if (tool.valid)
       for (std::size_t b = 0; b < bodies_.size(); ++b) {
         if (!source.builders[b]) continue;
-        for (const Vec3& p : bodies_[b].surface) {
-          const double d2 = (p - tool.position).squaredNorm();
-          if (d2 <= best) best = d2, best_body = b;
-        }
+        const contact::SurfacePoint nearest = contact::closest_point_on_surface(
+            tool.position, bodies_[b].surface, model_.bodies[bodies_[b].index].surface.triangles);
+        if (nearest.triangle >= 0 && nearest.distance <= best) best = nearest.distance, best_body = b;
       }
     if (best_body < bodies_.size()) {
       const SimBody& sb = bodies_[best_body];

@@ -83,7 +83,7 @@ tolerance = 1e-14
                           "' precompute failing.toml -o failing.h5 --threads 1 >>log.txt 2>&1";
   (void)std::system(cmd.c_str());
   const std::string text = log();
-  const auto at = text.find(" x ");
+  const auto at = text.find("load step");
   ASSERT_NE(at, std::string::npos) << text;
   const std::string line = text.substr(text.rfind('\n', at) + 1, text.find('\n', at) - text.rfind('\n', at) - 1);
   EXPECT_EQ(line.find('#'), std::string::npos) << line;

@@ -194,6 +194,37 @@ void check_recording(const NoduleRun& run) {
   EXPECT_NE(note("time above the safe force"), nullptr);
 }
 
+// docs/scenes.md's trainee feedback and force-map legend for this lockstep run, as printed
+// (a lockstep run repeats bit for bit; 1 % leaves room for another compiler's rounding).
+// A local patch cut short of its radius once let the finger reach the patch's rim over the
+// soft nodule: the force jumped to 4.4 N with three contact losses, and the map's strongest
+// cell moved off the hard nodule.
+void check_documented_numbers(const NoduleRun& run) {
+  const auto count = [&](const char* kind) {
+    const auto it = run.report.events.find(kind);
+    return it == run.report.events.end() ? std::uint64_t{0} : it->second;
+  };
+  EXPECT_EQ(count("contact_begin"), 1u) << "the finger touches down once and never loses the skin";
+  EXPECT_EQ(count("contact_end"), 0u);
+  const PalpationFeedback& f = *run.report.palpation;
+  EXPECT_NEAR(f.peak_force, 1.959, 0.01 * 1.959);
+  EXPECT_NEAR(f.mean_force, 0.383, 0.01 * 0.383);
+  EXPECT_NEAR(f.coverage, 0.708, 0.005);
+  const ForceMap map = build_force_map(run.model, 0, run.report.frames);
+  EXPECT_NEAR(map.max_peak(), 1.810, 0.01 * 1.810);
+  double strongest = 0.0;
+  Vec2 where = Vec2::Zero();
+  for (int row = 0; row < map.rows; ++row)
+    for (int column = 0; column < map.columns; ++column)
+      if (map.samples[map.index(column, row)] > 0 && map.mean[map.index(column, row)] > strongest) {
+        strongest = map.mean[map.index(column, row)];
+        where = map.cell_center(column, row);
+      }
+  EXPECT_NEAR(strongest, 0.711, 0.01 * 0.711);
+  EXPECT_NEAR(where.x(), -0.012, 1e-9);  // over the hard nodule, at (-14, +12) mm
+  EXPECT_NEAR(where.y(), 0.012, 1e-9);
+}
+
 TEST(Palpation, NoduleSceneEndToEnd) {
   const NoduleRun& run = nodule_run();
   {
@@ -211,6 +242,10 @@ TEST(Palpation, NoduleSceneEndToEnd) {
   {
     SCOPED_TRACE("feedback stored in the recording");
     check_recording(run);
+  }
+  {
+    SCOPED_TRACE("the numbers docs/scenes.md prints");
+    check_documented_numbers(run);
   }
 }
 
