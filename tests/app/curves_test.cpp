@@ -75,6 +75,27 @@ TEST(Curves, SkinForceFollowsHertzAtThePenetrationAndRisesMonotonically) {
   EXPECT_GT(previous_give, 1e-4);  // the block really deforms (0.4 mm measured at 2.5 mm)
 }
 
+TEST(Curves, UpperLegForceRisesFromTheFirstTouchWithoutAJump) {
+  // The finger presses the centre of one of the cylinder's 18 mm faces, 9.7 mm from every
+  // corner. The contact once began only 5.6 mm deep (the local patch looked for a vertex
+  // within its 10 mm sphere), at 0 N, and then jumped to 2 N.
+  const auto runs = force_vs_indentation(tissues(), {"upper_leg"});
+  ASSERT_EQ(runs.size(), 1u);
+  const auto& samples = runs[0].samples;
+  ASSERT_GE(samples.size(), 100u);
+  // The first sample in contact lies within one 10 ms sample at 2 mm/s of the surface, plus
+  // the faceted surface's 0.13 mm inside the nominal radius.
+  EXPECT_LT(samples.front().indentation, 0.5e-3);
+  double previous = 0.0;
+  for (const IndentationSample& s : samples) {
+    EXPECT_GT(s.force, 0.0) << "at t = " << s.time;
+    EXPECT_GE(s.force, previous - 1e-6) << "at t = " << s.time;
+    // 20 µm a sample on 3 N over 10 mm: a smooth curve steps by a few tens of mN.
+    EXPECT_LT(s.force - previous, 0.1) << "at t = " << s.time;
+    previous = s.force;
+  }
+}
+
 TEST(Curves, ForceAtEqualDepthFallsAsTheSurfaceCurvesMore) {
   // Hertz for a sphere on a body of mean curvature k: 1/R = 1/R_f + k, F = (4/3) E* √R d^{3/2}.
   // At equal d, dF/dk = −F R / 2 < 0: a more curved (convex) surface gives less force. Seed
