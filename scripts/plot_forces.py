@@ -5,8 +5,9 @@
 
 reads DIR/NAME_forces.csv (t, device, force magnitude, contact) and DIR/NAME_ruptures.csv
 (needle ruptures) and writes DIR/NAME_forces.png: one panel per device, the force magnitude
-sent to it over time, each rupture marked with its layer. Needs matplotlib (Debian:
-python3-matplotlib).
+sent to it over time, each rupture marked with its layer, the force sent just before it
+gave (shaft friction included) and, in brackets, the layer's own spring force. Needs
+matplotlib (Debian: python3-matplotlib).
 """
 import csv
 import os
@@ -42,8 +43,12 @@ def main():
             if r["device"] != device:
                 continue
             t = float(r["t"])
+            # Label what is plotted: the force sent just before the layer gave, which holds the
+            # shaft's friction on top of the layer's own spring (given in brackets).
+            near = [float(f["force"]) for f in rows if t - 0.005 <= float(f["t"]) <= t + 0.0005]
+            peak = max(near) if near else float(r["force"])
             ax.axvline(t, color="tab:red", lw=0.6, ls="--")
-            ax.annotate(f"{r['layer']} {float(r['force']):.2f} N", (t, float(r["force"])), fontsize=7,
+            ax.annotate(f"{r['layer']} {peak:.2f} N (layer {float(r['force']):.2f} N)", (t, peak), fontsize=7,
                         color="tab:red", xytext=(3, 3), textcoords="offset points")
         ax.set_ylabel(f"{device}: |F| [N]")
         ax.grid(alpha=0.3)

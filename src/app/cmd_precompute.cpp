@@ -30,6 +30,7 @@
 #include "precompute/model_identity.hpp"
 #include "precompute/online.hpp"
 #include "precompute/space_file.hpp"
+#include "precompute/time_left.hpp"
 #include "runtime/bodies.hpp"
 #include "scene/scene.hpp"
 
@@ -100,15 +101,19 @@ std::string duration_text(double seconds) {
   return fmt::format("{}s", s);
 }
 
-/// Points done, rate and time left: redrawn on a terminal, a line per tenth otherwise.
+/// Points done, rate and time left: redrawn on a terminal, a line per tenth otherwise. The
+/// time left comes from `estimate` (the cost of the points still pending, precompute/
+/// time_left.hpp) once it has one, from the mean rate until then.
 class ProgressLine {
  public:
-  ProgressLine(std::size_t total, std::size_t already) : total_(total), already_(already) {}
+  ProgressLine(std::size_t total, std::size_t already, const pc::TimeLeftEstimate& estimate, const pc::Space& space)
+      : total_(total), already_(already), estimate_(estimate), space_(space) {}
   void update(std::size_t done) {
     const auto now = std::chrono::steady_clock::now();
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     const double rate = elapsed > 0.0 ? static_cast<double>(done - std::min(done, already_)) / elapsed : 0.0;
-    const double left = rate > 0.0 ? static_cast<double>(total_ - done) / rate : -1.0;
+    double left = estimate_.seconds_left(space_.status, elapsed);
+    if (left < 0.0) left = rate > 0.0 ? static_cast<double>(total_ - done) / rate : -1.0;
     const std::string text =
         fmt::format("precompute: {}/{} points, {:.2f} points/s, {} left", done, total_, rate, duration_text(left));
     if (terminal_) {
@@ -127,6 +132,8 @@ class ProgressLine {
 
  private:
   std::size_t total_, already_, reported_ = 0;
+  const pc::TimeLeftEstimate& estimate_;
+  const pc::Space& space_;
   bool terminal_ = Progress::terminal_attached();
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
 };
@@ -244,13 +251,17 @@ int run_precompute(const PrecomputeArgs& a) {
   }
   const std::size_t resumed = journal->recovered();
 
-  ProgressLine progress(space.grid.size(), resumed);
+  pc::TimeLeftEstimate estimate(space.grid, space.start);
+  ProgressLine progress(space.grid.size(), resumed, estimate, space);
   pc::BuildOptions options;
   options.threads = a.threads ? a.threads : std::max(1u, std::thread::hardware_concurrency());
   options.stop_after = a.stop_after;
   options.reissue_floor = a.reissue_floor;
   options.reissue_factor = a.reissue_factor;
-  options.on_result = [&](const pc::PointResult& r) { journal->append(r); };
+  options.on_result = [&](const pc::PointResult& r) {
+    journal->append(r);
+    estimate.record(r);
+  };
   options.on_progress = [&](std::size_t done, std::size_t) { progress.update(done); };
   const double cpu0 = process_cpu_seconds();
   pc::BuildStats stats;

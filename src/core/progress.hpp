@@ -1,6 +1,7 @@
 #pragma once
-// A progress bar for long operations. It draws only when stderr is a terminal and
-// CI is not set, so logs stay clean.
+// A progress bar for long operations. It draws when stderr is a terminal and CI is not
+// set; on a pipe or into a file (CI not set) it writes a line at each tenth done once the
+// operation has lasted two seconds, so a phase of minutes is never silent; under CI nothing.
 #include <chrono>
 #include <cstddef>
 #include <string>
@@ -25,6 +26,8 @@ class Progress {
   std::string label_;
   std::size_t total_;
   bool visible_;
+  bool lines_;                ///< not a terminal: a line per tenth
+  std::size_t last_tenth_ = 0;
   bool finished_ = false;
   std::chrono::steady_clock::time_point start_, last_draw_;
 };

@@ -15,6 +15,7 @@ NeedleReport needle_report(const scene::Model& model, const std::string& device,
   r.device = device;
   const auto& layers = needle.config().layers;
   r.layers = layers.size();
+  r.touched = needle.touched();
   for (const haptics::NeedleRupture& rupture : needle.ruptures()) {
     const haptics::NeedleLayer& l = layers[rupture.layer];
     r.ruptures.push_back({model.bodies[l.body].name, rupture.t, rupture.force, l.rupture_force});
@@ -31,6 +32,8 @@ std::string format_needle_report(const NeedleReport& r) {
   for (const NeedleRuptureReport& p : r.ruptures) ++torn[p.layer];
   std::size_t sites = 0;
   for (const auto& [layer, times] : torn) sites = std::max(sites, times);
+  // A needle that never touched a layer (a palpation-only scenario) has nothing to report.
+  if (!r.touched) return fmt::format("\nneedle ({}): never touched a layer\n", r.device);
   std::string out = fmt::format("\nneedle ({}): {} of {} layers passed", r.device, torn.size(), r.layers);
   out += sites > 1 ? fmt::format(", {} ruptures at {} insertion sites\n", r.ruptures.size(), sites) : "\n";
   for (std::size_t i = 0; i < r.ruptures.size(); ++i) {
@@ -50,9 +53,10 @@ std::string needle_report_json(const NeedleReport& r) {
     ruptures += fmt::format("{}{{\"layer\": {}, \"t_s\": {}, \"force_n\": {}, \"threshold_n\": {}}}",
                             i ? ", " : "", text::json_quoted(p.layer), p.t, p.force, p.threshold);
   }
-  return fmt::format("{{\"device\": {}, \"layers\": {}, \"ruptures\": [{}], \"planned_path\": {}, "
+  return fmt::format("{{\"device\": {}, \"layers\": {}, \"touched\": {}, \"ruptures\": [{}], \"planned_path\": {}, "
                      "\"max_deviation_m\": {}, \"last_deviation_m\": {}}}",
-                     text::json_quoted(r.device), r.layers, ruptures, r.planned ? "true" : "false", r.max_deviation, r.last_deviation);
+                     text::json_quoted(r.device), r.layers, r.touched ? "true" : "false", ruptures,
+                     r.planned ? "true" : "false", r.max_deviation, r.last_deviation);
 }
 
 }  // namespace tactus::runtime

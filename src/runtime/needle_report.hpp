@@ -20,6 +20,7 @@ struct NeedleRuptureReport {
 struct NeedleReport {
   std::string device;
   std::size_t layers = 0;                    ///< layers the needle may pierce
+  bool touched = false;                      ///< the tip ever pressed on a layer
   std::vector<NeedleRuptureReport> ruptures;  ///< in the order they happened
   bool planned = false;        ///< deviations are from the planned path (else the puncture path)
   double max_deviation = 0.0;  ///< [m]

@@ -39,8 +39,11 @@ std::string format_scenario_measures(const scene::Model& model, const SessionRep
       return std::holds_alternative<scene::NeedleTool>(t.shape) && !t.devices.empty() &&
              model.devices[t.devices.front()].name == d.name;
     });
+    // The hand's PS (seed 003's PS_LH, the nodes the hand drags): the simulation finds the
+    // nodes its contact load and drag are spread over, every device's at once.
     s += needle ? fmt::format("    PS   proximity search (shaft nodes): {}\n", micros(find_part(report, "simulation: shaft node search")))
-                : "    PS   proximity search:             — (the hand drags at its contact point: no node search)\n";
+                : fmt::format("    PS   proximity search (nodes under the contact, every device's): {}\n",
+                              micros(find_part(report, "simulation: contact loads")));
     s += fmt::format("    IN   interaction handling:         {}\n", micros(find_part(report, "interaction: " + d.name + ": interaction")));
     s += fmt::format("    haptic frame (read -> force sent): {}\n",
                      micros(find_part(report, "haptic[" + d.name + "]: device read -> force written")));

@@ -85,6 +85,7 @@ NeedleOutput NeedleInsertion::update(const Vec3& tip, const Vec3& axis, const Ve
   // Before rupture: one layer at a time resists the tip (the needle cannot reach a deeper
   // layer through one that has not torn).
   if (deforming_ < 0) engage(tip, axis, surfaces);
+  touched_ = touched_ || deforming_ >= 0;
   if (deforming_ >= 0) {
     const auto i = static_cast<std::size_t>(deforming_);
     LayerState& layer = layers_[i];

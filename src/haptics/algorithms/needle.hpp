@@ -113,6 +113,8 @@ class NeedleInsertion {
   [[nodiscard]] const NeedleConfig& config() const { return config_; }
   [[nodiscard]] NeedleStage stage(std::size_t layer) const { return layers_[layer].stage; }
   [[nodiscard]] std::span<const NeedleRupture> ruptures() const { return {ruptures_.data(), rupture_count_}; }
+  /// Whether the tip has ever pressed on a layer.
+  [[nodiscard]] bool touched() const { return touched_; }
   /// Largest lateral deviation of the tip from the planned path while inside tissue [m].
   [[nodiscard]] double max_deviation() const { return max_deviation_; }
   /// The deviation at the last frame the tip was inside tissue [m].
@@ -135,6 +137,7 @@ class NeedleInsertion {
   std::array<NeedleRupture, kMaxNeedleRuptures> ruptures_{};
   std::size_t rupture_count_ = 0;
   bool punctured_ = false;
+  bool touched_ = false;
   Vec3 path_point_ = Vec3::Zero(), path_axis_ = Vec3::UnitZ();  ///< the puncture path
   Vec3 planned_axis_ = Vec3::UnitZ();
   double max_deviation_ = 0.0, last_deviation_ = 0.0;

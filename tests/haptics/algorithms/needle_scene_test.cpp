@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "runtime/loop_set.hpp"
+#include "runtime/needle_report.hpp"
 #include "runtime/report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
@@ -163,6 +164,20 @@ TEST(NeedleSession, LockstepRunRupturesTheLayersInAnatomicalOrderAtTheirThreshol
   EXPECT_NE(text.find("needle (hand): 3 of 3 layers passed"), std::string::npos) << text;
   EXPECT_NE(text.find("2. fascia"), std::string::npos);
   EXPECT_NE(runtime::report_json(r).find("\"needles\": [{\"device\": \"hand\""), std::string::npos);
+}
+
+TEST(NeedleReport, ANeedleThatNeverTouchedSaysSoInsteadOfCountingNoLayersPassed) {
+  // Femoral S1 and S2 hold the needle still: "0 of 3 layers passed" read as a failed insertion.
+  runtime::NeedleReport idle;
+  idle.device = "needle";
+  idle.layers = 3;
+  const std::string text = runtime::format_needle_report(idle);
+  EXPECT_NE(text.find("needle (needle): never touched a layer"), std::string::npos) << text;
+  EXPECT_EQ(text.find("layers passed"), std::string::npos) << text;
+  EXPECT_NE(runtime::needle_report_json(idle).find("\"touched\": false"), std::string::npos);
+  runtime::NeedleReport pressed = idle;
+  pressed.touched = true;
+  EXPECT_NE(runtime::format_needle_report(pressed).find("0 of 3 layers passed"), std::string::npos);
 }
 
 TEST(NeedleSession, TheLayerDentsUnderTheNeedleBeforeItTears) {
