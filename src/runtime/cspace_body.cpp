@@ -60,6 +60,13 @@ CspaceBody::~CspaceBody() {
 
 CspaceForce CspaceBody::force(const Vec3& p, double t) const noexcept {
   CspaceForce out;
+  {
+    const precompute::Grid& g = online_ ? online_->grid() : interpolator_->space().grid;
+    const Vec3 far = g.origin + g.spacing * Vec3(g.counts[0] - 1, g.counts[1] - 1, g.counts[2] - 1);
+    const bool in_box = (p.array() >= g.origin.array()).all() && (p.array() <= far.array()).all();
+    (in_box ? inside_ : outside_).fetch_add(1, std::memory_order_relaxed);
+    if (in_box && first_inside_.load(std::memory_order_relaxed) < 0.0) first_inside_.store(t, std::memory_order_relaxed);
+  }
   if (online_) {
     const precompute::Grid& g = online_->grid();
     online_->observe(p, t);
@@ -84,6 +91,11 @@ CspaceForce CspaceBody::force(const Vec3& p, double t) const noexcept {
     out.touching = true;
   }
   return out;
+}
+
+CspaceBody::BoxCounts CspaceBody::box_counts() const {
+  return {inside_.load(std::memory_order_relaxed), outside_.load(std::memory_order_relaxed),
+          first_inside_.load(std::memory_order_relaxed)};
 }
 
 void CspaceBody::positions(const Vec3& p, VecX& x) const {

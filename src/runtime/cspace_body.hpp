@@ -52,6 +52,13 @@ class CspaceBody {
     std::uint64_t complete = 0;          ///< of those, with every corner of their cell resolved
   };
   [[nodiscard]] OnlineCounts online_counts() const;
+  /// Where the tool was in force() calls: inside the grid's box or out of it (no force
+  /// there), and the time of the first call inside [s] (negative: never).
+  struct BoxCounts {
+    std::uint64_t inside = 0, outside = 0;
+    double first_inside = -1.0;
+  };
+  [[nodiscard]] BoxCounts box_counts() const;
   /// The file's interpolator (not on-line).
   [[nodiscard]] const precompute::Interpolator& interpolator() const { return *interpolator_; }
 
@@ -68,6 +75,8 @@ class CspaceBody {
   VecX rest_;
   // Counted by the haptic thread, read after the run (or while it runs, approximately).
   mutable std::atomic<std::uint64_t> queries_{0}, complete_{0};
+  mutable std::atomic<std::uint64_t> inside_{0}, outside_{0};
+  mutable std::atomic<double> first_inside_{-1.0};
 };
 
 /// Per scene body, its cspace body (null for the others): what one run shares between loops.

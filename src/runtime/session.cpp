@@ -54,6 +54,22 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
   for (const auto& p : loops.interaction->parts())
     if (p.time.count() > 0) report.parts.push_back({"interaction: " + p.name, p.time});
   report.dropped_steps = loops.simulation->dropped_steps();
+  // A tool outside a space's grid box feels nothing there: say so, and for how long.
+  for (std::size_t b = 0; b < loops.cspaces.size(); ++b)
+    if (const auto& c = loops.cspaces[b]) {
+      const CspaceBody::BoxCounts n = c->box_counts();
+      const std::uint64_t all = n.inside + n.outside;
+      if (all == 0 || n.outside == 0) continue;
+      report.cspace_notes.push_back(
+          n.inside == 0
+              ? fmt::format("space of body '{}': the tool never entered its grid box in {} force queries; outside "
+                            "the box the space renders no force (docs/precompute.md)",
+                            model.bodies[b].name, all)
+              : fmt::format("space of body '{}': the tool was outside its grid box in {} of {} force queries "
+                            "({:.1f}%; no force there), first inside at t = {:.3f} s",
+                            model.bodies[b].name, n.outside, all,
+                            100.0 * static_cast<double>(n.outside) / static_cast<double>(all), n.first_inside));
+    }
   for (std::size_t b = 0; b < loops.cspaces.size(); ++b)
     if (const auto& c = loops.cspaces[b]; c && c->online()) {
       const CspaceBody::OnlineCounts n = c->online_counts();

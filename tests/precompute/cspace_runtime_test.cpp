@@ -14,11 +14,13 @@
 #include <thread>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "core/error.hpp"
 #include "precompute/interpolator.hpp"
 #include "precompute/space_file.hpp"
 #include "runtime/cspace_body.hpp"
+#include "runtime/report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
 #include "test_body.hpp"
@@ -148,9 +150,35 @@ TEST_F(CspaceRuntime, ShapeFollowsTheToolAndForceIsZeroOutsideTheGrid) {
   // configuration holds it at its grid point).
   const auto n = 3 * static_cast<Eigen::Index>(space.settings.contact_node);
   EXPECT_LT((x.segment<3>(n) - p).norm(), 1e-9);
-  EXPECT_TRUE(body->force(p, 0.0).touching);
   EXPECT_FALSE(body->force(Vec3(0.0, 0.0, 0.05), 0.0).touching);
-  EXPECT_EQ(body->force(Vec3(0.0, 0.0, 0.05), 0.0).force, Vec3::Zero());
+  EXPECT_TRUE(body->force(p, 0.25).touching);
+  EXPECT_EQ(body->force(Vec3(0.0, 0.0, 0.05), 0.5).force, Vec3::Zero());
+  // Where the tool was is counted, for the run's report: outside twice, inside once, at 0.25 s.
+  const runtime::CspaceBody::BoxCounts box = body->box_counts();
+  EXPECT_EQ(box.inside, 1u);
+  EXPECT_EQ(box.outside, 2u);
+  EXPECT_EQ(box.first_inside, 0.25);
+}
+
+TEST_F(CspaceRuntime, TheReportSaysWhenTheToolWasOutsideTheSpace) {
+  // The hand starts 7 mm above the grid's box (its top at z = 13 mm) and enters it after
+  // 0.14 s: the run says how long it felt nothing there.
+  std::string text = run_scene("trilinear");
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"position = [0.001, 0.0005, 0.01]",
+                                                                      "position = [0.001, 0.0005, 0.02]"},
+                                 {"depth = 0.004", "depth = 0.011"},
+                                 {"speed = 0.02", "speed = 0.05"}})
+    text.replace(text.find(from), from.size(), to);
+  const scene::Model m = model(text);
+  runtime::SessionOptions o;
+  o.scheduling = runtime::Scheduling::lockstep;
+  o.duration = 0.35;
+  const runtime::SessionReport r = runtime::run_session(m, o);
+  std::string notes;
+  for (const std::string& n : r.cspace_notes) notes += n + "\n";
+  EXPECT_NE(notes.find("outside its grid box"), std::string::npos) << notes;
+  EXPECT_NE(notes.find("first inside at t = 0.14"), std::string::npos) << notes;
+  EXPECT_NE(runtime::format_report(r).find("outside its grid box"), std::string::npos);
 }
 
 TEST_F(CspaceRuntime, RefusesASpaceBuiltForAnotherMaterial) {
