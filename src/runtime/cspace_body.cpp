@@ -60,19 +60,15 @@ CspaceBody::~CspaceBody() {
 
 CspaceForce CspaceBody::force(const Vec3& p, double t) const noexcept {
   CspaceForce out;
-  {
-    const precompute::Grid& g = online_ ? online_->grid() : interpolator_->space().grid;
-    const Vec3 far = g.origin + g.spacing * Vec3(g.counts[0] - 1, g.counts[1] - 1, g.counts[2] - 1);
-    const bool in_box = (p.array() >= g.origin.array()).all() && (p.array() <= far.array()).all();
-    (in_box ? inside_ : outside_).fetch_add(1, std::memory_order_relaxed);
-    if (in_box && first_inside_.load(std::memory_order_relaxed) < 0.0) first_inside_.store(t, std::memory_order_relaxed);
-  }
+  const precompute::Grid& g = online_ ? online_->grid() : interpolator_->space().grid;
+  const Vec3 far = g.origin + g.spacing * Vec3(g.counts[0] - 1, g.counts[1] - 1, g.counts[2] - 1);
+  const bool in_box = (p.array() >= g.origin.array()).all() && (p.array() <= far.array()).all();
+  (in_box ? inside_ : outside_).fetch_add(1, std::memory_order_relaxed);
+  if (in_box && first_inside_.load(std::memory_order_relaxed) < 0.0) first_inside_.store(t, std::memory_order_relaxed);
   if (online_) {
-    const precompute::Grid& g = online_->grid();
     online_->observe(p, t);
     const precompute::OnlineQuery q = online_->render(p);
-    const Vec3 far = g.origin + g.spacing * Vec3(g.counts[0] - 1, g.counts[1] - 1, g.counts[2] - 1);
-    const bool inside = (p.array() >= g.origin.array()).all() && (p.array() <= far.array()).all();
+    const bool inside = in_box;
     // Attached once a point is solved; before that the render is zero. The render changes
     // by at most max_force_step per call, also when a cell completes.
     if (inside && q.force.allFinite()) {
