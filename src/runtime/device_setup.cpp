@@ -86,13 +86,6 @@ contact::ElasticMaterial stiffest_tissue(const scene::Model& m, const std::vecto
   return stiffest;
 }
 
-/// The straight insertion line a scripted needle follows (in device coordinates), if any.
-const scene::NeedleLinePath* needle_line(const scene::Device& d) {
-  const scene::Trajectory* path = nullptr;
-  if (const auto* scripted = std::get_if<scene::ScriptedDevice>(&d.source)) path = &scripted->trajectory;
-  if (const auto* hand = std::get_if<scene::SimulatedOperatorDevice>(&d.source)) path = &hand->target;
-  return path ? std::get_if<scene::NeedleLinePath>(path) : nullptr;
-}
 
 /// A needle tool: its insertion algorithm's layers, and the planned path when the device
 /// follows a scripted insertion line.
@@ -125,6 +118,13 @@ DeviceSetup setup_needle(const scene::Model& m, const scene::Device& d, const sc
 }
 
 }  // namespace
+
+const scene::NeedleLinePath* needle_line(const scene::Device& d) {
+  const scene::Trajectory* path = nullptr;
+  if (const auto* scripted = std::get_if<scene::ScriptedDevice>(&d.source)) path = &scripted->trajectory;
+  if (const auto* hand = std::get_if<scene::SimulatedOperatorDevice>(&d.source)) path = &hand->target;
+  return path ? std::get_if<scene::NeedleLinePath>(path) : nullptr;
+}
 
 DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceBodies& cspaces) {
   const scene::Device& d = m.devices[index];

@@ -21,6 +21,9 @@ struct DeviceSetup {
   double needle_length = 0.0;
 };
 
+/// The straight insertion line a scripted needle follows (in device coordinates), if any.
+const scene::NeedleLinePath* needle_line(const scene::Device& device);
+
 /// Throws InputError for a tool or algorithm the runtime cannot render yet.
 DeviceSetup setup_device(const scene::Model& model, std::size_t device, const CspaceBodies& cspaces = {});
 

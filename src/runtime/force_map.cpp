@@ -86,6 +86,8 @@ ForceMap build_force_map(const scene::Model& model, std::size_t device, const st
   }
   for (std::size_t i = 0; i < cells; ++i)
     if (out.samples[i] > 0) out.mean[i] /= out.samples[i];
+  for (const scene::Body& body : model.bodies)
+    for (const scene::Nodule& n : body.nodules) out.nodules.emplace_back(n.center.head<2>(), n.radius);
   return out;
 }
 
@@ -110,40 +112,158 @@ std::array<std::uint8_t, 3> viridis(double t) {
   return rgb;
 }
 
-std::string write_force_map_png(const ForceMap& map, const std::filesystem::path& path) {
+namespace {
+
+constexpr raster::Rgb kInk{40, 40, 40}, kPaper{255, 255, 255}, kUnvisited{128, 128, 128};
+constexpr double kLabelSize = 13.0;
+
+/// A step of 1, 2 or 5 × 10^k giving about `count` intervals over `range`.
+double nice_step(double range, double count) {
+  const double raw = range / count;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 5.0})
+    if (m * decade >= raw) return m * decade;
+  return 10.0 * decade;
+}
+
+/// A tick value written with as many decimals as its step needs.
+std::string tick_label(double value, double step) {
+  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
+  return fmt::format("{:.{}f}", std::abs(value) < 0.5 * step ? 0.0 : value, decimals);
+}
+
+/// The strongest cell's mean [N] and where it is.
+double strongest(const ForceMap& map, int& best_column, int& best_row) {
   double top = 0.0;
-  for (std::size_t i = 0; i < map.mean.size(); ++i)
-    if (map.samples[i] > 0) top = std::max(top, map.mean[i]);
-  const int scale = std::max(1, 256 / std::max(map.columns, map.rows));
-  const int width = map.columns * scale, height = map.rows * scale;
-  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
-  int best_column = 0, best_row = 0;
+  best_column = best_row = 0;
   for (int row = 0; row < map.rows; ++row)
     for (int column = 0; column < map.columns; ++column) {
       const std::size_t i = map.index(column, row);
-      if (map.samples[i] > 0 && map.mean[i] > map.mean[map.index(best_column, best_row)]) {
+      if (map.samples[i] > 0 && map.mean[i] > top) {
+        top = map.mean[i];
         best_column = column;
         best_row = row;
       }
-      const std::array<std::uint8_t, 3> colour =
-          map.samples[i] == 0 ? std::array<std::uint8_t, 3>{128, 128, 128} : viridis(top > 0.0 ? map.mean[i] / top : 0.0);
-      // Image rows run top to bottom: the highest y first.
-      for (int py = 0; py < scale; ++py)
-        for (int px = 0; px < scale; ++px) {
-          const std::size_t y = static_cast<std::size_t>((map.rows - 1 - row) * scale + py);
-          const std::size_t x = static_cast<std::size_t>(column * scale + px);
-          std::copy(colour.begin(), colour.end(), rgb.begin() + static_cast<std::ptrdiff_t>(3 * (y * static_cast<std::size_t>(width) + x)));
-        }
     }
-  png::write_rgb(path, width, height, rgb);
+  return top;
+}
+
+}  // namespace
+
+ForceMapLayout force_map_layout(const ForceMap& map) {
+  ForceMapLayout l;
+  l.cell_pixels = std::max(1, 320 / std::max({map.columns, map.rows, 1}));
+  l.plot_left = 64;
+  l.plot_top = 30;
+  l.plot_width = map.columns * l.cell_pixels;
+  l.plot_height = map.rows * l.cell_pixels;
+  l.bar_left = l.plot_left + l.plot_width + 18;
+  l.bar_top = l.plot_top;
+  l.bar_width = 16;
+  l.bar_height = l.plot_height;
+  l.width = l.bar_left + l.bar_width + 64;
+  l.height = l.plot_top + l.plot_height + 46;
+  int column = 0, row = 0;
+  l.full_scale = strongest(map, column, row);
+  return l;
+}
+
+raster::Image render_force_map(const ForceMap& map) {
+  const ForceMapLayout l = force_map_layout(map);
+  raster::Image image(l.width, l.height, kPaper);
+  const double top = l.full_scale;
+  for (int row = 0; row < map.rows; ++row)
+    for (int column = 0; column < map.columns; ++column) {
+      const std::size_t i = map.index(column, row);
+      const raster::Rgb colour = map.samples[i] == 0 ? kUnvisited : viridis(top > 0.0 ? map.mean[i] / top : 0.0);
+      // Image rows run top to bottom: the highest y first.
+      const int x = l.plot_left + column * l.cell_pixels, y = l.plot_top + (map.rows - 1 - row) * l.cell_pixels;
+      raster::fill_rect(image, x, y, x + l.cell_pixels, y + l.cell_pixels, colour);
+    }
+
+  // Axes in mm over the cells' outer edges.
+  const double x_lo = 1e3 * (map.origin.x() - 0.5 * map.cell), x_hi = x_lo + 1e3 * map.cell * map.columns;
+  const double y_lo = 1e3 * (map.origin.y() - 0.5 * map.cell), y_hi = y_lo + 1e3 * map.cell * map.rows;
+  const auto to_px = [&](double x_mm, double y_mm) {
+    return Vec2(l.plot_left + (x_mm - x_lo) / (x_hi - x_lo) * l.plot_width,
+                l.plot_top + (y_hi - y_mm) / (y_hi - y_lo) * l.plot_height);
+  };
+  const double step = nice_step(std::max(x_hi - x_lo, y_hi - y_lo), 5.0);
+  const int bottom = l.plot_top + l.plot_height;
+  for (double v = std::ceil(x_lo / step - 1e-9) * step; v <= x_hi + 1e-9 * step; v += step) {
+    const double x = to_px(v, y_lo).x();
+    raster::draw_line(image, x, bottom, x, bottom + 5, kInk);
+    const std::string label = tick_label(v, step);
+    raster::draw_text(image, static_cast<int>(x) - raster::text_width(label, kLabelSize) / 2, bottom + 7, label,
+                      kLabelSize, kInk);
+  }
+  for (double v = std::ceil(y_lo / step - 1e-9) * step; v <= y_hi + 1e-9 * step; v += step) {
+    const double y = to_px(x_lo, v).y();
+    raster::draw_line(image, l.plot_left - 6, y, l.plot_left - 1, y, kInk);
+    const std::string label = tick_label(v, step);
+    raster::draw_text(image, l.plot_left - 9 - raster::text_width(label, kLabelSize),
+                      static_cast<int>(y) - static_cast<int>(kLabelSize / 2), label, kLabelSize, kInk);
+  }
+  const std::string x_title = "x [mm]";
+  raster::draw_text(image, l.plot_left + l.plot_width / 2 - raster::text_width(x_title, kLabelSize) / 2, bottom + 26,
+                    x_title, kLabelSize, kInk);
+  raster::draw_text(image, 4, 8, "y [mm]", kLabelSize, kInk);
+  raster::draw_text(image, l.plot_left, 8, "mean normal force", kLabelSize, kInk);
+  raster::stroke_rect(image, l.plot_left - 1, l.plot_top - 1, l.plot_left + l.plot_width + 1, bottom + 1, kInk);
+
+  // The nodules, dashed, clipped to the plot.
+  for (const std::pair<Vec2, double>& nodule : map.nodules) {
+    const Vec2 centre = nodule.first;
+    const double radius = nodule.second;
+    constexpr int kSegments = 72;
+    for (int k = 0; k < kSegments; k += 2) {
+      const auto at = [&](int s) {
+        const double a = 2.0 * 3.14159265358979323846 * s / kSegments;
+        return to_px(1e3 * (centre.x() + radius * std::cos(a)), 1e3 * (centre.y() + radius * std::sin(a)));
+      };
+      const Vec2 p = at(k), q = at(k + 1);
+      const auto inside = [&](const Vec2& v) {
+        return v.x() >= l.plot_left && v.x() < l.plot_left + l.plot_width && v.y() >= l.plot_top && v.y() < bottom;
+      };
+      if (inside(p) && inside(q)) raster::draw_line(image, p.x(), p.y(), q.x(), q.y(), kPaper, 1.5);
+    }
+  }
+
+  // The colour bar: 0 N at the bottom, the strongest cell at the top.
+  for (int r = 0; r < l.bar_height; ++r) {
+    const double t = 1.0 - (r + 0.5) / l.bar_height;
+    raster::fill_rect(image, l.bar_left, l.bar_top + r, l.bar_left + l.bar_width, l.bar_top + r + 1, viridis(t));
+  }
+  raster::stroke_rect(image, l.bar_left - 1, l.bar_top - 1, l.bar_left + l.bar_width + 1, l.bar_top + l.bar_height + 1,
+                      kInk);
+  raster::draw_text(image, l.bar_left, 8, "N", kLabelSize, kInk);
+  if (top > 0.0) {
+    const double bar_step = nice_step(top, 4.0);
+    for (double v = 0.0; v <= top * (1.0 + 1e-9); v += bar_step) {
+      const double y = l.bar_top + (1.0 - v / top) * l.bar_height;
+      const int right = l.bar_left + l.bar_width;
+      raster::draw_line(image, right, y, right + 4, y, kInk);
+      raster::draw_text(image, right + 7, static_cast<int>(y) - static_cast<int>(kLabelSize / 2),
+                        tick_label(v, bar_step), kLabelSize, kInk);
+    }
+  }
+  return image;
+}
+
+std::string write_force_map_png(const ForceMap& map, const std::filesystem::path& path) {
+  const raster::Image image = render_force_map(map);
+  png::write_rgb(path, image.width, image.height, image.rgb);
+  int best_column = 0, best_row = 0;
+  const double top = strongest(map, best_column, best_row);
   const Vec2 far = map.cell_center(map.columns - 1, map.rows - 1);
   const Vec2 best = map.cell_center(best_column, best_row);
   return fmt::format(
       "force map {} ({}x{} px): {}x{} cells of {:.1f} mm, centres x [{:.4f}, {:.4f}] m, y [{:.4f}, {:.4f}] m, +y up\n"
       "  colour: mean normal force per cell, viridis from 0 N (dark purple) to {:.3f} N (yellow); grey: never "
-      "visited\n  strongest cell {:.3f} N at x {:.4f} m, y {:.4f} m; largest single frame {:.3f} N\n",
-      path.string(), width, height, map.columns, map.rows, 1e3 * map.cell, map.origin.x(), far.x(), map.origin.y(),
-      far.y(), top, top, best.x(), best.y(), map.max_peak());
+      "visited; dashed circles: nodules\n  strongest cell {:.3f} N at x {:.4f} m, y {:.4f} m; largest single frame "
+      "{:.3f} N\n",
+      path.string(), image.width, image.height, map.columns, map.rows, 1e3 * map.cell, map.origin.x(), far.x(),
+      map.origin.y(), far.y(), top, top, best.x(), best.y(), map.max_peak());
 }
 
 }  // namespace tactus::runtime

@@ -6,8 +6,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "core/raster.hpp"
 #include "runtime/recording.hpp"
 #include "scene/model.hpp"
 
@@ -22,6 +24,8 @@ struct ForceMap {
   /// frames whose tool centre lay in it, and how many there were.
   std::vector<double> peak, mean;
   std::vector<std::uint32_t> samples;
+  /// The nodules under the scanned skin, as circles in the x–y plane (centre, radius) [m].
+  std::vector<std::pair<Vec2, double>> nodules;
 
   [[nodiscard]] std::size_t index(int column, int row) const {
     return static_cast<std::size_t>(row) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(column);
@@ -43,10 +47,24 @@ ForceMap build_force_map(const scene::Model& model, std::size_t device, const st
 /// readers) at t in [0, 1].
 std::array<std::uint8_t, 3> viridis(double t);
 
-/// Writes the mean map as a PNG, seen from above (+y up), viridis from 0 N to the strongest
-/// cell, cells never visited in grey; at least 256 pixels on the longer side. (The mean is
-/// the steadier picture: a cell's peak also catches the jolt of touching down.) Returns the
-/// legend as text lines (scale, region, where the strongest cell is).
+/// Where the picture of a map puts its parts [px].
+struct ForceMapLayout {
+  int width = 0, height = 0;  ///< the whole image
+  int plot_left = 0, plot_top = 0, plot_width = 0, plot_height = 0;
+  int cell_pixels = 0;  ///< a cell's side
+  int bar_left = 0, bar_top = 0, bar_width = 0, bar_height = 0;  ///< the colour bar
+  double full_scale = 0.0;  ///< [N] at the top of the colour bar: the strongest cell's mean
+};
+ForceMapLayout force_map_layout(const ForceMap& map);
+
+/// The mean map seen from above (+y up), viridis from 0 N to the strongest cell, cells never
+/// visited in grey, at least 256 pixels on the longer side; axes in mm with ticks, the colour
+/// bar in N, the nodules' outlines dashed in white. (The mean is the steadier picture: a
+/// cell's peak also catches the jolt of touching down.)
+raster::Image render_force_map(const ForceMap& map);
+
+/// Writes render_force_map as a PNG. Returns the legend as text lines (scale, region, where
+/// the strongest cell is).
 std::string write_force_map_png(const ForceMap& map, const std::filesystem::path& path);
 
 }  // namespace tactus::runtime

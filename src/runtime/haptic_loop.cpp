@@ -18,8 +18,8 @@ HapticLoop::HapticLoop(HapticConfig config, std::unique_ptr<haptics::Device> dev
   if (config_.multi_surface) multi_surface_.emplace(config_.multi_surface->force);
 }
 
-void HapticLoop::emit(double t, EventKind kind, double value) {
-  channels_.events.try_push(LoopEvent{t, kind, config_.device, value});
+void HapticLoop::emit(double t, EventKind kind, double value, std::int32_t detail) {
+  channels_.events.try_push(LoopEvent{t, kind, config_.device, value, detail});
 }
 
 double HapticLoop::law_force(double depth, double mean_curvature) const {

@@ -37,6 +37,8 @@ struct LoopEvent {
   EventKind kind = EventKind::note;
   std::uint16_t device = 0;
   double value = 0.0;
+  /// rupture: the torn layer's index in the needle's layers; otherwise −1.
+  std::int32_t detail = -1;
 };
 
 /// What the simulation builds for a device whose local model is a patch.
@@ -161,7 +163,7 @@ class HapticLoop {
     double law_force = 0.0;           ///< normal force of the contact law [N]
     double contact_radius = 0.0;      ///< of the contact disc the load is spread over [m]
   };
-  void emit(double t, EventKind kind, double value);
+  void emit(double t, EventKind kind, double value, std::int32_t detail = -1);
   void apply_live_parameters(double t);  // live_parameters.cpp
   Rendered render_plane(const LocalContact& contact, contact::ProxyState& proxy, const Vec3& position,
                         const Quat& orientation, double t, double dt, bool use_interpolator);

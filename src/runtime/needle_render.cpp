@@ -16,7 +16,8 @@ HapticLoop::Rendered HapticLoop::render_needle(const Vec3& position, const Quat&
     needle_axis_ = Vec3(0, 0, -1);
   }
   needle_out_ = needle_->update(position, needle_axis_, velocity_, channels_.needle.read(), t);
-  if (needle_out_.rupture) emit(t, EventKind::rupture, needle_out_.rupture->force);
+  if (needle_out_.rupture)
+    emit(t, EventKind::rupture, needle_out_.rupture->force, static_cast<std::int32_t>(needle_out_.rupture->layer));
   Rendered out;
   out.force = needle_out_.force;
   out.touching = needle_out_.touching;

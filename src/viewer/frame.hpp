@@ -22,6 +22,11 @@ struct SurfaceView {
   std::vector<double> pressure;
   /// Drawn see-through when the view asks for transparency (it then reveals what lies under).
   bool translucent_when_revealing = true;
+  /// Drawn behind any surface it coincides with: a body whose embedded layers lie on its
+  /// boundary (a skin sheet on a tissue block's top) would otherwise fight them pixel by pixel.
+  bool recessed = false;
+  /// Named in the legend.
+  bool in_legend = true;
 };
 
 /// A sphere: a tool's contact sphere, its device position, a nodule under the skin.
@@ -34,12 +39,33 @@ struct SphereView {
   bool subsurface = false;
 };
 
-/// A force vector drawn as an arrow from `origin`, `length_per_newton` metres per newton.
+/// A force vector drawn as an arrow from `origin`, `length_per_newton` metres per newton up
+/// to `max_length` (a spike must not become a pole across the scene), its value written at
+/// its tip.
 struct ArrowView {
   Vec3 origin = Vec3::Zero();
   Vec3 force = Vec3::Zero();  ///< [N]
   double length_per_newton = 0.01;
+  double max_length = 0.05;  ///< [m]
   Colour colour = Colour(0.95, 0.85, 0.1);
+  std::string label;  ///< e.g. "hand 1.23 N"; empty = none
+  /// The drawn length [m].
+  [[nodiscard]] double length() const;
+};
+
+/// A needle: shaft, bevelled tip and hub.
+struct NeedleView {
+  Vec3 tip = Vec3::Zero();
+  Vec3 axis = -Vec3::UnitZ();  ///< unit, from the hub towards the tip
+  double length = 0.08;        ///< [m]
+  double radius = 0.0005;      ///< [m] (drawn at least a few pixels wide)
+  Colour colour = Colour(0.78, 0.8, 0.84);
+};
+
+/// A line of text in a corner of the view (a device's force, a needle's depth and layers).
+struct StatusLine {
+  std::string text;
+  Colour colour = Colour(0.95, 0.95, 0.95);
 };
 
 /// A translucent square in a plane (a contact's constraint plane).
@@ -64,6 +90,8 @@ struct FrameView {
   std::vector<ArrowView> arrows;
   std::vector<QuadView> quads;  ///< debug view: constraint planes
   std::vector<BoxView> boxes;   ///< debug view: BVH nodes
+  std::vector<NeedleView> needles;
+  std::vector<StatusLine> status;  ///< one per device
   /// Pressure shown at the top of the false-colour scale [Pa].
   double pressure_full_scale = 2.0e4;
 };
@@ -85,5 +113,13 @@ Aabb frame_bounds(const FrameView& frame);
 
 /// False-colour ramp for a value in [0, 1]: blue, cyan, green, yellow, red.
 Colour pressure_colour(double fraction);
+
+/// A body's colour from what its name says it is (skin, fat, muscle, fascia, ligament,
+/// artery, vein, nerve, bone, liver...), else from a palette by `index`. The legend, the
+/// window and the snapshots use it, so a layer has one colour everywhere.
+Colour body_colour(const std::string& name, std::size_t index);
+/// body_colour for each name, a repeated colour darkened a step each time (two fasciae,
+/// two bones), so that the legend tells every body apart.
+std::vector<Colour> body_colours(const std::vector<std::string>& names);
 
 }  // namespace tactus::viewer

@@ -120,11 +120,12 @@ PanelActions draw_panel(const PanelInputs& in, ViewOptions& view) {
     ImGui::TextUnformatted("the scene's device drives the tool (no mouse)");
   else
     ImGui::Text("the mouse drives '%s'", in.mouse_device.c_str());
-  if (in.tool.seen) {
-    const Vec3& p = in.tool.device_position;
-    ImGui::Text("finger (%.1f, %.1f, %.1f) mm %s", p.x() * 1e3, p.y() * 1e3, p.z() * 1e3,
-                in.tool.touching ? "touching" : "free");
-    ImGui::Text("force %.3f N", in.tool.force.norm());
+  // Every device: a hand and a needle both push on the user.
+  for (const ToolView& tool : in.tools) {
+    if (!tool.seen) continue;
+    const Vec3& p = tool.device_position;
+    ImGui::Text("%s (%.1f, %.1f, %.1f) mm %s, force %.3f N", tool.name.c_str(), p.x() * 1e3, p.y() * 1e3, p.z() * 1e3,
+                tool.touching ? "touching" : "free", tool.force.norm());
   }
 
   if (in.live) {

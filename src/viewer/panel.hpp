@@ -18,7 +18,7 @@ struct PanelInputs {
   double visual_rate = 0.0;  ///< [Hz]
   double frame_ms = 0.0;     ///< CPU time of the last frame [ms]
   double t = 0.0;            ///< [s] simulated time of the surfaces shown
-  ToolView tool;             ///< the first device's tool
+  std::vector<ToolView> tools;  ///< each device's tool
   std::vector<PlotSample> samples;
   std::vector<std::string> events;
   /// The run's live parameters (the panel edits them); null = none.

@@ -239,7 +239,7 @@ void Renderer::build(const FrameView& frame, const ViewOptions& options, Batches
     }
     const bool translucent = options.reveal && s.translucent_when_revealing;
     const bool pressure = options.show_pressure && s.pressure.size() == s.positions.size();
-    std::vector<Vertex>& target = translucent ? out.translucent : out.opaque;
+    std::vector<Vertex>& target = translucent ? out.translucent : s.recessed ? out.recessed : out.opaque;
     for (const mesh::Triangle& t : s.triangles) {
       if (!valid(t)) continue;
       for (const mesh::Index vi : t) {
@@ -261,9 +261,22 @@ void Renderer::build(const FrameView& frame, const ViewOptions& options, Batches
     std::vector<Vertex>& target = s.opacity < 1.0 ? out.translucent : out.opaque;
     for (const Vec3& n : unit_sphere_) push(target, s.centre + s.radius * n, n, s.colour, s.opacity);
   }
+  const Aabb bounds = frame_bounds(frame);
+  const double extent = std::max((bounds.max - bounds.min).maxCoeff(), 1e-3);
+  for (const NeedleView& n : frame.needles) {
+    if (!n.tip.allFinite() || !n.axis.allFinite() || n.axis.norm() < 0.5 || !(n.length > 0.0)) continue;
+    // At least a few pixels wide at the scene's scale, or a fine needle vanishes.
+    const double r = std::max(n.radius, 0.0025 * extent);
+    const Vec3 axis = n.axis.normalized();
+    const Vec3 hub_end = n.tip - n.length * axis, hub = hub_end + std::min(0.15 * n.length, 0.012) * axis;
+    const Vec3 bevel = n.tip - std::min(6.0 * r, 0.2 * n.length) * axis;
+    push_cone(out.opaque, hub_end, hub, 3.0 * r, 3.0 * r, Colour(0.25, 0.55, 0.85));
+    push_cone(out.opaque, hub, bevel, r, r, n.colour);
+    push_cone(out.opaque, bevel, n.tip, r, 0.0, n.colour);
+  }
   if (options.show_forces)
     for (const ArrowView& a : frame.arrows) {
-      const double length = a.force.norm() * a.length_per_newton;
+      const double length = a.length();
       if (!(length > 1e-6) || !std::isfinite(length)) continue;
       const Vec3 dir = a.force.normalized();
       const double radius = std::max(0.04 * length, 4e-4);
@@ -329,6 +342,13 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
         c11(centre.x() + half, centre.y() + half, floor_z), c01(centre.x() - half, centre.y() + half, floor_z);
     for (const Vec3& p : {c00, c10, c11, c00, c11, c01}) push(batches.opaque, p, n, grey, 1.0);
   }
+  const auto draw_recessed = [&] {
+    // Pushed back in depth, so that a layer on its boundary wins every pixel they share.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(2.0f, 8.0f);
+    draw(batches.recessed);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+  };
 
   // The light: from above, a little to the side, covering the floor and everything on it.
   const Vec3 light_dir = Vec3(0.35, 0.25, 1.0).normalized();
@@ -352,6 +372,7 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.5f, 2.0f);
     draw(batches.opaque);
+    draw(batches.recessed);
     glDisable(GL_POLYGON_OFFSET_FILL);
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(target_fbo));
   }
@@ -373,6 +394,7 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
   glUniform1i(glGetUniformLocation(shaded_, "uShadows"), options.shadows ? 1 : 0);
   glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
   draw(batches.opaque);
+  draw_recessed();
 
   if (!batches.wire.empty()) {
     glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 1);

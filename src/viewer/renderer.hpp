@@ -32,6 +32,8 @@ class Renderer {
   };
   struct Batches {
     std::vector<Vertex> opaque, translucent, wire, lines;
+    /// Opaque surfaces drawn behind those they coincide with (SurfaceView::recessed).
+    std::vector<Vertex> recessed;
     /// Lines drawn over everything: a contact's constraint plane lies where the haptic loop
     /// has the tissue, which between simulation steps may be under the shown surface.
     std::vector<Vertex> overlay;

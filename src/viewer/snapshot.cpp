@@ -10,6 +10,7 @@
 #include "runtime/simulation_loop.hpp"
 #include "viewer/debug_views.hpp"
 #include "viewer/offscreen.hpp"
+#include "viewer/overlay.hpp"
 #include "viewer/renderer.hpp"
 #include "viewer/visual_feed.hpp"
 
@@ -72,7 +73,12 @@ Snapshot render_offscreen(const FrameView& frame, const OrbitCamera& camera, con
   Snapshot s;
   s.width = width;
   s.height = height;
-  s.rgb = target.read();
+  raster::Image image;
+  image.width = width;
+  image.height = height;
+  image.rgb = target.read();
+  paint(build_overlay(frame, camera, view, width, height), image);
+  s.rgb = std::move(image.rgb);
   s.camera = camera;
   s.frame = frame;
   return s;

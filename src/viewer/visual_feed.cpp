@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <variant>
 
+#include "runtime/device_setup.hpp"
 #include "runtime/devices.hpp"
 #include "runtime/haptic_loop.hpp"
 
@@ -17,12 +19,9 @@ constexpr std::size_t kMaxSamples = 4000;   // 20 s at 200 per second
 constexpr std::uint64_t kSampleEvery = 5;   // of a 1 kHz loop's frames: 200 per second
 constexpr std::size_t kMaxEvents = 64;
 
-/// Colours by body index: skin first, then organ-like tones.
-Colour body_colour(std::size_t index) {
-  static const Colour palette[] = {Colour(0.93, 0.76, 0.66), Colour(0.72, 0.36, 0.32), Colour(0.62, 0.68, 0.82),
-                                   Colour(0.85, 0.78, 0.52)};
-  return palette[index % std::size(palette)];
-}
+/// An arrow reaches `kArrowCap` of the scene's largest side at `kArrowCapForce`; harder
+/// pushes draw no longer (their value is written at the tip).
+constexpr double kArrowCap = 0.22, kArrowCapForce = 4.0;
 
 }  // namespace
 
@@ -38,9 +37,13 @@ void add_contact_pressure(const std::vector<Vec3>& positions, const Vec3& point,
 }
 
 VisualFeed::VisualFeed(const scene::Model& model) : model_(model), devices_(model.devices.size()),
-                                                    latest_(model.devices.size()) {
-  for (std::size_t i = 0; i < model.devices.size(); ++i) devices_[i].map = runtime::workspace_map(model.devices[i]);
-  for (const scene::Tool& tool : model.tools)
+                                                    latest_(model.devices.size()), needles_(model.devices.size()) {
+  for (std::size_t i = 0; i < model.devices.size(); ++i) {
+    devices_[i].name = model.devices[i].name;
+    devices_[i].map = runtime::workspace_map(model.devices[i]);
+  }
+  for (std::size_t ti = 0; ti < model.tools.size(); ++ti) {
+    const scene::Tool& tool = model.tools[ti];
     for (std::size_t k = 0; k < tool.devices.size(); ++k) {
       if (tool.devices[k] >= devices_.size()) continue;
       DeviceTool& d = devices_[tool.devices[k]];
@@ -56,15 +59,43 @@ VisualFeed::VisualFeed(const scene::Model& model) : model_(model), devices_(mode
           d.extra_spheres.emplace_back(set->spheres[s].center, set->spheres[s].radius);
       } else if (const auto* needle = std::get_if<scene::NeedleTool>(&tool.shape)) {
         d.radius = 0.5 * needle->diameter;
+        d.needle = true;
+        d.needle_length = needle->length;
+        const scene::Device& device = model.devices[tool.devices[k]];
+        if (const scene::NeedleLinePath* line = runtime::needle_line(device)) {
+          const Vec3 along = d.map.to_scene(line->target) - d.map.to_scene(line->entry);
+          if (along.norm() > 0.0) d.needle_axis = along.normalized();
+        }
+        for (const scene::Algorithm& a : model.algorithms)
+          if (const auto* p = std::get_if<scene::NeedleParams>(&a.params); p && a.enabled && a.tool == ti)
+            for (const haptics::NeedleLayer& l : p->layers)
+              d.layer_names.push_back(l.body < model.bodies.size() ? model.bodies[l.body].name : "?");
       }
     }
+  }
   // Full scale: the device's largest force on a disc half the finger's radius, so a firm
-  // press reaches the red end.
+  // press reaches the red end. A needle's tip is no pressing disc: its tiny radius would set
+  // a scale no finger ever reaches.
   double scale = 0.0;
   for (std::size_t i = 0; i < devices_.size(); ++i)
-    if (devices_[i].radius > 0.0)
+    if (devices_[i].radius > 0.0 && !devices_[i].needle)
       scale = std::max(scale, model.devices[i].max_force / (std::numbers::pi * devices_[i].radius * devices_[i].radius));
   if (scale > 0.0) full_scale_ = scale;
+  Aabb box{Vec3::Constant(std::numeric_limits<double>::infinity()), Vec3::Constant(-std::numeric_limits<double>::infinity())};
+  for (const scene::Body& b : model.bodies)
+    for (const Vec3& p : b.surface.vertices) {
+      box.min = box.min.cwiseMin(p);
+      box.max = box.max.cwiseMax(p);
+    }
+  if ((box.min.array() <= box.max.array()).all()) extent_ = std::max((box.max - box.min).maxCoeff(), 1e-3);
+}
+
+Vec3 VisualFeed::needle_axis(std::size_t device, const runtime::HapticFrame& f) const {
+  const DeviceTool& d = devices_[device];
+  if (d.needle_axis) return *d.needle_axis;
+  // A handle's needle points along its −z (as the haptic loop takes it).
+  const Vec3 axis = d.map.to_scene(f.orientation) * Vec3(0, 0, -1);
+  return axis.norm() > 1e-9 && axis.allFinite() ? Vec3(axis.normalized()) : Vec3(0, 0, -1);
 }
 
 TripleBuffer<runtime::SurfaceSnapshot>& VisualFeed::surface_buffer(const runtime::SurfaceSnapshot& initial) {
@@ -81,11 +112,24 @@ void VisualFeed::frame(const runtime::HapticFrame& f) {
     samples_.push_back({f.t, f.force.norm(), f.compute_ns * 1e-3});
     if (samples_.size() > kMaxSamples) samples_.pop_front();
   }
+  if (devices_[f.device].needle) {
+    // A new entry starts a new site: its depth from where the tip first touched, its layers.
+    NeedleProgress& n = needles_[f.device];
+    const Vec3 tip = devices_[f.device].map.to_scene(f.position);
+    if (f.contact && !n.inside) {
+      n.entry = tip;
+      n.passed.clear();
+    }
+    n.inside = f.contact != 0;
+    n.depth = n.inside ? std::max(0.0, (tip - n.entry).dot(needle_axis(f.device, f))) : 0.0;
+  }
 }
 
 void VisualFeed::event(const runtime::LoopEvent& e) {
   if (e.kind == runtime::EventKind::note) return;
   std::lock_guard lock(mutex_);
+  if (e.kind == runtime::EventKind::rupture && e.device < needles_.size() && e.detail >= 0)
+    needles_[e.device].passed.push_back(e.detail);
   const std::string device = e.device < model_.devices.size() ? model_.devices[e.device].name : "?";
   events_.push_back(fmt::format("{:8.3f} s  {}  {}  {:.3g}", e.t, device, runtime::event_kind_name(e.kind), e.value));
   if (events_.size() > kMaxEvents) events_.pop_front();
@@ -98,6 +142,9 @@ std::vector<ToolView> VisualFeed::tools() const {
     const DeviceTool& d = devices_[i];
     ToolView& t = out[i];
     t.radius = d.radius;
+    t.name = d.name;
+    t.needle = d.needle;
+    t.layer_count = d.layer_names.size();
     if (!latest_[i]) continue;
     const runtime::HapticFrame& f = *latest_[i];
     t.seen = true;
@@ -107,6 +154,16 @@ std::vector<ToolView> VisualFeed::tools() const {
     t.contact_point = f.proxy;
     // The contact holds the sphere on the surface along the force's direction.
     t.proxy_position = t.touching ? Vec3(f.proxy + d.radius * t.force.normalized()) : t.device_position;
+    if (d.needle) {
+      t.needle_axis = needle_axis(i, f);
+      t.needle_depth = needles_[i].depth;
+      for (const std::int32_t layer : needles_[i].passed)
+        t.layers_passed.push_back(static_cast<std::size_t>(layer) < d.layer_names.size()
+                                      ? d.layer_names[static_cast<std::size_t>(layer)]
+                                      : "?");
+      // The needle's tip is where the device is: the contact does not hold it outside.
+      t.proxy_position = t.device_position;
+    }
   }
   return out;
 }
@@ -130,11 +187,18 @@ FrameView VisualFeed::build() {
     snapshot = &surfaces->read();
     frame.t = snapshot->t;
   }
+  std::vector<bool> hosts(model_.bodies.size(), false);
+  for (const scene::Body& body : model_.bodies)
+    if (body.host && *body.host < hosts.size()) hosts[*body.host] = true;
+  std::vector<std::string> names;
+  for (const scene::Body& body : model_.bodies) names.push_back(body.name);
+  const std::vector<Colour> colours = body_colours(names);
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
     const scene::Body& body = model_.bodies[b];
     SurfaceView s;
     s.name = body.name;
-    s.colour = body_colour(b);
+    s.colour = colours[b];
+    s.recessed = hosts[b];
     s.triangles = body.surface.triangles;
     const bool published = snapshot && b < snapshot->positions.size() &&
                            snapshot->positions[b].size() == body.surface.vertices.size();
@@ -147,23 +211,39 @@ FrameView VisualFeed::build() {
   for (std::size_t i = 0; i < tools.size(); ++i) {
     const ToolView& t = tools[i];
     if (!t.seen || t.radius <= 0.0) continue;
-    // The finger is see-through so that the pressure under it shows.
-    frame.spheres.push_back({t.proxy_position, t.radius, Colour(0.35, 0.55, 0.95), 0.55, false});
-    for (const auto& [offset, radius] : devices_[i].extra_spheres) {
-      const Vec3 centre = t.proxy_position + devices_[i].map.rotation * (offset - devices_[i].offset);
-      frame.spheres.push_back({centre, radius, Colour(0.35, 0.55, 0.95), 0.55, false});
+    const double force = t.force.norm();
+    const Colour arrow_colour = i == 0 ? Colour(0.98, 0.85, 0.1) : Colour(0.3, 0.95, 0.95);
+    const std::string value = fmt::format("{} {:.2f} N", t.name, force);
+    if (t.needle) {
+      frame.needles.push_back({t.device_position, t.needle_axis, devices_[i].needle_length, t.radius});
+      std::string line = fmt::format("{}: depth {:.1f} mm", value, 1e3 * t.needle_depth);
+      if (t.layer_count > 0) {
+        line += fmt::format(", {} of {} layers passed", t.layers_passed.size(), t.layer_count);
+        for (std::size_t k = 0; k < t.layers_passed.size(); ++k) line += (k ? ", " : ": ") + t.layers_passed[k];
+      }
+      frame.status.push_back({line, arrow_colour});
+    } else {
+      frame.status.push_back({value, arrow_colour});
+      // The finger is see-through so that the pressure under it shows.
+      frame.spheres.push_back({t.proxy_position, t.radius, Colour(0.35, 0.55, 0.95), 0.55, false});
+      for (const auto& [offset, radius] : devices_[i].extra_spheres) {
+        const Vec3 centre = t.proxy_position + devices_[i].map.rotation * (offset - devices_[i].offset);
+        frame.spheres.push_back({centre, radius, Colour(0.35, 0.55, 0.95), 0.55, false});
+      }
     }
     if (!t.touching) continue;
-    // Where the device is (pushed into the tissue) against where the contact holds it.
-    if ((t.device_position - t.proxy_position).norm() > 0.1 * t.radius)
-      frame.spheres.push_back({t.device_position, t.radius, Colour(0.9, 0.9, 0.95), 0.25, false});
-    const double force = t.force.norm();
-    // Contact radius from the device's penetration past the held sphere (Hertz: a = √(R d)).
-    const double depth = std::max(0.0, (t.device_position - t.proxy_position).norm());
-    const double radius = std::clamp(std::sqrt(t.radius * depth), 0.35 * t.radius, t.radius);
-    for (SurfaceView& s : frame.surfaces) add_contact_pressure(s.positions, t.contact_point, force, radius, s.pressure);
-    // A 1 N force is drawn as long as four finger radii.
-    frame.arrows.push_back({t.contact_point, t.force, 4.0 * t.radius, Colour(0.98, 0.85, 0.1)});
+    if (!t.needle) {
+      // Where the device is (pushed into the tissue) against where the contact holds it.
+      if ((t.device_position - t.proxy_position).norm() > 0.1 * t.radius)
+        frame.spheres.push_back({t.device_position, t.radius, Colour(0.9, 0.9, 0.95), 0.25, false});
+      // Contact radius from the device's penetration past the held sphere (Hertz: a = √(R d)).
+      const double depth = std::max(0.0, (t.device_position - t.proxy_position).norm());
+      const double radius = std::clamp(std::sqrt(t.radius * depth), 0.35 * t.radius, t.radius);
+      for (SurfaceView& s : frame.surfaces) add_contact_pressure(s.positions, t.contact_point, force, radius, s.pressure);
+    }
+    // The same scale for every device, set by the scene's size and capped.
+    frame.arrows.push_back({t.contact_point, t.force, kArrowCap * extent_ / kArrowCapForce, kArrowCap * extent_,
+                            arrow_colour, value});
   }
   return frame;
 }

@@ -34,6 +34,12 @@ struct ToolView {
   double radius = 0.0;                  ///< [m]
   bool touching = false;
   bool seen = false;  ///< a frame of this device has arrived
+  std::string name;   ///< the device's
+  bool needle = false;
+  Vec3 needle_axis = -Vec3::UnitZ();  ///< scene, towards the tip
+  double needle_depth = 0.0;          ///< [m] past where it entered at this site
+  std::vector<std::string> layers_passed;
+  std::size_t layer_count = 0;
 };
 
 class VisualFeed final : public runtime::VisualSink {
@@ -61,14 +67,29 @@ class VisualFeed final : public runtime::VisualSink {
 
  private:
   struct DeviceTool {
+    std::string name;
     haptics::WorkspaceMap map;
     Vec3 offset = Vec3::Zero();  ///< first contact sphere, tool frame
     double radius = 0.0;
     std::vector<std::pair<Vec3, double>> extra_spheres;  ///< the others (sphere sets)
+    bool needle = false;
+    double needle_length = 0.0;
+    std::optional<Vec3> needle_axis;       ///< scene; a scripted insertion line fixes it
+    std::vector<std::string> layer_names;  ///< the needle's layers, in its algorithm's order
   };
+  /// A needle's insertion as the frames and events tell it (under mutex_).
+  struct NeedleProgress {
+    bool inside = false;
+    Vec3 entry = Vec3::Zero();  ///< where the tip first touched at this site, scene [m]
+    double depth = 0.0;         ///< along the axis from the entry [m]
+    std::vector<std::int32_t> passed;  ///< layers torn at this site, in order
+  };
+  [[nodiscard]] Vec3 needle_axis(std::size_t device, const runtime::HapticFrame& frame) const;
+
   const scene::Model& model_;
   std::vector<DeviceTool> devices_;
   double full_scale_ = 2.0e4;
+  double extent_ = 0.1;  ///< the bodies' largest side at rest [m]: sets the arrows' scale
   std::unique_ptr<TripleBuffer<runtime::SurfaceSnapshot>> surfaces_;
   // The run's thread builds the buffer while a window may already be drawing: the window
   // reads it only once published here (release / acquire).
@@ -77,6 +98,7 @@ class VisualFeed final : public runtime::VisualSink {
   std::vector<std::optional<runtime::HapticFrame>> latest_;
   std::deque<PlotSample> samples_;
   std::deque<std::string> events_;
+  std::vector<NeedleProgress> needles_;
 };
 
 /// Hertz-like pressure of a contact force spread over a disc of `radius` around `point`:

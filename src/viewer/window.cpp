@@ -16,7 +16,9 @@
 #include <exception>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <thread>
+#include <utility>
 #include <variant>
 
 #include "core/error.hpp"
@@ -26,6 +28,7 @@
 #include "viewer/debug_views.hpp"
 #include "viewer/camera.hpp"
 #include "viewer/mouse_device.hpp"
+#include "viewer/overlay.hpp"
 #include "viewer/panel.hpp"
 #include "viewer/gl.hpp"
 #include "viewer/renderer.hpp"
@@ -34,6 +37,23 @@
 
 namespace tactus::viewer {
 namespace {
+
+/// The overlay through Dear ImGui, under the panel; `scale`: window units per pixel.
+void paint_with_imgui(const Overlay& overlay, float scale) {
+  ImDrawList* list = ImGui::GetBackgroundDrawList();
+  const auto colour = [](const Colour& c, double alpha) {
+    return ImGui::ColorConvertFloat4ToU32(
+        ImVec4(static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z()), static_cast<float>(alpha)));
+  };
+  for (const OverlayRect& r : overlay.rects)
+    list->AddRectFilled(ImVec2(scale * r.x0, scale * r.y0), ImVec2(scale * r.x1, scale * r.y1), colour(r.colour, r.alpha));
+  for (const OverlayText& t : overlay.texts) {
+    float x = scale * t.x;
+    if (t.right_aligned) x -= ImGui::CalcTextSize(t.text.c_str()).x;
+    list->AddText(ImVec2(x + 1, scale * t.y + 1), IM_COL32(0, 0, 0, 255), t.text.c_str());
+    list->AddText(ImVec2(x, scale * t.y), colour(t.colour, 1.0), t.text.c_str());
+  }
+}
 
 using Clock = std::chrono::steady_clock;
 
@@ -371,7 +391,7 @@ class Window {
       in.visual_rate = visual_rate_;
       in.frame_ms = last_frame_ms_;
       in.t = frame.t;
-      if (!tools.empty()) in.tool = tools.front();
+      in.tools = tools;
       in.live = &live_;
       in.body_names = body_names_;
       in.device_names = device_names_;
@@ -388,6 +408,16 @@ class Window {
         next_scene_ = a.switch_to;
         glfwSetWindowShouldClose(window_, GLFW_TRUE);
       }
+    }
+    {
+      // The overlay in window coordinates (ImGui's), laid out in framebuffer pixels.
+      int window_width = 0, window_height = 0;
+      glfwGetWindowSize(window_, &window_width, &window_height);
+      std::optional<std::pair<double, double>> hovered;
+      if (cursor_known_ && window_width > 0 && window_height > 0 && !ImGui::GetIO().WantCaptureMouse)
+        hovered = std::pair{cursor_x_ * width / window_width, cursor_y_ * height / window_height};
+      paint_with_imgui(build_overlay(frame, camera_, view_, width, height, hovered),
+                       static_cast<float>(window_width) / static_cast<float>(width));
     }
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());

@@ -127,9 +127,12 @@ void check_png(const NoduleRun& run) {
     for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(head[at + k]);
     return v;
   };
-  const std::uint32_t scale = static_cast<std::uint32_t>(std::max(1, 256 / std::max(map.columns, map.rows)));
-  EXPECT_EQ(be32(16), static_cast<std::uint32_t>(map.columns) * scale);
-  EXPECT_EQ(be32(20), static_cast<std::uint32_t>(map.rows) * scale);
+  const ForceMapLayout layout = force_map_layout(map);
+  EXPECT_EQ(be32(16), static_cast<std::uint32_t>(layout.width));
+  EXPECT_EQ(be32(20), static_cast<std::uint32_t>(layout.height));
+  EXPECT_EQ(layout.plot_width, map.columns * layout.cell_pixels);
+  // The nodules of the scene are outlined on it.
+  EXPECT_EQ(map.nodules.size(), 2u);
   EXPECT_THROW(write_force_map_png(map, temp_file("no_such_folder") / "x" / "map.png"), InputError);
 }
 

@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "scene/scene.hpp"
 #include "viewer/debug_views.hpp"
+#include "viewer/overlay.hpp"
 #include "viewer/snapshot.hpp"
 
 namespace tactus::viewer {
@@ -141,6 +142,149 @@ TEST(ViewerSnapshot, RendersASceneWithoutADevice) {
     if (rest[v].x() > 0.0499) tip = std::min(tip, now[v].z() - rest[v].z());
   EXPECT_LT(tip, -0.25 * 0.40e-3) << "tip displacement " << tip;
   EXPECT_GT(tip, -2.0 * 0.40e-3) << "tip displacement " << tip;
+}
+
+/// A square plate of side 2·half in z = 0, split into n × n cells.
+SurfaceView plate(const std::string& name, double half, int n, const Colour& colour) {
+  SurfaceView s;
+  s.name = name;
+  s.colour = colour;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s.positions.emplace_back(-half + 2.0 * half * i / n, -half + 2.0 * half * j / n, 0.0);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      s.triangles.push_back({a, a + 1, a + n + 2});
+      s.triangles.push_back({a, a + n + 2, a + n + 1});
+    }
+  return s;
+}
+
+/// A skin sheet lying on its host's top face (as the femoral scene's layers do), tessellated
+/// differently, and a needle entering it away from the centre.
+FrameView layered_frame(bool recessed_host) {
+  FrameView f;
+  SurfaceView host = plate("tissue", 0.05, 3, Colour(0.1, 0.8, 0.1));
+  host.recessed = recessed_host;
+  f.surfaces.push_back(host);
+  f.surfaces.push_back(plate("skin", 0.05, 23, Colour(0.9, 0.1, 0.1)));
+  f.needles.push_back({Vec3(0.025, 0.025, -0.004), Vec3(0.0, 0.34, -0.94).normalized(), 0.05, 0.00035});
+  return f;
+}
+
+/// Pixels in the box of `half` pixels around (cx, cy) where green beats red: the host showing
+/// through the skin.
+int host_pixels(const Snapshot& s, double cx, double cy, int half) {
+  int n = 0;
+  for (int y = static_cast<int>(cy) - half; y <= static_cast<int>(cy) + half; ++y)
+    for (int x = static_cast<int>(cx) - half; x <= static_cast<int>(cx) + half; ++x) {
+      const Vec3 c = pixel(s, x, y);
+      n += c.y() > c.x();
+    }
+  return n;
+}
+
+TEST(ViewerSnapshot, ALayerOnItsHostsFaceShowsWithoutZFighting) {
+  const FrameView fighting = layered_frame(false), fixed = layered_frame(true);
+  const OrbitCamera camera = OrbitCamera::framing(frame_bounds(fixed), 30.0, 60.0);
+  ViewOptions view;
+  view.show_pressure = false;
+  Snapshot a, b;
+  try {
+    a = render_offscreen(fighting, camera, view, 320, 240);
+    b = render_offscreen(fixed, camera, view, 320, 240);
+  } catch (const std::runtime_error& e) {
+    GTEST_SKIP() << "no offscreen OpenGL context here: " << e.what();
+  }
+  double cx = 0.0, cy = 0.0;
+  ASSERT_TRUE(camera.project(Vec3(-0.01, -0.01, 0.0), 320, 240, cx, cy));
+  // Drawn in the same depth, the two faces fight: the host's green shows through in places.
+  EXPECT_GT(host_pixels(a, cx, cy, 20), 0) << "the defect this guards against did not show";
+  // With the host recessed, the skin wins every pixel.
+  EXPECT_EQ(host_pixels(b, cx, cy, 20), 0);
+}
+
+TEST(ViewerSnapshot, TheNeedlesShaftIsDrawnFromTipToHub) {
+  const FrameView with = layered_frame(true);
+  FrameView without = with;
+  without.needles.clear();
+  const OrbitCamera camera = OrbitCamera::framing(frame_bounds(with), 30.0, 60.0);
+  ViewOptions view;
+  view.show_pressure = false;
+  Snapshot a, b;
+  try {
+    a = render_offscreen(with, camera, view, 320, 240);
+    b = render_offscreen(without, camera, view, 320, 240);
+  } catch (const std::runtime_error& e) {
+    GTEST_SKIP() << "no offscreen OpenGL context here: " << e.what();
+  }
+  // Every point of the shaft above the skin, projected, differs from the frame without it.
+  const NeedleView& n = with.needles.front();
+  int drawn = 0, samples = 0;
+  for (double d = 0.01; d < 0.045; d += 0.0025, ++samples) {
+    double x = 0.0, y = 0.0;
+    ASSERT_TRUE(camera.project(n.tip - d * n.axis, 320, 240, x, y));
+    drawn += (pixel(a, static_cast<int>(x), static_cast<int>(y)) - pixel(b, static_cast<int>(x), static_cast<int>(y))).norm() > 0.1;
+  }
+  EXPECT_EQ(drawn, samples);
+}
+
+TEST(ViewerSnapshot, ThePressureColourBarIsDrawnWithItsLabels) {
+  FrameView f = layered_frame(true);
+  f.status.push_back({"hand 1.20 N"});
+  const OrbitCamera camera = OrbitCamera::framing(frame_bounds(f), 30.0, 60.0);
+  Snapshot s, plain;
+  ViewOptions off;
+  off.show_pressure = false;
+  try {
+    s = render_offscreen(f, camera, ViewOptions{}, 480, 360);
+    plain = render_offscreen(f, camera, off, 480, 360);
+  } catch (const std::runtime_error& e) {
+    GTEST_SKIP() << "no offscreen OpenGL context here: " << e.what();
+  }
+  const ColourBarPlace bar = colour_bar_place(480, 360);
+  const int x = (bar.x0 + bar.x1) / 2;
+  EXPECT_LT((pixel(s, x, bar.y0) - pressure_colour(1.0)).norm(), 0.05);
+  EXPECT_LT((pixel(s, x, bar.y1 - 1) - pressure_colour(0.0)).norm(), 0.05);
+  EXPECT_GT((pixel(s, x, bar.y0) - pixel(plain, x, bar.y0)).norm(), 0.2);
+  if (!raster::text_available()) GTEST_SKIP() << "no font: no labels";
+  // The status line top right: light text on the dark background.
+  int lit = 0;
+  for (int y = 10; y < 30; ++y)
+    for (int xx = 380; xx < 470; ++xx) lit += pixel(s, xx, y).minCoeff() > 0.8;
+  EXPECT_GT(lit, 30) << "no status text at the top right";
+}
+
+// The femoral trainer mid-insertion: both devices' forces written, the needle drawn, its
+// depth and the layers it passed named; the pressure scale set by the hand, not the needle.
+TEST(ViewerSnapshot, FemoralNeedleDepthAndLayersAreShown) {
+  const std::string path = std::string(TACTUS_SOURCE_DIR) + "/scenes/femoral.toml";
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const scene::Model model = scene::parse_scene(text, path);
+  SnapshotOptions o;
+  o.time = 19.0;
+  o.width = 320;
+  o.height = 240;
+  Snapshot s;
+  try {
+    s = take_snapshot(model, o);
+  } catch (const std::runtime_error& e) {
+    GTEST_SKIP() << "no offscreen OpenGL context here: " << e.what();
+  }
+  ASSERT_EQ(s.frame.needles.size(), 1u);
+  EXPECT_NEAR(s.frame.needles[0].length, 0.08, 1e-12);
+  ASSERT_EQ(s.frame.status.size(), 2u);
+  EXPECT_EQ(s.frame.status[0].text.rfind("hand ", 0), 0u) << s.frame.status[0].text;
+  const std::string& needle = s.frame.status[1].text;
+  EXPECT_NE(needle.find("layers passed: skin"), std::string::npos) << needle;
+  const double depth_mm = std::stod(needle.substr(needle.find("depth ") + 6));
+  EXPECT_GT(depth_mm, 5.0) << needle;
+  EXPECT_LT(depth_mm, 40.0) << needle;
+  // 6 N over a disc of the 10 mm finger's radius: 19.1 kPa (the 0.35 mm needle would give 16 MPa).
+  EXPECT_NEAR(s.frame.pressure_full_scale, 6.0 / (3.14159265358979 * 0.01 * 0.01), 1.0);
+  // The skin's host is drawn behind it.
+  for (const SurfaceView& surface : s.frame.surfaces) EXPECT_EQ(surface.recessed, surface.name == "tissue") << surface.name;
 }
 
 }  // namespace
