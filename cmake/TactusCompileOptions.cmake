@@ -7,15 +7,22 @@ target_compile_options(tactus_options INTERFACE
 
 if(TACTUS_SANITIZE STREQUAL "address")
   set(_san -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    list(APPEND _san -fsanitize-ignorelist=${CMAKE_CURRENT_LIST_DIR}/ubsan_ignore.txt)
+  endif()
 elseif(TACTUS_SANITIZE STREQUAL "thread")
   set(_san -fsanitize=thread -fno-omit-frame-pointer)
 elseif(NOT TACTUS_SANITIZE STREQUAL "")
   message(FATAL_ERROR "TACTUS_SANITIZE must be '', 'address' or 'thread', not '${TACTUS_SANITIZE}'")
 endif()
-if(TACTUS_BUILD_FUZZ)
-  # Coverage instrumentation for the libraries; the fuzz targets add the libFuzzer main.
-  list(APPEND _san -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer)
+if(TACTUS_BUILD_FUZZ AND NOT TACTUS_SANITIZE STREQUAL "address")
+  # The fuzz targets run under ASan+UBSan, so everything they link is built with them.
+  list(APPEND _san -fsanitize=address,undefined -fno-omit-frame-pointer)
 endif()
+# The libraries holding the readers the fuzz targets drive (text, meshes, scenes, packets,
+# recordings) carry libFuzzer's coverage instrumentation; the fuzz targets add its main.
+# Linked into an ordinary test the instrumentation calls the sanitizer runtime's empty hooks.
+set(TACTUS_FUZZED_LIBRARIES core mesh scene haptics runtime_recording)
 if(_san)
   # Tests use it to shrink or skip accuracy studies that take minutes under sanitizers.
   target_compile_definitions(tactus_options INTERFACE TACTUS_SANITIZED=1)
@@ -39,6 +46,9 @@ function(tactus_add_library name)
     target_include_directories(tactus_${name} INTERFACE
       $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src>
       $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/tactus>)
+  endif()
+  if(TACTUS_BUILD_FUZZ AND ARG_SOURCES AND name IN_LIST TACTUS_FUZZED_LIBRARIES)
+    target_compile_options(tactus_${name} PRIVATE -fsanitize=fuzzer-no-link)
   endif()
   add_library(Tactus::${name} ALIAS tactus_${name})
   set_property(GLOBAL APPEND PROPERTY TACTUS_LIBRARIES tactus_${name})

@@ -255,15 +255,13 @@ TEST(ViewerSnapshot, ThePressureColourBarIsDrawnWithItsLabels) {
   EXPECT_GT(lit, 30) << "no status text at the top right";
 }
 
-// The femoral trainer mid-insertion: both devices' forces written, the needle drawn, its
-// depth and the layers it passed named; the pressure scale set by the hand, not the needle.
+// The femoral trainer mid-insertion (scenario S3: the first pass reaches the skin at about
+// 4 s): both devices' forces written, the needle drawn, its depth and the layers it passed
+// named; the pressure scale set by the hand, not the needle.
 TEST(ViewerSnapshot, FemoralNeedleDepthAndLayersAreShown) {
-  const std::string path = std::string(TACTUS_SOURCE_DIR) + "/scenes/femoral.toml";
-  std::ifstream in(path, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const scene::Model model = scene::parse_scene(text, path);
+  const scene::Model model = scene::load_scene(std::string(TACTUS_SOURCE_DIR) + "/scenes/femoral_s3_needle.toml");
   SnapshotOptions o;
-  o.time = 19.0;
+  o.time = 8.0;
   o.width = 320;
   o.height = 240;
   Snapshot s;
