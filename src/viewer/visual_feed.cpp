@@ -210,7 +210,11 @@ FrameView VisualFeed::build() {
   const std::vector<ToolView> tools = this->tools();
   for (std::size_t i = 0; i < tools.size(); ++i) {
     const ToolView& t = tools[i];
-    if (!t.seen || t.radius <= 0.0) continue;
+    if (!t.seen) {
+      frame.status.push_back({fmt::format("{}: waiting for its first frame", t.name), Colour(0.85, 0.85, 0.85)});
+      continue;
+    }
+    if (t.radius <= 0.0) continue;
     const double force = t.force.norm();
     const Colour arrow_colour = i == 0 ? Colour(0.98, 0.85, 0.1) : Colour(0.3, 0.95, 0.95);
     const std::string value = fmt::format("{} {:.2f} N", t.name, force);

@@ -64,6 +64,18 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 std::string g_glfw_error;
 extern "C" void on_glfw_error(int /*code*/, const char* description) { g_glfw_error = description ? description : ""; }
 
+/// GLFW for the whole process: initialised by the first window, terminated at exit. A scene
+/// switch thus keeps the display connection: an X server left without clients resets, and
+/// Xvfb (as xvfb-run starts it) refuses the next window while it does.
+bool glfw_ready() {
+  static const bool ready = [] {
+    if (!glfwInit()) return false;
+    std::atexit(glfwTerminate);
+    return true;
+  }();
+  return ready;
+}
+
 constexpr double kOrbitDegreesPerPixel = 0.3;
 constexpr double kZoomPerNotch = 0.9;
 
@@ -81,11 +93,11 @@ class Window {
     // A bad script is reported before anything opens or runs.
     if (options.script) script_ = read_view_script(*options.script);
     glfwSetErrorCallback(on_glfw_error);
-    if (!glfwInit())
+    if (!glfw_ready())
       throw InputError(fmt::format("--view: no display to open a window on ({}); set DISPLAY, or run under "
                                    "xvfb-run; 'tactus snapshot' renders without one",
                                    g_glfw_error.empty() ? "GLFW does not initialize" : g_glfw_error));
-    glfw_ = true;
+    glfwDefaultWindowHints();  // a previous scene's window may have changed them
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -144,7 +156,6 @@ class Window {
     }
     renderer_.reset();  // needs the context
     if (window_) glfwDestroyWindow(window_);
-    if (glfw_) glfwTerminate();
   }
   Window(const Window&) = delete;
   Window& operator=(const Window&) = delete;
@@ -440,7 +451,7 @@ class Window {
   MouseChannel* mouse_;
   haptics::WorkspaceMap map_;
   std::string mouse_device_, recording_;
-  bool glfw_ = false, imgui_ = false;
+  bool imgui_ = false;
   GLFWwindow* window_ = nullptr;
   std::unique_ptr<Renderer> renderer_;
 

@@ -26,6 +26,7 @@
 #include "core/counting_allocator.hpp"
 #include "core/error.hpp"
 #include "viewer/mouse_device.hpp"
+#include "viewer/overlay.hpp"
 #include "viewer/view_script.hpp"
 
 namespace tactus::viewer {
@@ -300,6 +301,21 @@ TEST(ViewerWindow, TheMousePalpatesTheNoduleSceneUnderXvfb) {
     if (r > 0.35 && r > g + 0.04 && g > b && r - b > 0.12) ++skin;  // warm and light, as snapshot_test
     if (pixels[3 * i] != pixels[0] || pixels[3 * i + 1] != pixels[1] || pixels[3 * i + 2] != pixels[2]) ++differing;
   }
+  // The overlay: the pressure colour bar (red at its top, blue at its bottom) and the
+  // device's force written at the top right.
+  const auto at = [&](int column, int row) -> Vec3 {
+    const std::size_t i =
+        3 * (static_cast<std::size_t>(row) * static_cast<std::size_t>(width) + static_cast<std::size_t>(column));
+    return Vec3(pixels[i], pixels[i + 1], pixels[i + 2]) / 255.0;
+  };
+  const ColourBarPlace bar = colour_bar_place(width, height);
+  const int bar_x = (bar.x0 + bar.x1) / 2;
+  EXPECT_LT((at(bar_x, bar.y0) - pressure_colour(1.0)).norm(), 0.05) << at(bar_x, bar.y0).transpose();
+  EXPECT_LT((at(bar_x, bar.y1 - 1) - pressure_colour(0.0)).norm(), 0.05) << at(bar_x, bar.y1 - 1).transpose();
+  int lit = 0;
+  for (int row = 8; row < 32; ++row)
+    for (int column = width - 220; column < width - 8; ++column) lit += at(column, row).maxCoeff() > 0.6;  // on dark grey
+  EXPECT_GT(lit, 30) << "no force written at the top right";
   stbi_image_free(pixels);
   EXPECT_GT(skin, n / 20) << "skin pixels: " << skin << " of " << n;
   EXPECT_GT(differing, n / 10);
