@@ -293,15 +293,23 @@ Action add_replay(CLI::App& app) {
   auto file = std::make_shared<std::string>();
   auto realtime = std::make_shared<bool>(false);
   auto record = std::make_shared<std::string>();
+  auto scene_dir = std::make_shared<std::string>();
   app.add_option("recording", *file, "A recording written by tactus run --record")->required()->check(CLI::ExistingFile);
   app.add_flag("--realtime", *realtime, "Replay on the wall clock instead of in lockstep");
   app.add_option("--record", *record, "Record the replay too");
-  return [file, realtime, record] {
+  app.add_option("--scene-dir", *scene_dir,
+                 "Folder the recorded scene's relative paths (base scene, meshes) resolve against; default: the "
+                 "folder of the scene file it was recorded from")
+      ->check(CLI::ExistingDirectory);
+  return [file, realtime, record, scene_dir] {
     const runtime::Recording rec = runtime::read_recording(*file);
     if (!rec.truncation.empty()) log::warn("{}: {}; replaying what was kept", *file, rec.truncation);
     if (rec.frames.empty()) throw InputError(SourceLocation{*file, {}, {}, {}}, "the recording holds no haptic frame");
-    // The scene is the recorded text; relative paths in it resolve against its original folder.
-    const scene::Model model = scene::parse_scene(rec.header.scene_text, rec.header.scene_source);
+    // The scene is the recorded text; relative paths in it resolve against its original folder
+    // (or the one given, for a recording moved to another machine).
+    scene::LoadOptions load;
+    load.base_dir = *scene_dir;
+    const scene::Model model = scene::parse_scene(rec.header.scene_text, rec.header.scene_source, load);
     runtime::SessionOptions o;
     o.scheduling = *realtime ? runtime::Scheduling::real_time : runtime::Scheduling::lockstep;
     o.replay = runtime::recorded_motion(rec, *file);
