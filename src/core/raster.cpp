@@ -1,5 +1,7 @@
 #include "core/raster.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -112,11 +114,11 @@ void Image::blend(int x, int y, Rgb colour, double alpha) {
     rgb[i + k] = static_cast<std::uint8_t>(std::lround((1.0 - alpha) * rgb[i + k] + alpha * colour[k]));
 }
 
-void fill_rect(Image& image, int x0, int y0, int x1, int y1, Rgb colour, double alpha) {
+void fill_rect(Image& image, int x0, int y0, int x1, int y1, Rgb colour) {
   x0 = std::max(x0, 0), y0 = std::max(y0, 0);
   x1 = std::min(x1, image.width), y1 = std::min(y1, image.height);
   for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) image.blend(x, y, colour, alpha);
+    for (int x = x0; x < x1; ++x) image.blend(x, y, colour);
 }
 
 void stroke_rect(Image& image, int x0, int y0, int x1, int y1, Rgb colour) {
@@ -137,17 +139,6 @@ void draw_line(Image& image, double x0, double y0, double x1, double y1, Rgb col
       // Coverage from the pixel centre's distance to the segment, one pixel of ramp.
       const double s = length2 > 0.0 ? std::clamp(((x - x0) * dx + (y - y0) * dy) / length2, 0.0, 1.0) : 0.0;
       const double distance = std::hypot(x - (x0 + s * dx), y - (y0 + s * dy));
-      image.blend(x, y, colour, std::clamp(half + 0.5 - distance, 0.0, 1.0));
-    }
-}
-
-void draw_circle(Image& image, double cx, double cy, double radius, Rgb colour, double width) {
-  if (!std::isfinite(cx) || !std::isfinite(cy) || !(radius > 0.0)) return;
-  const double half = 0.5 * std::max(width, 0.5);
-  const int r = static_cast<int>(std::ceil(radius + half + 1));
-  for (int y = static_cast<int>(cy) - r; y <= static_cast<int>(cy) + r; ++y)
-    for (int x = static_cast<int>(cx) - r; x <= static_cast<int>(cx) + r; ++x) {
-      const double distance = std::abs(std::hypot(x - cx, y - cy) - radius);
       image.blend(x, y, colour, std::clamp(half + 0.5 - distance, 0.0, 1.0));
     }
 }
@@ -182,6 +173,20 @@ int draw_text(Image& image, int x, int y, std::string_view text, double size, Rg
       for (int column = 0; column < w; ++column)
         image.blend(left + column, top + row, colour, bitmap[static_cast<std::size_t>(row * w + column)] / 255.0);
   });
+}
+
+double nice_step(double range, double count) {
+  const double raw = range / count;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 5.0})
+    if (m * decade >= raw) return m * decade;
+  return 10.0 * decade;
+}
+
+std::string tick_label(double value, double step) {
+  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
+  // A value a rounding error from zero is written "0", not "-0".
+  return fmt::format("{:.{}f}", std::abs(value) < 0.5 * step ? 0.0 : value, decimals);
 }
 
 }  // namespace tactus::raster

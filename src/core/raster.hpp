@@ -4,6 +4,7 @@
 // (Debian fonts-dejavu-core) rasterized by stb_truetype (libstb-dev).
 #include <array>
 #include <cstdint>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -25,13 +26,11 @@ struct Image {
 };
 
 /// Fills the pixels x0 ≤ x < x1, y0 ≤ y < y1 (clipped to the image).
-void fill_rect(Image& image, int x0, int y0, int x1, int y1, Rgb colour, double alpha = 1.0);
+void fill_rect(Image& image, int x0, int y0, int x1, int y1, Rgb colour);
 /// The outline of that rectangle, one pixel wide.
 void stroke_rect(Image& image, int x0, int y0, int x1, int y1, Rgb colour);
 /// An anti-aliased segment of the given width [px] between pixel centres.
 void draw_line(Image& image, double x0, double y0, double x1, double y1, Rgb colour, double width = 1.0);
-/// An anti-aliased circle outline of the given line width [px].
-void draw_circle(Image& image, double cx, double cy, double radius, Rgb colour, double width = 1.0);
 
 /// Whether a font was found, so that text can be drawn (fonts-dejavu-core; the environment
 /// variable TACTUS_FONT names another TrueType file).
@@ -41,5 +40,10 @@ bool text_available();
 int draw_text(Image& image, int x, int y, std::string_view text, double size, Rgb colour);
 /// The width [px] `text` would take.
 int text_width(std::string_view text, double size);
+
+/// An axis' tick step: 1, 2 or 5 × 10^k, giving about `count` intervals over `range` (> 0).
+double nice_step(double range, double count);
+/// A tick's value with as many decimals as its step needs ("0", "2.5", "20").
+std::string tick_label(double value, double step);
 
 }  // namespace tactus::raster

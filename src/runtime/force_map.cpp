@@ -117,21 +117,6 @@ namespace {
 constexpr raster::Rgb kInk{40, 40, 40}, kPaper{255, 255, 255}, kUnvisited{128, 128, 128};
 constexpr double kLabelSize = 13.0;
 
-/// A step of 1, 2 or 5 × 10^k giving about `count` intervals over `range`.
-double nice_step(double range, double count) {
-  const double raw = range / count;
-  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
-  for (const double m : {1.0, 2.0, 5.0})
-    if (m * decade >= raw) return m * decade;
-  return 10.0 * decade;
-}
-
-/// A tick value written with as many decimals as its step needs.
-std::string tick_label(double value, double step) {
-  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
-  return fmt::format("{:.{}f}", std::abs(value) < 0.5 * step ? 0.0 : value, decimals);
-}
-
 /// The strongest cell's mean [N] and where it is.
 double strongest(const ForceMap& map, int& best_column, int& best_row) {
   double top = 0.0;
@@ -188,19 +173,19 @@ raster::Image render_force_map(const ForceMap& map) {
     return Vec2(l.plot_left + (x_mm - x_lo) / (x_hi - x_lo) * l.plot_width,
                 l.plot_top + (y_hi - y_mm) / (y_hi - y_lo) * l.plot_height);
   };
-  const double step = nice_step(std::max(x_hi - x_lo, y_hi - y_lo), 5.0);
+  const double step = raster::nice_step(std::max(x_hi - x_lo, y_hi - y_lo), 5.0);
   const int bottom = l.plot_top + l.plot_height;
   for (double v = std::ceil(x_lo / step - 1e-9) * step; v <= x_hi + 1e-9 * step; v += step) {
     const double x = to_px(v, y_lo).x();
     raster::draw_line(image, x, bottom, x, bottom + 5, kInk);
-    const std::string label = tick_label(v, step);
+    const std::string label = raster::tick_label(v, step);
     raster::draw_text(image, static_cast<int>(x) - raster::text_width(label, kLabelSize) / 2, bottom + 7, label,
                       kLabelSize, kInk);
   }
   for (double v = std::ceil(y_lo / step - 1e-9) * step; v <= y_hi + 1e-9 * step; v += step) {
     const double y = to_px(x_lo, v).y();
     raster::draw_line(image, l.plot_left - 6, y, l.plot_left - 1, y, kInk);
-    const std::string label = tick_label(v, step);
+    const std::string label = raster::tick_label(v, step);
     raster::draw_text(image, l.plot_left - 9 - raster::text_width(label, kLabelSize),
                       static_cast<int>(y) - static_cast<int>(kLabelSize / 2), label, kLabelSize, kInk);
   }
@@ -238,13 +223,13 @@ raster::Image render_force_map(const ForceMap& map) {
                       kInk);
   raster::draw_text(image, l.bar_left, 8, "N", kLabelSize, kInk);
   if (top > 0.0) {
-    const double bar_step = nice_step(top, 4.0);
+    const double bar_step = raster::nice_step(top, 4.0);
     for (double v = 0.0; v <= top * (1.0 + 1e-9); v += bar_step) {
       const double y = l.bar_top + (1.0 - v / top) * l.bar_height;
       const int right = l.bar_left + l.bar_width;
       raster::draw_line(image, right, y, right + 4, y, kInk);
       raster::draw_text(image, right + 7, static_cast<int>(y) - static_cast<int>(kLabelSize / 2),
-                        tick_label(v, bar_step), kLabelSize, kInk);
+                        raster::tick_label(v, bar_step), kLabelSize, kInk);
     }
   }
   return image;

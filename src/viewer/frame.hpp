@@ -25,8 +25,6 @@ struct SurfaceView {
   /// Drawn behind any surface it coincides with: a body whose embedded layers lie on its
   /// boundary (a skin sheet on a tissue block's top) would otherwise fight them pixel by pixel.
   bool recessed = false;
-  /// Named in the legend.
-  bool in_legend = true;
 };
 
 /// A sphere: a tool's contact sphere, its device position, a nodule under the skin.

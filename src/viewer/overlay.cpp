@@ -1,7 +1,5 @@
 #include "viewer/overlay.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,15 +15,6 @@ const Colour kTextColour(0.95, 0.95, 0.95);
 raster::Rgb to_rgb(const Colour& c) {
   const auto channel = [](double v) { return static_cast<std::uint8_t>(std::lround(255.0 * std::clamp(v, 0.0, 1.0))); };
   return {channel(c.x()), channel(c.y()), channel(c.z())};
-}
-
-/// A step of 1, 2 or 5 × 10^k giving at most about `count` intervals over `range`.
-double nice_step(double range, double count) {
-  const double raw = range / count;
-  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
-  for (const double m : {1.0, 2.0, 5.0})
-    if (m * decade >= raw) return m * decade;
-  return 10.0 * decade;
 }
 
 /// Möller–Trumbore: the ray's parameter at the triangle, or infinity.
@@ -70,19 +59,18 @@ Overlay build_overlay(const FrameView& frame, const OrbitCamera& camera, const V
       o.rects.push_back({bar.x0, bar.y0 + r, bar.x1, bar.y0 + r + 1, pressure_colour(1.0 - (r + 0.5) / rows)});
     const double full_kpa = 1e-3 * frame.pressure_full_scale;
     o.texts.push_back({bar.x1, bar.y0 - kLine - 4, "pressure [kPa]", kTextColour, true});
-    const double step = nice_step(full_kpa, 4.0);
+    const double step = raster::nice_step(full_kpa, 4.0);
     for (double v = 0.0; v <= full_kpa * (1.0 + 1e-9); v += step) {
       const int y = bar.y1 - static_cast<int>(std::lround(v / full_kpa * rows));
       o.rects.push_back({bar.x1, y, bar.x1 + 5, y + 1, kTextColour});
-      const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
-      o.texts.push_back({bar.x1 + 8, y - 8, fmt::format("{:.{}f}", v, decimals), kTextColour, false});
+      o.texts.push_back({bar.x1 + 8, y - 8, raster::tick_label(v, step), kTextColour, false});
     }
   }
 
   // The legend, bottom right: each body's name beside its colour.
   std::vector<const SurfaceView*> named;
   for (const SurfaceView& s : frame.surfaces)
-    if (s.in_legend && !s.name.empty()) named.push_back(&s);
+    if (!s.name.empty()) named.push_back(&s);
   if (named.size() > 1) {
     int y = height - kMargin - static_cast<int>(named.size()) * kLine;
     for (const SurfaceView* s : named) {
@@ -111,7 +99,7 @@ Overlay build_overlay(const FrameView& frame, const OrbitCamera& camera, const V
 }
 
 void paint(const Overlay& overlay, raster::Image& image) {
-  for (const OverlayRect& r : overlay.rects) raster::fill_rect(image, r.x0, r.y0, r.x1, r.y1, to_rgb(r.colour), r.alpha);
+  for (const OverlayRect& r : overlay.rects) raster::fill_rect(image, r.x0, r.y0, r.x1, r.y1, to_rgb(r.colour));
   for (const OverlayText& t : overlay.texts) {
     const int x = t.right_aligned ? t.x - raster::text_width(t.text, kOverlayTextSize) : t.x;
     // A dark shadow keeps light text readable on a light surface.

@@ -17,7 +17,6 @@ namespace tactus::viewer {
 struct OverlayRect {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< pixels, x0 ≤ x < x1, y down
   Colour colour = Colour::Zero();
-  double alpha = 1.0;
 };
 
 struct OverlayText {

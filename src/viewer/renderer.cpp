@@ -224,7 +224,7 @@ Renderer::~Renderer() {
   glDeleteProgram(depth_);
 }
 
-void Renderer::build(const FrameView& frame, const ViewOptions& options, Batches& out) const {
+void Renderer::build(const FrameView& frame, const ViewOptions& options, double extent, Batches& out) const {
   // Surfaces: smooth normals (area-weighted face normals), pressure blended over the colour.
   for (const SurfaceView& s : frame.surfaces) {
     std::vector<Vec3> normals(s.positions.size(), Vec3::Zero());
@@ -261,8 +261,6 @@ void Renderer::build(const FrameView& frame, const ViewOptions& options, Batches
     std::vector<Vertex>& target = s.opacity < 1.0 ? out.translucent : out.opaque;
     for (const Vec3& n : unit_sphere_) push(target, s.centre + s.radius * n, n, s.colour, s.opacity);
   }
-  const Aabb bounds = frame_bounds(frame);
-  const double extent = std::max((bounds.max - bounds.min).maxCoeff(), 1e-3);
   for (const NeedleView& n : frame.needles) {
     if (!n.tip.allFinite() || !n.axis.allFinite() || n.axis.norm() < 0.5 || !(n.length > 0.0)) continue;
     // At least a few pixels wide at the scene's scale, or a fine needle vanishes.
@@ -322,10 +320,10 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
   GLint target_fbo = 0;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target_fbo);
 
-  Batches batches;
-  build(frame, options, batches);
   // A floor under the scene receives the shadows; sized once so it does not breathe.
   const Aabb box = frame_bounds(frame);
+  Batches batches;
+  build(frame, options, std::max((box.max - box.min).maxCoeff(), 1e-3), batches);
   if (!floor_sized_) {
     floor_box_ = box;
     floor_sized_ = true;

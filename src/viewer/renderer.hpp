@@ -38,7 +38,8 @@ class Renderer {
     /// has the tissue, which between simulation steps may be under the shown surface.
     std::vector<Vertex> overlay;
   };
-  void build(const FrameView& frame, const ViewOptions& options, Batches& out) const;
+  /// `extent`: the frame's largest side [m], which sets the least width a needle is drawn.
+  void build(const FrameView& frame, const ViewOptions& options, double extent, Batches& out) const;
   void draw(const std::vector<Vertex>& vertices, GLenum mode = GL_TRIANGLES);
 
   GLuint shaded_ = 0, depth_ = 0;  // programs

@@ -107,21 +107,16 @@ TripleBuffer<runtime::SurfaceSnapshot>& VisualFeed::surface_buffer(const runtime
 void VisualFeed::frame(const runtime::HapticFrame& f) {
   std::lock_guard lock(mutex_);
   if (f.device >= latest_.size()) return;
+  const bool was_touching = latest_[f.device] && latest_[f.device]->contact;
   latest_[f.device] = f;
   if (f.frame % kSampleEvery == 0 && f.device == 0) {
     samples_.push_back({f.t, f.force.norm(), f.compute_ns * 1e-3});
     if (samples_.size() > kMaxSamples) samples_.pop_front();
   }
-  if (devices_[f.device].needle) {
+  if (devices_[f.device].needle && f.contact && !was_touching) {
     // A new entry starts a new site: its depth from where the tip first touched, its layers.
-    NeedleProgress& n = needles_[f.device];
-    const Vec3 tip = devices_[f.device].map.to_scene(f.position);
-    if (f.contact && !n.inside) {
-      n.entry = tip;
-      n.passed.clear();
-    }
-    n.inside = f.contact != 0;
-    n.depth = n.inside ? std::max(0.0, (tip - n.entry).dot(needle_axis(f.device, f))) : 0.0;
+    needles_[f.device].entry = devices_[f.device].map.to_scene(f.position);
+    needles_[f.device].passed.clear();
   }
 }
 
@@ -156,7 +151,7 @@ std::vector<ToolView> VisualFeed::tools() const {
     t.proxy_position = t.touching ? Vec3(f.proxy + d.radius * t.force.normalized()) : t.device_position;
     if (d.needle) {
       t.needle_axis = needle_axis(i, f);
-      t.needle_depth = needles_[i].depth;
+      t.needle_depth = f.contact ? std::max(0.0, (t.device_position - needles_[i].entry).dot(t.needle_axis)) : 0.0;
       for (const std::int32_t layer : needles_[i].passed)
         t.layers_passed.push_back(static_cast<std::size_t>(layer) < d.layer_names.size()
                                       ? d.layer_names[static_cast<std::size_t>(layer)]

@@ -77,11 +77,10 @@ class VisualFeed final : public runtime::VisualSink {
     std::optional<Vec3> needle_axis;       ///< scene; a scripted insertion line fixes it
     std::vector<std::string> layer_names;  ///< the needle's layers, in its algorithm's order
   };
-  /// A needle's insertion as the frames and events tell it (under mutex_).
+  /// A needle's insertion site as the frames and events tell it (under mutex_); its depth
+  /// follows from the newest frame.
   struct NeedleProgress {
-    bool inside = false;
     Vec3 entry = Vec3::Zero();  ///< where the tip first touched at this site, scene [m]
-    double depth = 0.0;         ///< along the axis from the entry [m]
     std::vector<std::int32_t> passed;  ///< layers torn at this site, in order
   };
   [[nodiscard]] Vec3 needle_axis(std::size_t device, const runtime::HapticFrame& frame) const;

@@ -46,7 +46,7 @@ void paint_with_imgui(const Overlay& overlay, float scale) {
         ImVec4(static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z()), static_cast<float>(alpha)));
   };
   for (const OverlayRect& r : overlay.rects)
-    list->AddRectFilled(ImVec2(scale * r.x0, scale * r.y0), ImVec2(scale * r.x1, scale * r.y1), colour(r.colour, r.alpha));
+    list->AddRectFilled(ImVec2(scale * r.x0, scale * r.y0), ImVec2(scale * r.x1, scale * r.y1), colour(r.colour, 1.0));
   for (const OverlayText& t : overlay.texts) {
     float x = scale * t.x;
     if (t.right_aligned) x -= ImGui::CalcTextSize(t.text.c_str()).x;

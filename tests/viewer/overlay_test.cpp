@@ -9,24 +9,12 @@
 #include <string>
 
 #include "viewer/overlay.hpp"
+#include "plate.hpp"
 
 namespace tactus::viewer {
 namespace {
 
-/// A square plate of side 2·half in z = 0, split into n × n cells.
-SurfaceView plate(const std::string& name, double half, int n) {
-  SurfaceView s;
-  s.name = name;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) s.positions.emplace_back(-half + 2.0 * half * i / n, -half + 2.0 * half * j / n, 0.0);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = j * (n + 1) + i;
-      s.triangles.push_back({a, a + 1, a + n + 2});
-      s.triangles.push_back({a, a + n + 2, a + n + 1});
-    }
-  return s;
-}
+using test::plate;
 
 const OverlayText* find_text(const Overlay& o, const std::string& part) {
   for (const OverlayText& t : o.texts)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -13,6 +14,7 @@
 #include "viewer/debug_views.hpp"
 #include "viewer/overlay.hpp"
 #include "viewer/snapshot.hpp"
+#include "plate.hpp"
 
 namespace tactus::viewer {
 namespace {
@@ -144,21 +146,7 @@ TEST(ViewerSnapshot, RendersASceneWithoutADevice) {
   EXPECT_GT(tip, -2.0 * 0.40e-3) << "tip displacement " << tip;
 }
 
-/// A square plate of side 2·half in z = 0, split into n × n cells.
-SurfaceView plate(const std::string& name, double half, int n, const Colour& colour) {
-  SurfaceView s;
-  s.name = name;
-  s.colour = colour;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) s.positions.emplace_back(-half + 2.0 * half * i / n, -half + 2.0 * half * j / n, 0.0);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = j * (n + 1) + i;
-      s.triangles.push_back({a, a + 1, a + n + 2});
-      s.triangles.push_back({a, a + n + 2, a + n + 1});
-    }
-  return s;
-}
+using test::plate;
 
 /// A skin sheet lying on its host's top face (as the femoral scene's layers do), tessellated
 /// differently, and a needle entering it away from the centre.
@@ -170,6 +158,19 @@ FrameView layered_frame(bool recessed_host) {
   f.surfaces.push_back(plate("skin", 0.05, 23, Colour(0.9, 0.1, 0.1)));
   f.needles.push_back({Vec3(0.025, 0.025, -0.004), Vec3(0.0, 0.34, -0.94).normalized(), 0.05, 0.00035});
   return f;
+}
+
+/// Renders two frames offscreen with one camera; the reason when no OpenGL context can be made.
+std::optional<std::string> render_pair(const FrameView& first, const ViewOptions& first_view, const FrameView& second,
+                                       const ViewOptions& second_view, const OrbitCamera& camera, int width,
+                                       int height, Snapshot& a, Snapshot& b) {
+  try {
+    a = render_offscreen(first, camera, first_view, width, height);
+    b = render_offscreen(second, camera, second_view, width, height);
+  } catch (const std::runtime_error& e) {
+    return std::string(e.what());
+  }
+  return std::nullopt;
 }
 
 /// Pixels in the box of `half` pixels around (cx, cy) where green beats red: the host showing
@@ -190,12 +191,8 @@ TEST(ViewerSnapshot, ALayerOnItsHostsFaceShowsWithoutZFighting) {
   ViewOptions view;
   view.show_pressure = false;
   Snapshot a, b;
-  try {
-    a = render_offscreen(fighting, camera, view, 320, 240);
-    b = render_offscreen(fixed, camera, view, 320, 240);
-  } catch (const std::runtime_error& e) {
-    GTEST_SKIP() << "no offscreen OpenGL context here: " << e.what();
-  }
+  if (const auto why = render_pair(fighting, view, fixed, view, camera, 320, 240, a, b))
+    GTEST_SKIP() << "no offscreen OpenGL context here: " << *why;
   double cx = 0.0, cy = 0.0;
   ASSERT_TRUE(camera.project(Vec3(-0.01, -0.01, 0.0), 320, 240, cx, cy));
   // Drawn in the same depth, the two faces fight: the host's green shows through in places.
@@ -212,12 +209,8 @@ TEST(ViewerSnapshot, TheNeedlesShaftIsDrawnFromTipToHub) {
   ViewOptions view;
   view.show_pressure = false;
   Snapshot a, b;
-  try {
-    a = render_offscreen(with, camera, view, 320, 240);
-    b = render_offscreen(without, camera, view, 320, 240);
-  } catch (const std::runtime_error& e) {
-    GTEST_SKIP() << "no offscreen OpenGL context here: " << e.what();
-  }
+  if (const auto why = render_pair(with, view, without, view, camera, 320, 240, a, b))
+    GTEST_SKIP() << "no offscreen OpenGL context here: " << *why;
   // Every point of the shaft above the skin, projected, differs from the frame without it.
   const NeedleView& n = with.needles.front();
   int drawn = 0, samples = 0;
@@ -236,12 +229,8 @@ TEST(ViewerSnapshot, ThePressureColourBarIsDrawnWithItsLabels) {
   Snapshot s, plain;
   ViewOptions off;
   off.show_pressure = false;
-  try {
-    s = render_offscreen(f, camera, ViewOptions{}, 480, 360);
-    plain = render_offscreen(f, camera, off, 480, 360);
-  } catch (const std::runtime_error& e) {
-    GTEST_SKIP() << "no offscreen OpenGL context here: " << e.what();
-  }
+  if (const auto why = render_pair(f, ViewOptions{}, f, off, camera, 480, 360, s, plain))
+    GTEST_SKIP() << "no offscreen OpenGL context here: " << *why;
   const ColourBarPlace bar = colour_bar_place(480, 360);
   const int x = (bar.x0 + bar.x1) / 2;
   EXPECT_LT((pixel(s, x, bar.y0) - pressure_colour(1.0)).norm(), 0.05);
