@@ -8,6 +8,7 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/reproducible.hpp"
 
 namespace {
 
@@ -19,6 +20,8 @@ struct Subcommand {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The same numbers on every machine: a recording replays bit for bit elsewhere.
+  tactus::fix_dense_blocking();
   CLI::App cli{"Tactus: real-time haptic interaction with deformable objects", "tactus"};
   cli.require_subcommand(1);
   bool verbose = false;
