@@ -1,9 +1,9 @@
-#include "runtime/force_smoothing.hpp"
+#include "haptics/force_smoothing.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace tactus::runtime {
+namespace tactus::haptics {
 
 void ForceSmoother::model_changed(const Vec3& before, const Vec3& after) {
   if (!enabled()) return;
@@ -37,4 +37,4 @@ Vec3 ForceSmoother::apply(const Vec3& force, const Vec3& position, const Vec3& v
   return force + smoothing;
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::haptics

@@ -11,7 +11,7 @@
 // that turn positive, the rest of the offset is dropped.
 #include "core/math.hpp"
 
-namespace tactus::runtime {
+namespace tactus::haptics {
 
 class ForceSmoother {
  public:
@@ -42,4 +42,4 @@ class ForceSmoother {
   static constexpr double kSpeedScale = 1e-3;
 };
 
-}  // namespace tactus::runtime
+}  // namespace tactus::haptics

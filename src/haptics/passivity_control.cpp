@@ -1,9 +1,9 @@
-#include "runtime/passivity_control.hpp"
+#include "haptics/passivity_control.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace tactus::runtime {
+namespace tactus::haptics {
 
 Vec3 PassivityControl::apply(const Vec3& force, bool touching, const Vec3& position, const Vec3& velocity, double dt) {
   if (!enabled_) return force;
@@ -45,4 +45,4 @@ Vec3 PassivityControl::apply(const Vec3& force, bool touching, const Vec3& posit
   return force - last_removed_;
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::haptics

@@ -12,7 +12,7 @@
 
 #include "core/math.hpp"
 
-namespace tactus::runtime {
+namespace tactus::haptics {
 
 class PassivityControl {
  public:
@@ -55,4 +55,4 @@ class PassivityControl {
   static constexpr double kContactEnded = 0.02;
 };
 
-}  // namespace tactus::runtime
+}  // namespace tactus::haptics

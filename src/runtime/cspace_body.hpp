@@ -13,18 +13,18 @@
 #include <vector>
 
 #include "core/math.hpp"
+#include "haptics/algorithms/field_lookup.hpp"
 #include "precompute/interpolator.hpp"
 #include "precompute/online.hpp"
 #include "scene/model.hpp"
 
 namespace tactus::runtime {
 
-struct CspaceForce {
-  Vec3 force = Vec3::Zero();  ///< force the body exerts on the tool [N]
-  bool touching = false;      ///< the point lies in the space's grid box and has a value
-};
+/// The force the body exerts on the tool [N], and whether the point lies in the space's
+/// grid box and has a value.
+using CspaceForce = haptics::FieldForce;
 
-class CspaceBody {
+class CspaceBody final : public haptics::ForceField {
  public:
   /// Loads the space of scene body `index` (its kind = "cspace") and checks that it was built
   /// for this body: throws InputError, located at the space file, for another mesh, material,
@@ -37,7 +37,7 @@ class CspaceBody {
   /// The force at interaction point p [m] at loop time t [s]. Outside the grid's box the tool
   /// is not attached and feels nothing. Allocation-free. On-line: the tool's position feeds
   /// the solvers' prediction, and only the haptic thread may call it.
-  [[nodiscard]] CspaceForce force(const Vec3& p, double t) const noexcept;
+  [[nodiscard]] CspaceForce force(const Vec3& p, double t) const noexcept override;
   /// Node positions (3N) of the configuration at p: rest + interpolated displacement; the
   /// rest shape where the space has no value. Allocates only when x has another size.
   void positions(const Vec3& p, VecX& x) const;

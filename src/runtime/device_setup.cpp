@@ -4,12 +4,21 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <stdexcept>
 #include <variant>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "contact/proxy.hpp"
+#include "haptics/algorithms/field_lookup.hpp"
+#include "haptics/algorithms/multi_surface_algorithm.hpp"
+#include "haptics/algorithms/needle_algorithm.hpp"
+#include "haptics/algorithms/proxy_on_patch.hpp"
+#include "haptics/algorithms/proxy_on_plane.hpp"
+#include "haptics/algorithms/pulse_overlay.hpp"
+#include "haptics/algorithms/spheres_on_patch.hpp"
+#include "haptics/algorithms/spheres_on_plane.hpp"
 #include "runtime/cspace_body.hpp"
 #include "runtime/devices.hpp"
 
@@ -103,15 +112,21 @@ DeviceSetup setup_needle(const scene::Model& m, const scene::Device& d, const sc
   c.layers = p->layers;
   // Never stiffer than the device renders stably; the threshold is still reached, farther in.
   for (haptics::NeedleLayer& l : c.layers) l.stiffness = std::min(l.stiffness, d.max_stiffness);
+  std::optional<Vec3> axis;
   if (const scene::NeedleLinePath* line = needle_line(d)) {
-    const Vec3 entry = s.config.map.to_scene(line->entry), target = s.config.map.to_scene(line->target);
+    const Vec3 entry = s.model.map.to_scene(line->entry), target = s.model.map.to_scene(line->target);
     if ((target - entry).norm() > 0.0) {
       c.planned = std::array<Vec3, 2>{entry, target};
-      s.config.needle_axis = (target - entry).normalized();
+      axis = (target - entry).normalized();
     }
   }
   for (const haptics::NeedleLayer& l : c.layers) s.bodies.push_back(l.body);
-  s.config.needle = std::move(c);
+  try {
+    s.model.algorithms.push_back(std::make_shared<haptics::NeedleAlgorithm>(std::move(c), axis));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(SourceLocation{m.source, {}, {}, {}}, fmt::format("algorithm '{}': {}", a->name, e.what()));
+  }
+  s.renders = true;
   s.needle_length = shape.length;
   s.reach = shape.length;  // layers are looked for up to a needle's length ahead of the tip
   return s;
@@ -129,26 +144,27 @@ const scene::NeedleLinePath* needle_line(const scene::Device& d) {
 DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceBodies& cspaces) {
   const scene::Device& d = m.devices[index];
   DeviceSetup s;
-  s.config.device = static_cast<std::uint16_t>(index);
-  s.config.rate = m.rates.haptic;
-  s.config.map = workspace_map(d);
-  s.config.safety.max_force = d.max_force;
+  haptics::HapticModel& model = s.model;
+  model.device = static_cast<std::uint16_t>(index);
+  model.rate = m.rates.haptic;
+  model.map = workspace_map(d);
+  model.safety.max_force = d.max_force;
   // The watchdog must not trip on a healthy simulation: allow a few of its periods.
-  s.config.safety.watchdog_timeout =
-      std::max(0.1, 3.0 / m.rates.simulation + 3.0 / m.rates.interaction);
+  model.safety.watchdog_timeout = std::max(0.1, 3.0 / m.rates.simulation + 3.0 / m.rates.interaction);
 
   const DrivenTool driven = tool_of(m, index);
   if (!driven.tool) return s;  // a device with no tool is read and recorded, and feels nothing
   const scene::Tool& tool = *driven.tool;
   const scene::FingerProperties* finger = nullptr;
+  std::vector<haptics::ToolSphere> spheres;
   if (const auto* one = std::get_if<scene::SphereTool>(&tool.shape)) {
-    s.config.spheres.push_back({Vec3::Zero(), one->radius});
+    spheres.push_back({Vec3::Zero(), one->radius});
     finger = &one->finger;
   } else if (const auto* set = std::get_if<scene::SphereSetTool>(&tool.shape)) {
-    for (const auto& sp : set->spheres) s.config.spheres.push_back({sp.center, sp.radius});
+    for (const auto& sp : set->spheres) spheres.push_back({sp.center, sp.radius});
     finger = &set->finger;
   } else if (const auto* two = std::get_if<scene::TwoFingersTool>(&tool.shape)) {
-    s.config.spheres.push_back({Vec3::Zero(), two->radius});
+    spheres.push_back({Vec3::Zero(), two->radius});
     finger = &two->finger;
   } else if (const auto* needle = std::get_if<scene::NeedleTool>(&tool.shape)) {
     return setup_needle(m, d, tool, *needle, std::move(s));
@@ -166,60 +182,62 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
                        fmt::format("algorithm '{}': a pulse is felt by pressing, and tool '{}' has no enabled "
                                    "contact algorithm to press with",
                                    pulse->name, tool.name));
-    s.config.spheres.clear();
     return s;
   }
-  if (pulse) s.config.pulse.emplace(make_pulse(m, *pulse));
+  s.renders = true;
   s.bodies = bodies_of(m, *a);
+  std::shared_ptr<const CspaceBody> cspace;
   for (std::size_t b : s.bodies)
-    if (m.bodies[b].cspace && !s.config.cspace) s.config.cspace = cspace_body(m, b, cspaces);
+    if (m.bodies[b].cspace && !cspace) cspace = cspace_body(m, b, cspaces);
+  const haptics::ToolSphere& first = spheres.front();
+
+  // The force law of the tool's spheres, or the algorithm's own.
+  std::optional<contact::ProxyParams> proxy;
+  std::optional<haptics::ContactLaw> law;
+  std::optional<haptics::MultiSurfaceConfig> multi;
   if (const auto* p = std::get_if<scene::ProxyParams>(&a->params)) {
-    s.config.stiffness = std::min(p->stiffness, d.max_stiffness);
-    s.config.damping = p->damping;
-    contact::ProxyParams proxy;
-    proxy.radius = s.config.spheres.front().radius;
-    proxy.stiffness = s.config.stiffness;  // never stiffer than the device renders stably
-    proxy.damping = p->damping;
-    proxy.static_friction = p->static_friction;
-    proxy.kinetic_friction = p->kinetic_friction;
-    contact::validate_proxy_params(proxy);
-    s.config.proxy = proxy;
+    contact::ProxyParams pp;
+    pp.radius = first.radius;
+    pp.stiffness = std::min(p->stiffness, d.max_stiffness);  // never stiffer than the device renders stably
+    pp.damping = p->damping;
+    pp.static_friction = p->static_friction;
+    pp.kinetic_friction = p->kinetic_friction;
+    contact::validate_proxy_params(pp);
+    proxy = pp;
     // No blending between local models: blending over one interaction period (8 ms) adds
     // that much lag to a stiff coupling, and the stiff-tissue stability test measured the
     // contact then doing net work on the hand (23% of the stored energy against −1% without).
-    s.config.plane_blend = 0.0;
   } else if (const auto* hz = std::get_if<scene::HertzFingerParams>(&a->params)) {
     // Hertz per sphere with the tissue's local mean curvature (seed 000 §3.1–3.2), against
     // the stiffest tissue the algorithm may touch.
     contact::HertzParameters hp;
-    hp.finger_radius = s.config.spheres.front().radius;
+    hp.finger_radius = first.radius;
     hp.finger = {finger->young_modulus, finger->poisson_ratio};
     hp.tissue = stiffest_tissue(m, s.bodies);
-    s.config.hertz.emplace(hp);
+    law = haptics::ContactLaw::hertz(hp);
     s.curvature_rings = hz->curvature_rings;
   } else if (const auto* pad = std::get_if<scene::FingerpadParams>(&a->params)) {
     contact::FingerpadParameters fp;
     fp.b = pad->b;
     fp.m = pad->m;
-    s.config.fingerpad.emplace(fp);
+    law = haptics::ContactLaw::fingerpad(fp);
   } else if (const auto* ms = std::get_if<scene::MultiSurfaceParams>(&a->params)) {
     if (s.bodies.size() > haptics::kMaxSurfaceLayers)
       throw InputError(SourceLocation{m.source, {}, {}, {}},
                        fmt::format("algorithm '{}': multi_surface renders at most {} layers; name them under 'bodies'",
                                    a->name, haptics::kMaxSurfaceLayers));
-    HapticConfig::MultiSurface c;
-    c.force.stiffness = std::min(ms->stiffness, d.max_stiffness);  // never stiffer than the device renders stably
-    c.force.damping = ms->damping;
-    c.force.static_friction = ms->static_friction;
-    c.force.kinetic_friction = ms->kinetic_friction;
-    c.force.layers = s.bodies.size();
-    c.force.radius = s.config.spheres.front().radius;
+    haptics::MultiSurfaceConfig c;
+    c.stiffness = std::min(ms->stiffness, d.max_stiffness);  // never stiffer than the device renders stably
+    c.damping = ms->damping;
+    c.static_friction = ms->static_friction;
+    c.kinetic_friction = ms->kinetic_friction;
+    c.layers = s.bodies.size();
+    c.radius = first.radius;
     // Seed 003 §3.5: interpolate linearly between the planes of successive ray queries.
-    c.force.blend_time = 1.0 / m.rates.interaction;
+    c.blend_time = 1.0 / m.rates.interaction;
     // Twice the depth of the device's force limit: deeper, the plane is not the pressed surface.
-    c.force.max_depth = 2.0 * d.max_force / c.force.stiffness;
-    c.bodies = s.bodies;
-    s.config.multi_surface = std::move(c);
+    c.max_depth = 2.0 * d.max_force / c.stiffness;
+    multi = c;
     // The interaction loop casts the ray from this far behind the tool (its needle crossings).
     s.needle_length = kMultiSurfaceRayBehind;
   } else {
@@ -228,17 +246,17 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
                                  scene::algorithm_type_name(a->params)));
   }
   double extent = 0.0;
-  for (const auto& sp : s.config.spheres) extent = std::max(extent, sp.offset.norm() + sp.radius);
+  for (const auto& sp : spheres) extent = std::max(extent, sp.offset.norm() + sp.radius);
   s.reach = 2.0 * extent + 0.01;
 
   switch (a->local_model) {
-    case scene::LocalModel::plane: s.config.local_model = contact::LocalModelKind::plane; break;
-    case scene::LocalModel::compliance: s.config.local_model = contact::LocalModelKind::compliance; break;
-    case scene::LocalModel::mass_spring: s.config.local_model = contact::LocalModelKind::mass_spring; break;
+    case scene::LocalModel::plane: s.local_model = contact::LocalModelKind::plane; break;
+    case scene::LocalModel::compliance: s.local_model = contact::LocalModelKind::compliance; break;
+    case scene::LocalModel::mass_spring: s.local_model = contact::LocalModelKind::mass_spring; break;
   }
   // Multiple surfaces hold the proxy on their own planes: no local patch under them.
-  if (s.config.multi_surface) s.config.local_model = contact::LocalModelKind::plane;
-  if (a->local_model == scene::LocalModel::mass_spring && !s.config.multi_surface)
+  if (multi) s.local_model = contact::LocalModelKind::plane;
+  if (a->local_model == scene::LocalModel::mass_spring && !multi)
     for (std::size_t b : s.bodies)
       if (m.bodies[b].kind != scene::BodyKind::rigid && m.bodies[b].kind != scene::BodyKind::embedded && !m.bodies[b].material)
         throw InputError(SourceLocation{m.source, {}, {}, {}},
@@ -250,11 +268,11 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   s.patch_radius = extent + a->max_tool_speed / m.rates.simulation;
   // Sized to the surface: a patch cut short of its radius leaves the tool at the patch's open
   // rim between steps, where the proxy slips off the edge and the force jumps.
-  if (s.config.local_model != contact::LocalModelKind::plane)
+  if (s.local_model != contact::LocalModelKind::plane)
     for (std::size_t b : s.bodies) {
       const auto& surface = m.bodies[b].surface;
       const contact::PatchSizing sizing = contact::size_patch(surface.vertices, surface.triangles, s.patch_radius);
-      contact::PatchCapacity& c = s.config.patch_capacity;
+      contact::PatchCapacity& c = s.patch_capacity;
       c.free_nodes = std::max(c.free_nodes, sizing.capacity.free_nodes);
       c.nodes = std::max(c.nodes, sizing.capacity.nodes);
       c.triangles = std::max(c.triangles, sizing.capacity.triangles);
@@ -264,9 +282,34 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
                   "higher simulation rate avoids it)",
                   a->name, 1e3 * s.patch_radius, m.bodies[b].name, sizing.needed_free_nodes, c.free_nodes);
     }
-  s.config.force_smoothing = a->force_smoothing;
-  s.config.passivity_control = a->passivity_control;
-  s.config.spread_over_contact_disc = a->load_spread == scene::LoadSpread::contact_disc;
+  model.force_smoothing = a->force_smoothing;
+  model.passivity_control = a->passivity_control;
+  model.spread_over_contact_disc = a->load_spread == scene::LoadSpread::contact_disc;
+
+  // The contact algorithm: the layers' planes, a precomputed space, or the finger's law on the
+  // contact plane or on a local patch; then the pulse over it.
+  const bool on_patch = s.local_model != contact::LocalModelKind::plane;
+  const bool spread = model.spread_over_contact_disc;
+  try {
+    if (multi) {
+      model.algorithms.push_back(std::make_shared<haptics::MultiSurfaceAlgorithm>(*multi, s.bodies, first.offset));
+    } else if (cspace) {
+      model.algorithms.push_back(std::make_shared<haptics::FieldLookup>(cspace, first.offset));
+    } else if (proxy && on_patch) {
+      model.algorithms.push_back(
+          std::make_shared<haptics::ProxyOnPatch>(first, *proxy, s.local_model, s.patch_capacity, spread));
+    } else if (proxy) {
+      model.algorithms.push_back(std::make_shared<haptics::ProxyOnPlane>(first, *proxy));
+    } else if (on_patch) {
+      model.algorithms.push_back(
+          std::make_shared<haptics::SpheresOnPatch>(spheres, *law, 0.0, s.local_model, s.patch_capacity, spread));
+    } else {
+      model.algorithms.push_back(std::make_shared<haptics::SpheresOnPlane>(spheres, *law));
+    }
+  } catch (const std::invalid_argument& e) {
+    throw InputError(SourceLocation{m.source, {}, {}, {}}, fmt::format("algorithm '{}': {}", a->name, e.what()));
+  }
+  if (pulse) model.algorithms.push_back(std::make_shared<haptics::PulseOverlay>(make_pulse(m, *pulse), first.offset));
   return s;
 }
 

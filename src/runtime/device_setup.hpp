@@ -1,16 +1,24 @@
 #pragma once
-// What a device's haptic loop renders: the tool it drives (its contact spheres), the force
-// law its algorithm asks for, the bodies it touches and the safety limits, from the scene.
+// What a device's haptic loop renders, compiled from the scene: the force algorithms of the
+// tool it drives, the bodies they touch, the local model and the safety limits.
 #include <cstddef>
 #include <vector>
 
-#include "runtime/haptic_loop.hpp"
+#include "contact/local_model.hpp"
+#include "haptics/haptic_step.hpp"
+#include "runtime/cspace_body.hpp"
 #include "scene/model.hpp"
 
 namespace tactus::runtime {
 
 struct DeviceSetup {
-  HapticConfig config;
+  haptics::HapticModel model;
+  /// The device's tool touches the scene (the interaction loop looks for its contacts).
+  bool renders = false;
+  /// The local model between simulation steps: the plane, or a patch of this kind and capacity
+  /// that the simulation publishes on the device's channels.
+  contact::LocalModelKind local_model = contact::LocalModelKind::plane;
+  contact::PatchCapacity patch_capacity;
   std::vector<std::size_t> bodies;  ///< bodies the device's algorithm touches
   double reach = 0.0;               ///< surfaces farther than this from the tool give no contact [m]
   int curvature_rings = 0;          ///< q-ring of the curvature vote; 0 = none needed

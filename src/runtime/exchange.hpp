@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/math.hpp"
+#include "haptics/exchange.hpp"
 
 namespace tactus::runtime {
 
@@ -20,49 +21,8 @@ struct ToolState {
   bool valid = false;
 };
 
-/// The local model of one device's contact region (seed 003 §3.5: a constraint plane
-/// through the closest surface point), rebuilt by the interaction loop.
-struct LocalContact {
-  bool valid = false;             ///< a surface is within reach of the tool
-  std::int32_t body = -1;         ///< index into Model::bodies
-  std::int32_t triangle = -1;     ///< surface triangle of `point`
-  Vec3 point = Vec3::Zero();      ///< plane point on the surface [m]
-  Vec3 normal = Vec3::UnitZ();    ///< plane normal, pointing out of the tissue
-  Vec3 barycentric = Vec3::Zero();
-  /// Mean curvature of the tissue at `point` [1/m], positive where convex (seed 000 §3.2);
-  /// estimated only for algorithms that use it, else 0.
-  double mean_curvature = 0.0;
-  /// When the simulation published the surface it was built from (loop time) [s]: the
-  /// safety watchdog's measure of a stalled simulation.
-  double surface_time = 0.0;
-};
-
-/// The reaction of one device's contact on the tissue, applied by the next simulation step.
-struct ContactLoad {
-  bool active = false;
-  std::int32_t body = -1;
-  std::int32_t triangle = -1;
-  Vec3 barycentric = Vec3::Zero();
-  Vec3 force = Vec3::Zero();  ///< on the tissue, scene coordinates [N]
-  /// Radius of the contact disc the force is spread over (contact/load_spread.hpp) [m].
-  double contact_radius = 0.0;
-  /// A sphere-set finger on a patch: each touching sphere's contact and its share of `force`
-  /// (the shares sum to 1), spread each over its own disc. None: the contact above takes all.
-  struct Part {
-    std::int32_t triangle = -1;
-    Vec3 barycentric = Vec3::Zero();
-    double share = 0.0;
-    double contact_radius = 0.0;
-  };
-  static constexpr int kMaxParts = 8;
-  std::array<Part, kMaxParts> parts{};
-  int part_count = 0;
-  /// A needle's shaft inside the tissue: `shaft_force` (on the tissue) is shared by the
-  /// tissue nodes near the segment shaft_from → shaft_to of `body` (or its host).
-  bool shaft = false;
-  Vec3 shaft_from = Vec3::Zero(), shaft_to = Vec3::Zero();
-  Vec3 shaft_force = Vec3::Zero();
-};
+using haptics::ContactLoad;
+using haptics::LocalContact;
 
 /// Deformed surfaces of every body, published after each simulation step.
 struct SurfaceSnapshot {

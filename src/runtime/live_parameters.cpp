@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "core/error.hpp"
-#include "runtime/haptic_loop.hpp"
 #include "runtime/simulation_loop.hpp"
 
 namespace tactus::runtime {
@@ -92,21 +91,19 @@ void LiveParameters::set_surface(std::size_t device, double stiffness, double st
   surfaces_[device].store(s);
 }
 
-void LiveParameters::describe_device(std::size_t device, const HapticConfig& config, double max_stiffness) {
+void LiveParameters::describe_device(std::size_t device, const haptics::HapticModel& model, double max_stiffness) {
   if (device >= kMaxDevices) return;
+  // Only a proxy or a penalty coupling has a stiffness to edit: the other algorithms' force
+  // comes from the tissue or from their own law.
+  const haptics::ForceAlgorithm* contact = model.contact();
+  const haptics::EditableSurface editable = contact ? contact->editable_surface() : haptics::EditableSurface{};
   Surface s;
   SurfaceKind kind = SurfaceKind::none;
-  // The force of these comes from the tissue or from their own algorithm: no coupling to edit.
-  const bool other_law = config.hertz || config.fingerpad || config.needle || config.multi_surface || config.cspace ||
-                         config.spheres.empty();
-  if (config.proxy && !other_law) {
-    kind = SurfaceKind::proxy;
-    s.stiffness = config.proxy->stiffness;
-    s.static_friction = config.proxy->static_friction;
-    s.kinetic_friction = config.proxy->kinetic_friction;
-  } else if (!other_law) {
-    kind = SurfaceKind::penalty;
-    s.stiffness = config.stiffness;
+  if (editable.kind != haptics::EditableSurface::Kind::none) {
+    kind = editable.kind == haptics::EditableSurface::Kind::proxy ? SurfaceKind::proxy : SurfaceKind::penalty;
+    s.stiffness = editable.values.stiffness;
+    s.static_friction = editable.values.static_friction;
+    s.kinetic_friction = editable.values.kinetic_friction;
   }
   surface_kinds_[device] = kind;
   scene_surfaces_[device] = s;
@@ -268,23 +265,6 @@ void SimulationLoop::apply_live_parameters(double t) {
     if (!sb.live) continue;
     const LiveParameters::Material& edit = m.body[sb.index];
     sb.live->set(edit.young_modulus / scene.body[sb.index].young_modulus, edit.damping_set ? edit.damping : -1.0);
-  }
-}
-
-void HapticLoop::apply_live_parameters(double t) {
-  if (live_->emergency_stop_requested()) request_emergency_stop();
-  if (config_.device >= LiveParameters::kMaxDevices) return;  // beyond the editable devices
-  const LiveParameters::Surface s = live_->surface(config_.device);
-  if (s.version == live_version_ || t < s.from) return;
-  live_version_ = s.version;
-  // Validated by the writer; bounded again here, the loop trusting no other thread.
-  const double k = std::clamp(s.stiffness, 0.0, live_->max_stiffness(config_.device));
-  if (!(k > 0.0)) return;
-  config_.stiffness = k;
-  if (config_.proxy) {
-    config_.proxy->stiffness = k;
-    config_.proxy->static_friction = std::max(0.0, s.static_friction);
-    config_.proxy->kinetic_friction = std::clamp(s.kinetic_friction, 0.0, config_.proxy->static_friction);
   }
 }
 

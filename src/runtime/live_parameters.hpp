@@ -30,12 +30,12 @@
 #include <string>
 
 #include "core/seqlock.hpp"
+#include "haptics/haptic_step.hpp"
 #include "physics/force_model.hpp"
 #include "scene/model.hpp"
 
 namespace tactus::runtime {
 
-struct HapticConfig;
 
 class LiveParameters {
  public:
@@ -95,7 +95,7 @@ class LiveParameters {
 
   // --- the run (before its loops start) --------------------------------------------------
   /// Records device `device`'s contact as the scene built it. Called by build_loops.
-  void describe_device(std::size_t device, const HapticConfig& config, double max_stiffness);
+  void describe_device(std::size_t device, const haptics::HapticModel& model, double max_stiffness);
   /// Every device described: the panel may show the surfaces.
   void devices_described() { surfaces_known_.store(true, std::memory_order_release); }
 

@@ -27,12 +27,12 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
     if (!device) device = make_device(m, i, static_cast<unsigned>(i));
     loops.channels.push_back(std::make_unique<DeviceChannels>(kFrameRingCapacity));
     DeviceChannels& ch = *loops.channels.back();
-    if (!setup.config.spheres.empty() && setup.config.local_model != contact::LocalModelKind::plane)
-      ch.request_patches({setup.config.local_model, setup.config.patch_capacity, setup.patch_radius, setup.bodies});
-    if (!setup.config.spheres.empty() || setup.config.needle)
+    if (setup.renders && setup.local_model != contact::LocalModelKind::plane)
+      ch.request_patches({setup.local_model, setup.patch_capacity, setup.patch_radius, setup.bodies});
+    if (setup.renders)
       targets.push_back({&ch, m.devices[i].name, setup.bodies, setup.reach, setup.curvature_rings, setup.needle_length});
-    if (o.live) o.live->describe_device(i, setup.config, m.devices[i].max_stiffness);
-    loops.haptic.push_back(std::make_unique<HapticLoop>(std::move(setup.config), std::move(device), ch));
+    if (o.live) o.live->describe_device(i, setup.model, m.devices[i].max_stiffness);
+    loops.haptic.push_back(std::make_unique<HapticLoop>(std::move(setup.model), std::move(device), ch));
     if (o.live) loops.haptic.back()->set_live_parameters(o.live);
   }
   if (o.live) o.live->devices_described();

@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "core/reproducible.hpp"
 #include "runtime/loop_set.hpp"
 
 namespace tactus::runtime {
 
 SessionReport run_session(const scene::Model& model, const SessionOptions& options) {
+  fix_dense_blocking();  // lockstep runs sum alike on every machine
   if (model.devices.empty())
     throw InputError(SourceLocation{model.source, {}, {}, {}}, "the scene has no device: nothing drives the haptic loop");
   for (const auto& [name, motion] : options.replay)

@@ -88,7 +88,7 @@ struct DeviceReport {
   double max_force_sent = 0.0;  ///< [N]
   std::uint64_t contact_frames = 0;
   /// Frames in which the passivity controller weakened the force, and the energy it kept
-  /// from the hand [J] (runtime/passivity_control.hpp).
+  /// from the hand [J] (haptics/passivity_control.hpp).
   std::uint64_t passivity_frames = 0;
   double passivity_energy = 0.0;
 };

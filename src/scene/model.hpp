@@ -397,7 +397,7 @@ struct Algorithm {
   double force_smoothing = 0.0;
   LoadSpread load_spread = LoadSpread::triangle;
   /// Keep the contact from returning more energy to the hand than the hand put in
-  /// (runtime/passivity_control.hpp).
+  /// (haptics/passivity_control.hpp).
   bool passivity_control = true;
 };
 

@@ -8,6 +8,7 @@
 
 #include "haptics/devices/scripted_device.hpp"
 #include "mesh/generators.hpp"
+#include "haptics/algorithms/spheres_on_patch.hpp"
 #include "runtime/haptic_loop.hpp"
 
 namespace tactus::runtime {
@@ -23,7 +24,7 @@ struct Held {
   std::vector<mesh::Triangle> triangles;
 };
 
-Held hold(const std::vector<HapticConfig::Sphere>& spheres) {
+Held hold(const std::vector<haptics::ToolSphere>& spheres) {
   const mesh::TriMesh plate = mesh::grid_plate(0.1, 0.1, 10, 10);
   const Vec3 where(0.0, 0.0, 0.004);  // over a vertex: the plate is symmetric about it
   DeviceChannels channels(1 << 12);
@@ -48,12 +49,11 @@ Held hold(const std::vector<HapticConfig::Sphere>& spheres) {
   };
   haptics::WaypointsPath still;
   still.points = {{0.0, where}};
-  HapticConfig c;
-  c.spheres = spheres;
-  c.stiffness = 1000.0;
+  haptics::HapticModel c;
+  c.algorithms.push_back(std::make_shared<haptics::SpheresOnPatch>(spheres, haptics::ContactLaw::penalty(1000.0), 0.0,
+                                                                   request.kind, request.capacity, false));
   c.safety.max_force = 10.0;
   c.safety.watchdog_timeout = 1.0;
-  c.local_model = request.kind;
   HapticLoop loop(c, std::make_unique<haptics::ScriptedDevice>(still, haptics::Tremor{}, haptics::DeviceLimits{}),
                   channels);
   HapticFrame f;

@@ -7,10 +7,21 @@
 #include "core/counting_allocator.hpp"  // tests/core
 #include "haptics/devices/scripted_device.hpp"
 #include "mesh/generators.hpp"
+#include "haptics/algorithms/spheres_on_patch.hpp"
+#include "haptics/algorithms/spheres_on_plane.hpp"
 #include "runtime/haptic_loop.hpp"
 
 namespace tactus::runtime {
 namespace {
+
+/// A 10 mm finger sphere rendering `law` on the contact plane.
+haptics::HapticModel model(const haptics::ContactLaw& law) {
+  haptics::HapticModel m;
+  m.algorithms.push_back(std::make_shared<haptics::SpheresOnPlane>(std::vector<haptics::ToolSphere>{{Vec3::Zero(), 0.01}}, law));
+  m.safety.max_force = 10.0;
+  m.safety.watchdog_timeout = 0.1;
+  return m;
+}
 
 struct Rig {
   DeviceChannels channels{1 << 12};
@@ -21,12 +32,7 @@ struct Rig {
     haptics::WaypointsPath still;
     still.points = {{0.0, Vec3(0, 0, z)}};
     auto device = std::make_unique<haptics::ScriptedDevice>(still, haptics::Tremor{}, haptics::DeviceLimits{});
-    HapticConfig c;
-    c.spheres = {{Vec3::Zero(), 0.01}};
-    c.stiffness = stiffness;
-    c.safety.max_force = 10.0;
-    c.safety.watchdog_timeout = 0.1;
-    loop = std::make_unique<HapticLoop>(c, std::move(device), channels);
+    loop = std::make_unique<HapticLoop>(model(haptics::ContactLaw::penalty(stiffness)), std::move(device), channels);
   }
   void publish_plane(double surface_time, double mean_curvature = 0.0) {
     LocalContact& lc = channels.contact.write_buffer();
@@ -65,13 +71,10 @@ TEST(HapticLoop, HertzFingerFeelsTheTissueCurvature) {
   // Silicone finger (E 1 MPa, ν 0.48, R 10 mm) 1 mm into tissue (E 30 kPa, ν 0.45).
   auto force_at = [](double curvature) {
     Rig rig(0.009);
-    HapticConfig c;
-    c.spheres = {{Vec3::Zero(), 0.01}};
-    c.hertz.emplace(contact::HertzParameters{0.01, {1e6, 0.48}, {3e4, 0.45}});
     haptics::WaypointsPath still;
     still.points = {{0.0, Vec3(0, 0, 0.009)}};
     rig.loop = std::make_unique<HapticLoop>(
-        c, std::make_unique<haptics::ScriptedDevice>(still, haptics::Tremor{}, haptics::DeviceLimits{}), rig.channels);
+        model(haptics::ContactLaw::hertz(contact::HertzParameters{0.01, {1e6, 0.48}, {3e4, 0.45}})), std::make_unique<haptics::ScriptedDevice>(still, haptics::Tremor{}, haptics::DeviceLimits{}), rig.channels);
     rig.publish_plane(0.0, curvature);
     HapticFrame f;
     for (int k = 0; k < 20; ++k) f = rig.step(k * 1e-3);
@@ -125,12 +128,12 @@ TEST(HapticLoop, RendersAPatchModelWithoutAllocating) {
   };
   haptics::WaypointsPath still;
   still.points = {{0.0, Vec3(0.001, 0.002, 0.008)}};
-  HapticConfig c;
-  c.spheres = {{Vec3::Zero(), 0.01}};
-  c.stiffness = 1000.0;
+  haptics::HapticModel c;
+  c.algorithms.push_back(std::make_shared<haptics::SpheresOnPatch>(
+      std::vector<haptics::ToolSphere>{{Vec3::Zero(), 0.01}}, haptics::ContactLaw::penalty(1000.0), 0.0, request.kind,
+      request.capacity, false));
   c.safety.max_force = 10.0;
   c.safety.watchdog_timeout = 0.1;
-  c.local_model = request.kind;
   c.force_smoothing = 0.005;
   HapticLoop loop(c, std::make_unique<haptics::ScriptedDevice>(still, haptics::Tremor{}, haptics::DeviceLimits{}),
                   channels);

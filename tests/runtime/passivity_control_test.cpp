@@ -1,7 +1,7 @@
-// The contact's passivity observer and controller (runtime/passivity_control.hpp): it takes
+// The contact's passivity observer and controller (haptics/passivity_control.hpp): it takes
 // out of a press-and-release what an active contact would return beyond what went in, and it
 // only ever weakens the part of the force along the hand's motion.
-#include "runtime/passivity_control.hpp"
+#include "haptics/passivity_control.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,6 +17,7 @@
 #include "scene/scene.hpp"
 
 namespace tactus::runtime {
+using haptics::PassivityControl;
 namespace {
 
 constexpr double kDt = 1e-3;

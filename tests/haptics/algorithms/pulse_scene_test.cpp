@@ -12,6 +12,9 @@
 #include "core/counting_allocator.hpp"
 #include "core/error.hpp"
 #include "haptics/algorithms/pulse.hpp"
+#include "haptics/algorithms/multi_surface_algorithm.hpp"
+#include "haptics/algorithms/proxy_on_patch.hpp"
+#include "haptics/algorithms/pulse_overlay.hpp"
 #include "runtime/device_setup.hpp"
 #include "runtime/loop_set.hpp"
 #include "runtime/session.hpp"
@@ -69,10 +72,11 @@ TEST(PulseScene, ThePulseComposesWithTheContactAlgorithmInAnyOrder) {
   for (const std::string& text : {scene_with(kProxy + kPulse), scene_with(kPulse + kProxy)}) {
     const scene::Model m = scene::parse_scene(text, "p.toml");
     const runtime::DeviceSetup s = runtime::setup_device(m, 0);
-    EXPECT_TRUE(s.config.proxy.has_value());
-    ASSERT_TRUE(s.config.pulse.has_value());
+    EXPECT_NE(s.model.find<haptics::ProxyOnPatch>(), nullptr);  // the default local model: a patch
+    const auto* pulse = s.model.find<haptics::PulseOverlay>();
+    ASSERT_NE(pulse, nullptr);
     // Three sources along the vessel's long axis (x), at the centres of its thirds.
-    const auto& sources = s.config.pulse->config().sources;
+    const auto& sources = pulse->pulse().config().sources;
     ASSERT_EQ(sources.size(), 3u);
     double xs = 0.0;
     for (const Vec3& p : sources) {
@@ -86,7 +90,7 @@ TEST(PulseScene, ThePulseComposesWithTheContactAlgorithmInAnyOrder) {
 
 TEST(PulseScene, EnabledIsHonouredAndAPulseNeedsSomethingToPressWith) {
   const scene::Model off = scene::parse_scene(scene_with(kProxy + kPulse + "enabled = false\n"), "p.toml");
-  EXPECT_FALSE(runtime::setup_device(off, 0).config.pulse.has_value());
+  EXPECT_EQ(runtime::setup_device(off, 0).model.find<haptics::PulseOverlay>(), nullptr);
   const scene::Model alone = scene::parse_scene(scene_with(kPulse), "p.toml");
   try {
     (void)runtime::setup_device(alone, 0);
@@ -109,12 +113,13 @@ stiffness = 5000
 )"),
                                             "p.toml");
   const runtime::DeviceSetup s = runtime::setup_device(m, 0);
-  ASSERT_TRUE(s.config.multi_surface.has_value());
-  EXPECT_EQ(s.config.multi_surface->bodies, (std::vector<std::size_t>{0, 1}));
-  EXPECT_EQ(s.config.multi_surface->force.layers, 2u);
-  EXPECT_EQ(s.config.multi_surface->force.radius, 0.008);
+  const auto* multi = s.model.find<haptics::MultiSurfaceAlgorithm>();
+  ASSERT_NE(multi, nullptr);
+  EXPECT_EQ(multi->bodies(), (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(multi->config().layers, 2u);
+  EXPECT_EQ(multi->config().radius, 0.008);
   // Never stiffer than the device renders stably (max_stiffness defaults to 2000 N/m).
-  EXPECT_EQ(s.config.multi_surface->force.stiffness, 2000.0);
+  EXPECT_EQ(multi->config().stiffness, 2000.0);
   EXPECT_GT(s.needle_length, 0.0);  // the interaction loop casts its ray
 }
 

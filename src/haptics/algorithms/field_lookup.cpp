@@ -1,0 +1,25 @@
+#include "haptics/algorithms/field_lookup.hpp"
+
+namespace tactus::haptics {
+
+Rendering FieldLookup::render(const FrameInputs& f, AlgorithmState& /*state*/) const {
+  const Vec3 arm = f.orientation * offset_;
+  const FieldForce field = field_->force(f.position + arm, f.t);
+  Rendering r;
+  r.force = field.force;
+  r.torque = arm.cross(field.force);
+  r.touching = field.touching;
+  r.point = f.position + arm;
+  r.surface_time = f.contact->surface_time;
+  // With a patch channel (the scene asked for a local model) the frame records the point
+  // looked up while touching, as patch algorithms record theirs; else the plane's.
+  r.frame_point = f.patch ? (r.touching ? r.point : Vec3::Zero()) : plane_frame_point(*f.contact);
+  return r;
+}
+
+void FieldLookup::react(const FrameInputs& frame, const Rendering& /*rendered*/, const Reaction& /*reaction*/,
+                        AlgorithmState& /*state*/, ContactLoad& load) const {
+  plane_load(*frame.contact, false, load);  // a space takes no loads
+}
+
+}  // namespace tactus::haptics

@@ -1,0 +1,111 @@
+#pragma once
+// One haptic frame of one device as a pure function of its model, its state and the frame's
+// inputs: pose → force algorithms → smoothing → passivity → overlays → safety → force written
+// → the tissue's reaction. No clock, no allocation, no lock: the schedulers (runtime/) own the
+// timing and hand over the channels' newest values as inputs, live edits included.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "haptics/device.hpp"
+#include "haptics/force_algorithm.hpp"
+#include "haptics/force_smoothing.hpp"
+#include "haptics/passivity_control.hpp"
+#include "haptics/safety.hpp"
+
+namespace tactus::haptics {
+
+/// What a device renders, built once from the scene (runtime/device_setup.cpp).
+struct HapticModel {
+  std::uint16_t device = 0;  ///< index into the scene's devices
+  double rate = 1000.0;      ///< [Hz]
+  WorkspaceMap map;
+  /// At most one contact-stage algorithm, then any overlays (ForceAlgorithm::Stage).
+  std::vector<std::shared_ptr<const ForceAlgorithm>> algorithms;
+  /// Time constant of the passive smoothing of force steps at model updates [s]; 0 = off.
+  double force_smoothing = 0.0;
+  /// Weaken a contact force that would return more energy to the hand than it put in.
+  bool passivity_control = false;
+  /// Spread the tissue's load over the contact disc instead of the contact triangle.
+  bool spread_over_contact_disc = false;
+  /// Low-pass time constant of the tool velocity estimate [s].
+  double velocity_filter = 0.002;
+  SafetyConfig safety;
+
+  /// The contact-stage algorithm, or null.
+  [[nodiscard]] const ForceAlgorithm* contact() const;
+  /// The first algorithm of this class and its index, or null.
+  template <class Algorithm>
+  [[nodiscard]] const Algorithm* find(std::size_t* index = nullptr) const {
+    for (std::size_t i = 0; i < algorithms.size(); ++i)
+      if (const auto* a = dynamic_cast<const Algorithm*>(algorithms[i].get())) {
+        if (index) *index = i;
+        return a;
+      }
+    return nullptr;
+  }
+};
+
+/// Everything a device's frames change. Throws std::invalid_argument for a model with two
+/// contact-stage algorithms, InputError for a bad safety configuration.
+struct HapticState {
+  explicit HapticState(const HapticModel& model);
+  Vec3 velocity = Vec3::Zero();
+  Vec3 last_position = Vec3::Zero();
+  double last_t = -1.0;
+  ForceSmoother smoother;
+  PassivityControl passivity;
+  ForceSafety safety;
+  std::vector<std::unique_ptr<AlgorithmState>> algorithms;  ///< one per model algorithm
+  bool in_contact = false;
+  std::uint8_t last_flags = 0;
+  std::uint64_t surface_version = 0;  ///< of the last live edit taken
+};
+
+/// A live edit of the contact's coupling (runtime/live_parameters.hpp writes it).
+struct SurfaceEdit {
+  std::uint64_t version = 0;  ///< 0: none yet
+  double from = 0.0;          ///< loop time it applies from [s]
+  SurfaceValues values;
+  double max_stiffness = 0.0;  ///< the device's [N/m]
+};
+
+struct HapticInputs {
+  double t = 0.0;
+  DevicePose pose;  ///< device coordinates
+  bool device_alive = true;
+  bool emergency_stop = false;
+  const LocalContact* contact = nullptr;  ///< never null
+  bool contact_fresh = false;
+  const contact::LocalPatch* patch = nullptr;
+  bool patch_fresh = false;
+  const NeedleSurfaces* surfaces = nullptr;  ///< never null
+  bool surfaces_fresh = false;
+  const SurfaceEdit* edit = nullptr;  ///< null: no live edits in this run
+};
+
+/// Where the step writes the force as soon as the safety layer has passed it.
+class ForceSink {
+ public:
+  virtual ~ForceSink() = default;
+  virtual void write(const Vec3& force, const Vec3& torque) = 0;
+};
+
+struct HapticOutputs {
+  SafetyOutput sent;  ///< what was written, device coordinates
+  double requested_force = 0.0;  ///< magnitude asked of the safety layer [N]
+  bool touching = false;
+  Vec3 position = Vec3::Zero();     ///< the tool, scene [m]
+  Vec3 frame_point = Vec3::Zero();  ///< HapticFrame::proxy
+  Vec3 tool_axis = Vec3::Zero();
+  ContactLoad load;
+  static constexpr int kMaxEvents = 8;
+  std::array<HapticEvent, kMaxEvents> events{};
+  int event_count = 0;
+};
+
+void haptic_step(const HapticModel& model, HapticState& state, const HapticInputs& inputs, ForceSink& sink,
+                 HapticOutputs& out);
+
+}  // namespace tactus::haptics
