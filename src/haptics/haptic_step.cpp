@@ -26,6 +26,14 @@ void take_edit(const HapticModel& model, HapticState& s, const HapticInputs& in)
   for (std::size_t i = 0; i < model.algorithms.size(); ++i) model.algorithms[i]->edit_surface(v, *s.algorithms[i]);
 }
 
+/// A tool without a contact algorithm: no force, the plane's time and point for the record.
+Rendering nothing_touched(const LocalContact& contact) {
+  Rendering r;
+  r.surface_time = contact.surface_time;
+  r.frame_point = plane_frame_point(contact);
+  return r;
+}
+
 }  // namespace
 
 const ForceAlgorithm* HapticModel::contact() const {
@@ -73,13 +81,9 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   std::size_t contact_index = model.algorithms.size();
   for (std::size_t i = 0; i < model.algorithms.size(); ++i)
     if (model.algorithms[i]->stage() == ForceAlgorithm::Stage::contact) contact_index = i;
-  Rendering r;
-  if (contact_index < model.algorithms.size()) {
-    r = model.algorithms[contact_index]->render(f, *s.algorithms[contact_index]);
-  } else {
-    r.surface_time = in.contact->surface_time;
-    r.frame_point = plane_frame_point(*in.contact);
-  }
+  const Rendering r = contact_index < model.algorithms.size()
+                          ? model.algorithms[contact_index]->render(f, *s.algorithms[contact_index])
+                          : nothing_touched(*in.contact);
   if (r.has_event) emit(out, r.event.kind, r.event.value, r.event.detail);
   if (r.model_changed) s.smoother.model_changed(r.before, r.after);
   const bool touching = r.touching;
@@ -115,13 +119,15 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   reaction.kept = in_norm > 0.0 ? std::min(1.0, out.sent.force.norm() / in_norm) : 0.0;
   reaction.sent = model.map.rotation * out.sent.force - reaction.kept * overlay;
   s.passivity.record_sent(reaction.sent);
-  out.load = ContactLoad{};
-  out.load.force = -reaction.sent;
+  ContactLoad& load = *out.load;
+  load.part_count = 0;
+  load.shaft = false;
+  load.force = -reaction.sent;
   if (contact_index < model.algorithms.size())
-    model.algorithms[contact_index]->react(f, r, reaction, *s.algorithms[contact_index], out.load);
+    model.algorithms[contact_index]->react(f, r, reaction, *s.algorithms[contact_index], load);
   else
-    plane_load(*in.contact, touching, out.load);
-  out.load.contact_radius = model.spread_over_contact_disc ? r.contact_radius : -1.0;
+    plane_load(*in.contact, touching, load);
+  load.contact_radius = model.spread_over_contact_disc ? r.contact_radius : -1.0;
 
   out.requested_force = in_norm;
   out.touching = touching;

@@ -99,7 +99,9 @@ struct HapticOutputs {
   Vec3 position = Vec3::Zero();     ///< the tool, scene [m]
   Vec3 frame_point = Vec3::Zero();  ///< HapticFrame::proxy
   Vec3 tool_axis = Vec3::Zero();
-  ContactLoad load;
+  /// Where the step writes the tissue's load (the simulation's channel buffer); set before
+  /// the first step. Only the fields the load's flags make meaningful are written.
+  ContactLoad* load = nullptr;
   static constexpr int kMaxEvents = 8;
   std::array<HapticEvent, kMaxEvents> events{};
   int event_count = 0;

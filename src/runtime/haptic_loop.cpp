@@ -75,9 +75,8 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   in.surfaces = &channels_.needle.read();
   in.device_alive = device_->alive();
   in.emergency_stop = emergency_stop_.load(std::memory_order_relaxed);
+  out_.load = &channels_.load.write_buffer();
   haptics::haptic_step(model_, state_, in, sink_, out_);
-
-  channels_.load.write_buffer() = out_.load;
   channels_.load.publish();
   ToolState& tool = channels_.tool.write_buffer();
   tool.position = out_.position;

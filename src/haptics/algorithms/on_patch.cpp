@@ -7,26 +7,25 @@ namespace tactus::haptics {
 Rendering OnPatch::render(const FrameInputs& f, AlgorithmState& state) const {
   auto& s = static_cast<PatchState&>(state);
   begin(f, s);
-  Rendering r;
-  if (f.patch_fresh && f.patch) {
-    // The step is smoothed only from one model to the next, not from none at start.
-    const bool smooth = f.smoothing && s.local.valid();
-    Vec3 before = Vec3::Zero();
-    if (smooth) {
-      s.local.extrapolate(f.t);
-      before = against(f, s, true).force;
-    }
+  const bool replaced = f.patch_fresh && f.patch;
+  // The step is smoothed only from one model to the next, not from none at start.
+  const bool smooth = replaced && f.smoothing && s.local.valid();
+  Vec3 before = Vec3::Zero();
+  if (smooth) {
+    s.local.extrapolate(f.t);
+    before = against(f, s, true).force;
+  }
+  if (replaced) {
     s.local.reset(*f.patch, f.t);
     patch_replaced(s);
-    r = against(f, s, false);
-    if (smooth) {
-      r.model_changed = true;
-      r.before = before;
-      r.after = r.force;
-    }
   } else {
     s.local.extrapolate(f.t);
-    r = against(f, s, false);
+  }
+  Rendering r = against(f, s, false);
+  if (smooth) {
+    r.model_changed = true;
+    r.before = before;
+    r.after = r.force;
   }
   r.surface_time = s.local.patch().time;
   r.frame_point = r.touching ? r.point : Vec3::Zero();

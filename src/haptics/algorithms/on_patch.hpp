@@ -29,7 +29,6 @@ class OnPatch : public ForceAlgorithm {
     contact::BruteForceSurfaceQuery no_surface{{}, {}};
     [[nodiscard]] const contact::SurfaceQuery& surface() const { return local.valid() ? local.surface() : no_surface; }
   };
-  [[nodiscard]] PatchState make_patch_state() const { return {kind_, capacity_}; }
   [[nodiscard]] const contact::PatchCapacity& capacity() const { return capacity_; }
   [[nodiscard]] contact::LocalModelKind kind() const { return kind_; }
   /// The radius a load is spread over: the contact disc's, or −1 for the contact triangle.

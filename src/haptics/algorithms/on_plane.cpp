@@ -6,15 +6,13 @@ Rendering OnPlane::render(const FrameInputs& f, AlgorithmState& state) const {
   auto& s = static_cast<PlaneState&>(state);
   const LocalContact& contact = *f.contact;
   begin(f, s);
-  Rendering r;
-  if (f.contact_fresh && f.smoothing && s.shown.valid) {
-    const Vec3 before = against(s.shown, f, s, true).force;
-    r = against(contact, f, s, false);
+  const bool smooth = f.contact_fresh && f.smoothing && s.shown.valid;
+  const Vec3 before = smooth ? against(s.shown, f, s, true).force : Vec3::Zero();
+  Rendering r = against(contact, f, s, false);
+  if (smooth) {
     r.model_changed = true;
     r.before = before;
     r.after = r.force;
-  } else {
-    r = against(contact, f, s, false);
   }
   s.shown = contact;
   r.surface_time = contact.surface_time;

@@ -27,7 +27,7 @@ TEST(FieldLookup, RendersTheFieldAtTheToolsPointAndLoadsNothing) {
   EXPECT_NEAR(rig.sink.force.x(), -3.0, 1e-12);
   EXPECT_NEAR(rig.sink.force.z(), 0.0, 1e-12);
   EXPECT_NEAR(rig.sink.torque.y(), -0.01 * -3.0, 1e-12);  // (0, 0, −0.01) × (−3, 0, 0)
-  EXPECT_FALSE(rig.out.load.active);
+  EXPECT_FALSE(rig.load.active);
   rig.hold(Vec3(0.2, 0, 0), 20, 0.02);  // outside the box
   EXPECT_FALSE(rig.out.touching);
   EXPECT_EQ(rig.sink.force, Vec3::Zero());

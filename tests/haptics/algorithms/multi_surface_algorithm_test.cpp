@@ -28,9 +28,9 @@ TEST(MultiSurfaceAlgorithm, PressesTheOutermostLayerAndLoadsItsBody) {
   rig.hold(Vec3(0, 0, 0.003), 30, 0.005);  // the sphere 2 mm into the skin
   EXPECT_TRUE(rig.out.touching);
   EXPECT_NEAR(rig.sink.force.z(), 800.0 * 0.002, 1e-9);
-  EXPECT_TRUE(rig.out.load.active);
-  EXPECT_EQ(rig.out.load.body, 6);
-  EXPECT_EQ(rig.out.load.triangle, 10);
+  EXPECT_TRUE(rig.load.active);
+  EXPECT_EQ(rig.load.body, 6);
+  EXPECT_EQ(rig.load.triangle, 10);
   EXPECT_NEAR(rig.out.tool_axis.norm(), 1.0, 1e-12);
 }
 

@@ -38,9 +38,9 @@ TEST(NeedleAlgorithm, PressesOnTheLayerThenTearsItAndSaysSo) {
       }
     if (!torn && out.touching) {
       before_tear = rig.sink.force.z();
-      EXPECT_TRUE(out.load.active);
-      EXPECT_EQ(out.load.body, 4);
-      EXPECT_EQ(out.load.triangle, 7);
+      EXPECT_TRUE(out.load->active);
+      EXPECT_EQ(out.load->body, 4);
+      EXPECT_EQ(out.load->triangle, 7);
     }
   }
   EXPECT_TRUE(torn);

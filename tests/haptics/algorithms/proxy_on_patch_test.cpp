@@ -34,7 +34,7 @@ double press(contact::LocalModelKind kind) {
   rig.hold(Vec3(0, 0, 0.01), 5);
   rig.hold(Vec3(0, 0, 0.001), 300, 0.005);  // 4 mm past the surface
   EXPECT_TRUE(rig.out.touching);
-  EXPECT_TRUE(rig.out.load.active);
+  EXPECT_TRUE(rig.load.active);
   return rig.sink.force.z();
 }
 

@@ -34,7 +34,7 @@ TEST(PulseOverlay, BeatsOnlyWhilePressing) {
   const double resting = rig.sink.force.z();
   EXPECT_NEAR(resting, 2.0, 1e-12);
   EXPECT_GT(beating, resting + 0.1);
-  EXPECT_NEAR(rig.out.load.force.z(), -2.0, 1e-12);  // the tissue never takes the beat
+  EXPECT_NEAR(rig.load.force.z(), -2.0, 1e-12);  // the tissue never takes the beat
 }
 
 }  // namespace

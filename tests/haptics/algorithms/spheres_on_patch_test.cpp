@@ -45,8 +45,8 @@ TEST(SpheresOnPatch, ARigidPatchRendersThePlanesForceWithoutAllocating) {
   rig.hold(where, 20);
   EXPECT_TRUE(rig.out.touching);
   EXPECT_NEAR(rig.sink.force.z(), 1000.0 * 0.002, 1e-9);
-  EXPECT_TRUE(rig.out.load.active);
-  EXPECT_GE(rig.out.load.triangle, 0);  // the plate's own triangle, not the patch's
+  EXPECT_TRUE(rig.load.active);
+  EXPECT_GE(rig.load.triangle, 0);  // the plate's own triangle, not the patch's
   EXPECT_NEAR(rig.out.frame_point.z(), 0.0, 1e-12);  // the contact point on the plate
   testing::AllocationCounter counter;
   for (int k = 20; k < 500; ++k) {
@@ -68,9 +68,9 @@ TEST(SpheresOnPatch, EachSphereDentsASoftPatchUnderItsOwnForce) {
   ASSERT_TRUE(rig.out.touching);
   EXPECT_LT(rig.sink.force.z(), 2.0 * 0.95);  // the patch yields under both
   EXPECT_GT(rig.sink.force.z(), 0.2);
-  ASSERT_EQ(rig.out.load.part_count, 2);  // each sphere's share where it touches
-  EXPECT_NEAR(rig.out.load.parts[0].share + rig.out.load.parts[1].share, 1.0, 1e-12);
-  EXPECT_NEAR(rig.out.load.parts[0].share, 0.5, 1e-6);  // symmetric plate, symmetric finger
+  ASSERT_EQ(rig.load.part_count, 2);  // each sphere's share where it touches
+  EXPECT_NEAR(rig.load.parts[0].share + rig.load.parts[1].share, 1.0, 1e-12);
+  EXPECT_NEAR(rig.load.parts[0].share, 0.5, 1e-6);  // symmetric plate, symmetric finger
 }
 
 }  // namespace
