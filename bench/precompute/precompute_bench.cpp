@@ -56,7 +56,7 @@
 #include "precompute/online.hpp"
 #include "precompute/space_file.hpp"
 #include "precompute/wavefront.hpp"
-#include "runtime/bodies.hpp"
+#include "compile/bodies.hpp"
 #include "scene/scene.hpp"
 
 namespace {
@@ -134,7 +134,7 @@ struct Model {
 
 Model load_model(int nodes, const std::string& law) {
   const scene::Model scene = scene::parse_scene(organ_scene(nodes, law), "organ-bench");
-  Model m{runtime::make_physics_body(scene, 0), *scene.precompute, {}, {}, {}};
+  Model m{compile::make_physics_body(scene, 0), *scene.precompute, {}, {}, {}};
   const VecX& rest = m.body.model->rest_positions();
   m.contact = rest.segment<3>(3 * m.settings.contact_node);
   const auto points = rest.reshaped(3, rest.size() / 3);

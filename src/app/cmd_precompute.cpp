@@ -31,7 +31,7 @@
 #include "precompute/online.hpp"
 #include "precompute/space_file.hpp"
 #include "precompute/time_left.hpp"
-#include "runtime/bodies.hpp"
+#include "compile/bodies.hpp"
 #include "scene/scene.hpp"
 
 namespace tactus::app {
@@ -215,7 +215,7 @@ int run_precompute(const PrecomputeArgs& a) {
   const pc::SpaceSettings& settings = *model.precompute;
   std::size_t index = 0;
   while (model.bodies[index].name != settings.body) ++index;
-  const physics::Body body = runtime::make_physics_body(model, index);
+  const physics::Body body = compile::make_physics_body(model, index);
   if (a.online_speed) {
     if (session.size() > 1)
       throw InputError("--online-speed runs its solvers as threads on one machine: start it without mpirun");

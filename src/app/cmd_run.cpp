@@ -22,11 +22,11 @@
 #include "core/log.hpp"
 #include "haptics/trajectory.hpp"
 #include "runtime/devices.hpp"
-#include "runtime/force_map.hpp"
+#include "report/force_map.hpp"
 #include "runtime/recording_csv.hpp"
 #include "runtime/recording_reader.hpp"
-#include "runtime/report.hpp"
-#include "runtime/scenario_report.hpp"
+#include "report/report.hpp"
+#include "report/scenario_report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
 #include "viewer/window.hpp"
@@ -180,8 +180,8 @@ void write_trace(const RunFlags& f, const scene::Model& model, const runtime::Se
   fs::create_directories(f.trace);
   const fs::path forces = fs::path(f.trace) / (model.name + "_forces.csv");
   const fs::path ruptures = fs::path(f.trace) / (model.name + "_ruptures.csv");
-  write_text(forces.string(), runtime::force_trace_csv(model, report));
-  write_text(ruptures.string(), runtime::rupture_csv(report));
+  write_text(forces.string(), report::force_trace_csv(model, report));
+  write_text(ruptures.string(), report::rupture_csv(report));
   std::printf("force trace: %s, %s\n", forces.c_str(), ruptures.c_str());
   const fs::path script = f.scene.empty() ? fs::path("scripts/plot_forces.py")
                                           : fs::path(f.scene).parent_path() / ".." / "scripts" / "plot_forces.py";
@@ -242,14 +242,14 @@ int run_with(const RunFlags& f, bool bench) {
   } else {
     report = runtime::run_session(scene.model, o);
   }
-  std::fputs(runtime::format_report(report).c_str(), stdout);
+  std::fputs(report::format_report(report).c_str(), stdout);
   if (window) std::fputs(viewer::format_window_report(*window).c_str(), stdout);
-  if (bench) std::fputs(runtime::format_scenario_measures(scene.model, report).c_str(), stdout);
+  if (bench) std::fputs(report::format_scenario_measures(scene.model, report).c_str(), stdout);
   if (!f.trace.empty()) write_trace(f, scene.model, report);
   if (o.record) log::info("recording written to {}", o.record->string());
-  if (!f.json.empty()) write_text(f.json, runtime::report_json(report));
+  if (!f.json.empty()) write_text(f.json, report::report_json(report));
   if (!f.force_map.empty())
-    std::fputs(runtime::write_force_map_png(runtime::build_force_map(scene.model, 0, report.frames), f.force_map).c_str(),
+    std::fputs(report::write_force_map_png(report::build_force_map(scene.model, 0, report.frames), f.force_map).c_str(),
                stdout);
   if (window && !window->next_scene.empty()) {
     // The panel's scene switcher: this run has ended cleanly (the closing window set the
@@ -321,7 +321,7 @@ Action add_replay(CLI::App& app) {
     o.interrupt = &g_interrupted;
     install_interrupt_handlers();
     const runtime::SessionReport report = runtime::run_session(model, o);
-    std::fputs(runtime::format_report(report).c_str(), stdout);
+    std::fputs(report::format_report(report).c_str(), stdout);
 
     // Frame by frame against the recording: same device, same frame index.
     std::size_t compared = 0, identical = 0;

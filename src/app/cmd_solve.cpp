@@ -10,7 +10,7 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "mesh/io/mesh_io.hpp"
-#include "runtime/bodies.hpp"
+#include "compile/bodies.hpp"
 #include "runtime/solve.hpp"
 #include "scene/scene.hpp"
 
@@ -92,7 +92,7 @@ Action add_solve(CLI::App& app) {
           for (std::size_t i = 0; i < body.final_positions.size(); ++i)
             x.segment<3>(3 * static_cast<Eigen::Index>(i)) = body.final_positions[i];
           std::vector<std::vector<Vec3>> surfaces;
-          runtime::mapped_surface_positions(sb, x, surfaces);
+          compile::mapped_surface_positions(sb, x, surfaces);
           for (std::size_t k = 0; k < sb.mapped.size(); ++k) {
             mesh::TriMesh deformed = sb.mapped[k].mesh;
             deformed.vertices = surfaces[k];

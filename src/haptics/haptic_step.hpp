@@ -16,7 +16,7 @@
 
 namespace tactus::haptics {
 
-/// What a device renders, built once from the scene (runtime/device_setup.cpp).
+/// What a device renders, built once from the scene (compile/device_setup.cpp).
 struct HapticModel {
   std::uint16_t device = 0;  ///< index into the scene's devices
   double rate = 1000.0;      ///< [Hz]

@@ -12,25 +12,10 @@
 #ifdef TACTUS_HAVE_DHD
 #include "haptics/devices/dhd_device.hpp"
 #endif
+#include "compile/device_setup.hpp"
 #include "runtime/recording_reader.hpp"
 
 namespace tactus::runtime {
-
-haptics::DeviceLimits device_limits(const scene::Device& device) {
-  haptics::DeviceLimits limits;
-  limits.max_force = device.max_force;
-  limits.max_stiffness = device.max_stiffness;
-  limits.workspace = device.workspace;
-  return limits;
-}
-
-haptics::WorkspaceMap workspace_map(const scene::Device& device) {
-  haptics::WorkspaceMap map;
-  map.scale = device.scale;
-  map.offset = device.offset;
-  map.rotation = device.rotation;
-  return map;
-}
 
 std::map<std::string, RecordedMotion> recorded_motion(const Recording& recording, const std::string& source) {
   std::map<std::string, RecordedMotion> out;
@@ -49,7 +34,7 @@ std::map<std::string, RecordedMotion> recorded_motion(const Recording& recording
 
 std::unique_ptr<haptics::Device> make_device(const scene::Model& model, std::size_t index, unsigned seed) {
   const scene::Device& d = model.devices.at(index);
-  const haptics::DeviceLimits limits = device_limits(d);
+  const haptics::DeviceLimits limits = compile::device_limits(d);
   if (const auto* s = std::get_if<scene::ScriptedDevice>(&d.source))
     return std::make_unique<haptics::ScriptedDevice>(s->trajectory, s->tremor, limits, seed);
   if (const auto* s = std::get_if<scene::SimulatedOperatorDevice>(&d.source))

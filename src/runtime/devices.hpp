@@ -12,11 +12,6 @@
 
 namespace tactus::runtime {
 
-/// Device limits (force, stiffness, workspace) from the scene.
-haptics::DeviceLimits device_limits(const scene::Device& device);
-/// Device → scene mapping from the scene's scale and offset.
-haptics::WorkspaceMap workspace_map(const scene::Device& device);
-
 /// The device scene entry `index` describes. A replay device reads its recording; a
 /// network device binds its socket (InputError when it cannot). `seed` varies tremor.
 std::unique_ptr<haptics::Device> make_device(const scene::Model& model, std::size_t index, unsigned seed = 0);

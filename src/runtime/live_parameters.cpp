@@ -120,7 +120,7 @@ VecX scene_mass_damping(const scene::Model& model, std::size_t index, const VecX
   switch (b.kind) {
     case scene::BodyKind::fem: c.setConstant(m.damping.rayleigh_alpha); break;
     case scene::BodyKind::tet_mass_spring: {
-      // As runtime/bodies.cpp builds it: d_i = α m_i with α = Rayleigh α + nodal / mean mass.
+      // As compile/bodies.cpp builds it: d_i = α m_i with α = Rayleigh α + nodal / mean mass.
       const double mean_mass = m.density * b.volume->volume() / static_cast<double>(b.volume->vertices.size());
       c.setConstant(m.damping.rayleigh_alpha + (mean_mass > 0.0 ? m.damping.nodal / mean_mass : 0.0));
       break;

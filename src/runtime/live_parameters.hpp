@@ -124,7 +124,7 @@ class LiveParameters {
 };
 
 /// The mass-proportional damping of scene body `index` per degree of freedom [1/s] (3N),
-/// as the runtime builds the body (runtime/bodies.cpp): FEM Rayleigh α; tetrahedral springs
+/// as the runtime builds the body (compile/bodies.cpp): FEM Rayleigh α; tetrahedral springs
 /// α plus the nodal damping over the mean node mass; surface springs the nodal damping over
 /// each node's lumped mass.
 VecX scene_mass_damping(const scene::Model& model, std::size_t index, const VecX& lumped_mass);

@@ -1,6 +1,6 @@
 #include "runtime/loop_set.hpp"
 
-#include "runtime/device_setup.hpp"
+#include "compile/device_setup.hpp"
 #include "runtime/devices.hpp"
 #include "runtime/live_parameters.hpp"
 
@@ -15,13 +15,13 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
   Loops loops;
   std::vector<InteractionTarget> targets;
   // Loaded once: an on-line space's solver threads serve the haptic and simulation loops alike.
-  loops.cspaces = load_cspace_bodies(m);
-  const CspaceBodies& cspaces = loops.cspaces;
+  loops.cspaces = compile::load_cspace_bodies(m);
+  const compile::CspaceBodies& cspaces = loops.cspaces;
   for (std::size_t i = 0; i < m.devices.size(); ++i) {
-    DeviceSetup setup = setup_device(m, i, cspaces);
+    compile::DeviceSetup setup = compile::setup_device(m, i, cspaces);
     std::unique_ptr<haptics::Device> device;
     if (const auto it = o.replay.find(m.devices[i].name); it != o.replay.end())
-      device = std::make_unique<haptics::ReplayDevice>(it->second.poses, device_limits(m.devices[i]), it->second.source);
+      device = std::make_unique<haptics::ReplayDevice>(it->second.poses, compile::device_limits(m.devices[i]), it->second.source);
     else if (o.device_override)
       device = o.device_override(m, i);
     if (!device) device = make_device(m, i, static_cast<unsigned>(i));

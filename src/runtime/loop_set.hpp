@@ -16,7 +16,7 @@ namespace tactus::runtime {
 
 /// Everything a run owns, built before any loop starts.
 struct Loops {
-  CspaceBodies cspaces;  ///< per scene body; shared by the loops that render them
+  compile::CspaceBodies cspaces;  ///< per scene body; shared by the loops that render them
   std::vector<std::unique_ptr<DeviceChannels>> channels;
   std::vector<std::unique_ptr<HapticLoop>> haptic;
   std::unique_ptr<TripleBuffer<SurfaceSnapshot>> surfaces;

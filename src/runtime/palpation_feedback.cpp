@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <variant>
 
-#include "runtime/devices.hpp"
+#include "compile/device_setup.hpp"
 
 namespace tactus::runtime {
 namespace {
@@ -57,7 +57,7 @@ std::optional<PalpationTracker> PalpationTracker::for_model(const scene::Model& 
     if (const auto r = finger_radius(model, d)) {
       f.tracked = true;
       f.radius = *r;
-      f.map = workspace_map(model.devices[d]);
+      f.map = compile::workspace_map(model.devices[d]);
     }
     t.fingers_.push_back(f);
   }

@@ -59,7 +59,7 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
   // A tool outside a space's grid box feels nothing there: say so, and for how long.
   for (std::size_t b = 0; b < loops.cspaces.size(); ++b)
     if (const auto& c = loops.cspaces[b]) {
-      const CspaceBody::BoxCounts n = c->box_counts();
+      const compile::CspaceBody::BoxCounts n = c->box_counts();
       const std::uint64_t all = n.inside + n.outside;
       if (all == 0 || n.outside == 0) continue;
       report.cspace_notes.push_back(
@@ -74,7 +74,7 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
     }
   for (std::size_t b = 0; b < loops.cspaces.size(); ++b)
     if (const auto& c = loops.cspaces[b]; c && c->online()) {
-      const CspaceBody::OnlineCounts n = c->online_counts();
+      const compile::CspaceBody::OnlineCounts n = c->online_counts();
       report.cspace_notes.push_back(fmt::format(
           "on-line space of body '{}': {} of {} grid points solved during the run; {} of {} force queries in the grid "
           "found their cell complete ({:.1f}%)",

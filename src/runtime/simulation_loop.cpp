@@ -8,13 +8,13 @@
 #include <stdexcept>
 
 #include "contact/closest_point.hpp"
-#include "runtime/bodies.hpp"
-#include "runtime/cspace_body.hpp"
+#include "compile/bodies.hpp"
+#include "compile/cspace_body.hpp"
 
 namespace tactus::runtime {
 
 SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices,
-                               const CspaceBodies& cspaces)
+                               const compile::CspaceBodies& cspaces)
     : model_(model), devices_(std::move(devices)), steps_ring_(1 << 14) {
   stats_.name = "simulation";
   stats_.rate = model.rates.simulation;
@@ -29,7 +29,7 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
     sb.rest.resize(static_cast<Eigen::Index>(3 * nodes.size()));
     for (std::size_t n = 0; n < nodes.size(); ++n) sb.rest.segment<3>(static_cast<Eigen::Index>(3 * n)) = nodes[n];
     if (b.cspace) {
-      sb.cspace = cspace_body(model, i, cspaces);
+      sb.cspace = compile::cspace_body(model, i, cspaces);
       sb.state.x = sb.rest;
     } else if (b.kind == scene::BodyKind::embedded) {
       embedded_ = true;
@@ -37,7 +37,7 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
       sb.carried_forces.assign(b.surface.vertices.size(), Vec3::Zero());
       sb.carried_positions.assign(b.surface.vertices.size(), Vec3::Zero());
     } else if (b.kind != scene::BodyKind::rigid) {
-      sb.body = make_physics_body(model, i);
+      sb.body = compile::make_physics_body(model, i);
       sb.state = physics::make_state(*sb.body);
       // Substeps of at most the body's time step make one simulation period.
       sb.substeps = std::max(1, static_cast<int>(std::ceil(period / b.time_step - 1e-9)));
@@ -274,12 +274,12 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
     // Scene loads and prescribed motions at the end of the period, then the newest contact
     // reaction of every device spread over the vertices around its contact point.
     const double t_end = static_cast<double>(step_) / stats_.rate;  // simulated time reached
-    auto fraction = [t_end](double ramp_time) { return ramp(t_end, ramp_time); };
+    auto fraction = [t_end](double ramp_time) { return compile::ramp(t_end, ramp_time); };
     for (SimBody& sb : bodies_) {
       if (!sb.body) continue;
       const scene::Body& b = model_.bodies[sb.index];
-      assemble_loads(b, fraction, sb.f_ext);
-      place_prescribed(b, sb.rest, fraction, sb.state.x);
+      compile::assemble_loads(b, fraction, sb.f_ext);
+      compile::place_prescribed(b, sb.rest, fraction, sb.state.x);
     }
     for (PatchSource& source : patch_sources_) source.applied = ContactLoad{}, source.applied_shares.clear();
     for (DeviceChannels* d : devices_) {

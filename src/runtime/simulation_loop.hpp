@@ -24,7 +24,7 @@ class LiveMaterialModel;
 class SimulationLoop {
  public:
   /// `devices` are the haptic loops' channels (their contact loads are read here).
-  SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices, const CspaceBodies& cspaces = {});
+  SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices, const compile::CspaceBodies& cspaces = {});
 
   /// The rest surfaces, sized as every snapshot will be: the initial value of an output.
   [[nodiscard]] SurfaceSnapshot initial_snapshot() const;
@@ -58,7 +58,7 @@ class SimulationLoop {
     VecX x_before;  ///< positions before the last step (the patches' border velocities)
     std::vector<Vec3> surface, surface_before;
     std::vector<double> surface_area;  ///< per surface vertex, at rest (spreads contact loads)
-    std::shared_ptr<const CspaceBody> cspace;  ///< kind = "cspace": shaped, not simulated
+    std::shared_ptr<const compile::CspaceBody> cspace;  ///< kind = "cspace": shaped, not simulated
     std::shared_ptr<LiveMaterialModel> live;   ///< wraps body->model under live edits
     /// kind = "embedded": carried by the host's tetrahedra (scene::Body::host_mapping); the
     /// forces on its vertices and its mapped positions, sized once.

@@ -11,7 +11,7 @@
 #include "core/progress.hpp"
 #include "core/text.hpp"
 #include "physics/mapping.hpp"
-#include "runtime/bodies.hpp"
+#include "compile/bodies.hpp"
 
 namespace tactus::runtime {
 namespace {
@@ -79,7 +79,7 @@ void reactions(const scene::Body& b, const physics::Body& pb, physics::BodyState
 
 BodySolve solve_body(const scene::Model& model, std::size_t index, const SolveOptions& o) {
   const scene::Body& b = model.bodies[index];
-  const physics::Body pb = make_physics_body(model, index);
+  const physics::Body pb = compile::make_physics_body(model, index);
   physics::BodyState s = physics::make_state(pb);
   const VecX rest = s.x;
 
@@ -111,8 +111,8 @@ BodySolve solve_body(const scene::Model& model, std::size_t index, const SolveOp
     for (int k = 1; k <= steps; ++k) {
       const double s_k = static_cast<double>(k) / steps;
       auto fraction = [s_k](double) { return s_k; };
-      assemble_loads(b, fraction, f_ext);
-      place_prescribed(b, rest, fraction, s.x);
+      compile::assemble_loads(b, fraction, f_ext);
+      compile::place_prescribed(b, rest, fraction, s.x);
       const auto r = physics::solve_static(pb, s, f_ext, 100, 1e-8);
       record(s_k, k, r.iterations, r.converged);
       progress.update(static_cast<std::size_t>(k));
@@ -126,9 +126,9 @@ BodySolve solve_body(const scene::Model& model, std::size_t index, const SolveOp
     record(0.0, 0, 0, true);
     for (long k = 1; k <= steps; ++k) {
       const double t = static_cast<double>(k) * dt;
-      auto fraction = [t](double ramp_time) { return ramp(t, ramp_time); };
-      assemble_loads(b, fraction, f_ext);
-      place_prescribed(b, rest, fraction, s.x);
+      auto fraction = [t](double ramp_time) { return compile::ramp(t, ramp_time); };
+      compile::assemble_loads(b, fraction, f_ext);
+      compile::place_prescribed(b, rest, fraction, s.x);
       physics::step(pb, s, dt, f_ext);
       if (!s.x.allFinite())
         throw std::runtime_error(fmt::format("body '{}' diverged at t = {} s (NaN or infinite positions); "

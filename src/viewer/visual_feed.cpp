@@ -8,7 +8,7 @@
 #include <numbers>
 #include <variant>
 
-#include "runtime/device_setup.hpp"
+#include "compile/device_setup.hpp"
 #include "runtime/devices.hpp"
 #include "runtime/haptic_loop.hpp"
 
@@ -40,7 +40,7 @@ VisualFeed::VisualFeed(const scene::Model& model) : model_(model), devices_(mode
                                                     latest_(model.devices.size()), needles_(model.devices.size()) {
   for (std::size_t i = 0; i < model.devices.size(); ++i) {
     devices_[i].name = model.devices[i].name;
-    devices_[i].map = runtime::workspace_map(model.devices[i]);
+    devices_[i].map = compile::workspace_map(model.devices[i]);
   }
   for (std::size_t ti = 0; ti < model.tools.size(); ++ti) {
     const scene::Tool& tool = model.tools[ti];
@@ -62,7 +62,7 @@ VisualFeed::VisualFeed(const scene::Model& model) : model_(model), devices_(mode
         d.needle = true;
         d.needle_length = needle->length;
         const scene::Device& device = model.devices[tool.devices[k]];
-        if (const scene::NeedleLinePath* line = runtime::needle_line(device)) {
+        if (const scene::NeedleLinePath* line = compile::needle_line(device)) {
           const Vec3 along = d.map.to_scene(line->target) - d.map.to_scene(line->entry);
           if (along.norm() > 0.0) d.needle_axis = along.normalized();
         }

@@ -23,6 +23,7 @@
 
 #include "core/error.hpp"
 #include "core/png.hpp"
+#include "compile/device_setup.hpp"
 #include "runtime/devices.hpp"
 #include "runtime/live_parameters.hpp"
 #include "viewer/debug_views.hpp"
@@ -498,7 +499,7 @@ runtime::SessionReport run_with_window(const scene::Model& model, runtime::Sessi
                                        WindowReport& report) {
   VisualFeed feed(model);
   const bool mouse = window_options.mouse && mouse_may_drive(model, 0, options);
-  const haptics::WorkspaceMap map = model.devices.empty() ? haptics::WorkspaceMap{} : runtime::workspace_map(model.devices[0]);
+  const haptics::WorkspaceMap map = model.devices.empty() ? haptics::WorkspaceMap{} : compile::workspace_map(model.devices[0]);
   report.mouse_device = mouse ? model.devices[0].name : std::string();
   // The channel is built before the window (which sets its start) and outlives the run.
   MouseChannel channel(Vec3::Zero());
@@ -513,7 +514,7 @@ runtime::SessionReport run_with_window(const scene::Model& model, runtime::Sessi
   if (mouse)
     options.device_override = [&channel](const scene::Model& m, std::size_t index) -> std::unique_ptr<haptics::Device> {
       if (index != 0) return nullptr;
-      return std::make_unique<MouseDevice>(channel, runtime::device_limits(m.devices[index]));
+      return std::make_unique<MouseDevice>(channel, compile::device_limits(m.devices[index]));
     };
 
   runtime::SessionReport session;

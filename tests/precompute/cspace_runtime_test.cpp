@@ -19,8 +19,8 @@
 #include "core/error.hpp"
 #include "precompute/interpolator.hpp"
 #include "precompute/space_file.hpp"
-#include "runtime/cspace_body.hpp"
-#include "runtime/report.hpp"
+#include "compile/cspace_body.hpp"
+#include "report/report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
 #include "test_body.hpp"
@@ -138,7 +138,7 @@ TEST_F(CspaceRuntime, LockstepRunRendersTheInterpolatedForce) {
 
 TEST_F(CspaceRuntime, ShapeFollowsTheToolAndForceIsZeroOutsideTheGrid) {
   const scene::Model m = model(run_scene("trilinear"));
-  const auto body = runtime::CspaceBody::load(m, 0);
+  const auto body = compile::CspaceBody::load(m, 0);
   const Space& space = body->interpolator().space();
   VecX x, displacement;
   const Vec3 p(0.001, 0.0005, 0.007);
@@ -154,7 +154,7 @@ TEST_F(CspaceRuntime, ShapeFollowsTheToolAndForceIsZeroOutsideTheGrid) {
   EXPECT_TRUE(body->force(p, 0.25).touching);
   EXPECT_EQ(body->force(Vec3(0.0, 0.0, 0.05), 0.5).force, Vec3::Zero());
   // Where the tool was is counted, for the run's report: outside twice, inside once, at 0.25 s.
-  const runtime::CspaceBody::BoxCounts box = body->box_counts();
+  const compile::CspaceBody::BoxCounts box = body->box_counts();
   EXPECT_EQ(box.inside, 1u);
   EXPECT_EQ(box.outside, 2u);
   EXPECT_EQ(box.first_inside, 0.25);
@@ -178,13 +178,13 @@ TEST_F(CspaceRuntime, TheReportSaysWhenTheToolWasOutsideTheSpace) {
   for (const std::string& n : r.cspace_notes) notes += n + "\n";
   EXPECT_NE(notes.find("outside its grid box"), std::string::npos) << notes;
   EXPECT_NE(notes.find("first inside at t = 0.14"), std::string::npos) << notes;
-  EXPECT_NE(runtime::format_report(r).find("outside its grid box"), std::string::npos);
+  EXPECT_NE(report::format_report(r).find("outside its grid box"), std::string::npos);
 }
 
 TEST_F(CspaceRuntime, RefusesASpaceBuiltForAnotherMaterial) {
   const scene::Model m = model(run_scene("trilinear", 7.0e3));
   try {
-    runtime::CspaceBody::load(m, 0);
+    compile::CspaceBody::load(m, 0);
     FAIL() << "a space of another material was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("model hash"), std::string::npos) << e.what();
@@ -281,7 +281,7 @@ TEST_F(CspaceRuntime, OnlineBodySolvesAroundTheToolAndFeelsWhatTheBuiltSpaceHold
   const scene::Model m = model(online_scene(block));
   std::size_t index = 0;
   while (!m.bodies[index].cspace) ++index;
-  const auto body = runtime::CspaceBody::load(m, index);
+  const auto body = compile::CspaceBody::load(m, index);
   ASSERT_TRUE(body->online());
   // The tool holds one grid spacing below the contact point, a grid point: once it is solved
   // the force there is that point's, the one the space built before the run holds (the same
@@ -298,7 +298,7 @@ TEST_F(CspaceRuntime, OnlineBodySolvesAroundTheToolAndFeelsWhatTheBuiltSpaceHold
   // Real time: the solvers run beside this loop at 1 kHz (10 s is far more than the few
   // solves this takes, even under a sanitizer).
   for (int frame = 0; frame < 10000 && !reached; ++frame, t += 1e-3) {
-    const runtime::CspaceForce f = body->force(p, t);
+    const compile::CspaceForce f = body->force(p, t);
     ASSERT_TRUE(f.force.allFinite());
     EXPECT_LE((f.force - last).norm(), 0.1 + 1e-12) << "frame " << frame;  // OnlineSettings::max_force_step
     last = f.force;

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/scenario_report.hpp"
+#include "report/scenario_report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
 
@@ -201,7 +201,7 @@ TEST(FemoralSession, ScenarioS1NeverTouchesAndTheMeasuresArePrinted) {
   for (const runtime::HapticFrame& f : r.frames) {
     ASSERT_FALSE(f.contact) << f.device << " " << f.t;
   }
-  const std::string table = runtime::format_scenario_measures(m, r);
+  const std::string table = report::format_scenario_measures(m, r);
   for (const char* row : {"hand:", "needle:", "CD ", "IN ", "solver step", "embedded surfaces", "refit"})
     EXPECT_NE(table.find(row), std::string::npos) << row << "\n" << table;
 }

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "runtime/force_map.hpp"
+#include "report/force_map.hpp"
 #include "runtime/recording_reader.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
@@ -59,7 +59,7 @@ double raster_spacing(const scene::Model& m) {
 void check_force_map(const NoduleRun& run) {
   const scene::Body& skin = run.model.bodies.at(0);
   ASSERT_EQ(skin.nodules.size(), 2u);
-  const ForceMap map = build_force_map(run.model, 0, run.report.frames);
+  const report::ForceMap map = report::build_force_map(run.model, 0, run.report.frames);
   const double spacing = raster_spacing(run.model);
   EXPECT_DOUBLE_EQ(map.cell, spacing);
 
@@ -111,10 +111,10 @@ void check_force_map(const NoduleRun& run) {
 }
 
 void check_png(const NoduleRun& run) {
-  const ForceMap map = build_force_map(run.model, 0, run.report.frames);
+  const report::ForceMap map = report::build_force_map(run.model, 0, run.report.frames);
   const fs::path png = temp_file("map.png");
   fs::remove(png);
-  const std::string legend = write_force_map_png(map, png);
+  const std::string legend = report::write_force_map_png(map, png);
   EXPECT_NE(legend.find("viridis"), std::string::npos);
   std::ifstream in(png, std::ios::binary);
   std::string head(24, '\0');
@@ -127,13 +127,13 @@ void check_png(const NoduleRun& run) {
     for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(head[at + k]);
     return v;
   };
-  const ForceMapLayout layout = force_map_layout(map);
+  const report::ForceMapLayout layout = report::force_map_layout(map);
   EXPECT_EQ(be32(16), static_cast<std::uint32_t>(layout.width));
   EXPECT_EQ(be32(20), static_cast<std::uint32_t>(layout.height));
   EXPECT_EQ(layout.plot_width, map.columns * layout.cell_pixels);
   // The nodules of the scene are outlined on it.
   EXPECT_EQ(map.nodules.size(), 2u);
-  EXPECT_THROW(write_force_map_png(map, temp_file("no_such_folder") / "x" / "map.png"), InputError);
+  EXPECT_THROW(report::write_force_map_png(map, temp_file("no_such_folder") / "x" / "map.png"), InputError);
 }
 
 void check_feedback(const NoduleRun& run) {
@@ -213,7 +213,7 @@ void check_documented_numbers(const NoduleRun& run) {
   EXPECT_NEAR(f.peak_force, 1.959, 0.01 * 1.959);
   EXPECT_NEAR(f.mean_force, 0.383, 0.01 * 0.383);
   EXPECT_NEAR(f.coverage, 0.708, 0.005);
-  const ForceMap map = build_force_map(run.model, 0, run.report.frames);
+  const report::ForceMap map = report::build_force_map(run.model, 0, run.report.frames);
   EXPECT_NEAR(map.max_peak(), 1.810, 0.01 * 1.810);
   double strongest = 0.0;
   Vec2 where = Vec2::Zero();

@@ -12,7 +12,7 @@
 #include <random>
 #include <string>
 
-#include "runtime/report.hpp"
+#include "report/report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
 
@@ -156,7 +156,7 @@ TEST(PassivityControl, TheRunReportSaysHowOftenItActed) {
     o.scheduling = Scheduling::lockstep;
     const SessionReport r = run_session(m, o);
     ASSERT_EQ(r.devices.size(), 1u);
-    const std::string text = format_report(r);
+    const std::string text = report::format_report(r);
     if (on) {
       EXPECT_GT(r.devices[0].passivity_frames, 0u);
       EXPECT_GT(r.devices[0].passivity_energy, 0.0);

@@ -1,7 +1,7 @@
 #pragma once
 // A body whose force comes from a field looked up at the tool, not from a contact: a
 // precomputed configuration space of nonlinear FEM interpolated at the haptic rate (seed 001;
-// runtime/cspace_body.hpp implements ForceField). The field takes no load: the body it stands
+// compile/cspace_body.hpp implements ForceField). The field takes no load: the body it stands
 // for was solved with the tool in place.
 #include <memory>
 

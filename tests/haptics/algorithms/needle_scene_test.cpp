@@ -10,7 +10,7 @@
 #include "core/error.hpp"
 #include "runtime/loop_set.hpp"
 #include "runtime/needle_report.hpp"
-#include "runtime/report.hpp"
+#include "report/report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
 
@@ -160,10 +160,10 @@ TEST(NeedleSession, LockstepRunRupturesTheLayersInAnatomicalOrderAtTheirThreshol
     EXPECT_LT(after, 0.5 * before) << p.layer;
   }
   // The end-of-run report names the layers and the forces.
-  const std::string text = runtime::format_report(r);
+  const std::string text = report::format_report(r);
   EXPECT_NE(text.find("needle (hand): 3 of 3 layers passed"), std::string::npos) << text;
   EXPECT_NE(text.find("2. fascia"), std::string::npos);
-  EXPECT_NE(runtime::report_json(r).find("\"needles\": [{\"device\": \"hand\""), std::string::npos);
+  EXPECT_NE(report::report_json(r).find("\"needles\": [{\"device\": \"hand\""), std::string::npos);
 }
 
 TEST(NeedleReport, ANeedleThatNeverTouchedSaysSoInsteadOfCountingNoLayersPassed) {

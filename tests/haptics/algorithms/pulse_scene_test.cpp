@@ -15,7 +15,7 @@
 #include "haptics/algorithms/multi_surface_algorithm.hpp"
 #include "haptics/algorithms/proxy_on_patch.hpp"
 #include "haptics/algorithms/pulse_overlay.hpp"
-#include "runtime/device_setup.hpp"
+#include "compile/device_setup.hpp"
 #include "runtime/loop_set.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
@@ -71,7 +71,7 @@ bodies = ["block"]
 TEST(PulseScene, ThePulseComposesWithTheContactAlgorithmInAnyOrder) {
   for (const std::string& text : {scene_with(kProxy + kPulse), scene_with(kPulse + kProxy)}) {
     const scene::Model m = scene::parse_scene(text, "p.toml");
-    const runtime::DeviceSetup s = runtime::setup_device(m, 0);
+    const compile::DeviceSetup s = compile::setup_device(m, 0);
     EXPECT_NE(s.model.find<haptics::ProxyOnPatch>(), nullptr);  // the default local model: a patch
     const auto* pulse = s.model.find<haptics::PulseOverlay>();
     ASSERT_NE(pulse, nullptr);
@@ -90,17 +90,17 @@ TEST(PulseScene, ThePulseComposesWithTheContactAlgorithmInAnyOrder) {
 
 TEST(PulseScene, EnabledIsHonouredAndAPulseNeedsSomethingToPressWith) {
   const scene::Model off = scene::parse_scene(scene_with(kProxy + kPulse + "enabled = false\n"), "p.toml");
-  EXPECT_EQ(runtime::setup_device(off, 0).model.find<haptics::PulseOverlay>(), nullptr);
+  EXPECT_EQ(compile::setup_device(off, 0).model.find<haptics::PulseOverlay>(), nullptr);
   const scene::Model alone = scene::parse_scene(scene_with(kPulse), "p.toml");
   try {
-    (void)runtime::setup_device(alone, 0);
+    (void)compile::setup_device(alone, 0);
     ADD_FAILURE() << "a pulse without a contact algorithm was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("algorithm 'beat': a pulse is felt by pressing"), std::string::npos) << e.what();
   }
   const scene::Model no_contact =
       scene::parse_scene(scene_with(kProxy + "enabled = false\n" + kPulse), "p.toml");
-  EXPECT_THROW((void)runtime::setup_device(no_contact, 0), InputError);
+  EXPECT_THROW((void)compile::setup_device(no_contact, 0), InputError);
 }
 
 TEST(PulseScene, MultiSurfaceTakesItsLayersOutermostFirst) {
@@ -112,7 +112,7 @@ bodies = ["block", "vessel"]
 stiffness = 5000
 )"),
                                             "p.toml");
-  const runtime::DeviceSetup s = runtime::setup_device(m, 0);
+  const compile::DeviceSetup s = compile::setup_device(m, 0);
   const auto* multi = s.model.find<haptics::MultiSurfaceAlgorithm>();
   ASSERT_NE(multi, nullptr);
   EXPECT_EQ(multi->bodies(), (std::vector<std::size_t>{0, 1}));

@@ -13,7 +13,7 @@
 #include "runtime/recording.hpp"
 #include "scene/model.hpp"
 
-namespace tactus::runtime {
+namespace tactus::report {
 
 struct ForceMap {
   Vec2 origin = Vec2::Zero();  ///< centre of cell (0, 0), scene coordinates [m]
@@ -41,7 +41,7 @@ struct ForceMap {
 /// the line spacing centred on the scan lines; otherwise the box of the frames in contact in
 /// 32 cells along its longer side. InputError when the device has no frame in contact and no
 /// raster to take a region from.
-ForceMap build_force_map(const scene::Model& model, std::size_t device, const std::vector<HapticFrame>& frames);
+ForceMap build_force_map(const scene::Model& model, std::size_t device, const std::vector<runtime::HapticFrame>& frames);
 
 /// The viridis colour map (perceptually uniform, readable in grey and by most colour-blind
 /// readers) at t in [0, 1].
@@ -67,4 +67,4 @@ raster::Image render_force_map(const ForceMap& map);
 /// the strongest cell is).
 std::string write_force_map_png(const ForceMap& map, const std::filesystem::path& path);
 
-}  // namespace tactus::runtime
+}  // namespace tactus::report

@@ -7,7 +7,7 @@
 #include "physics/body.hpp"
 #include "scene/model.hpp"
 
-namespace tactus::runtime {
+namespace tactus::compile {
 
 /// The physics body of scene body `index`: its force model (FEM, tetrahedral or surface
 /// mass-spring, per the body's kind and material), fixed and prescribed nodes as fixed
@@ -49,4 +49,4 @@ void place_prescribed(const scene::Body& b, const VecX& rest, Fraction fraction,
   }
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::compile

@@ -6,9 +6,9 @@
 
 #include "runtime/session.hpp"
 
-namespace tactus::runtime {
+namespace tactus::report {
 
-[[nodiscard]] std::string format_report(const SessionReport& report);
-[[nodiscard]] std::string report_json(const SessionReport& report);
+[[nodiscard]] std::string format_report(const runtime::SessionReport& report);
+[[nodiscard]] std::string report_json(const runtime::SessionReport& report);
 
-}  // namespace tactus::runtime
+}  // namespace tactus::report

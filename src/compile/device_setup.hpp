@@ -6,10 +6,10 @@
 
 #include "contact/local_model.hpp"
 #include "haptics/haptic_step.hpp"
-#include "runtime/cspace_body.hpp"
+#include "compile/cspace_body.hpp"
 #include "scene/model.hpp"
 
-namespace tactus::runtime {
+namespace tactus::compile {
 
 struct DeviceSetup {
   haptics::HapticModel model;
@@ -29,10 +29,15 @@ struct DeviceSetup {
   double needle_length = 0.0;
 };
 
+/// Device limits (force, stiffness, workspace) from the scene.
+haptics::DeviceLimits device_limits(const scene::Device& device);
+/// Device → scene mapping from the scene's scale, rotation and offset.
+haptics::WorkspaceMap workspace_map(const scene::Device& device);
+
 /// The straight insertion line a scripted needle follows (in device coordinates), if any.
 const scene::NeedleLinePath* needle_line(const scene::Device& device);
 
 /// Throws InputError for a tool or algorithm the runtime cannot render yet.
 DeviceSetup setup_device(const scene::Model& model, std::size_t device, const CspaceBodies& cspaces = {});
 
-}  // namespace tactus::runtime
+}  // namespace tactus::compile

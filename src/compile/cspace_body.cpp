@@ -1,4 +1,4 @@
-#include "runtime/cspace_body.hpp"
+#include "compile/cspace_body.hpp"
 
 #include <fmt/format.h>
 
@@ -7,9 +7,9 @@
 #include "precompute/builder.hpp"
 #include "precompute/model_identity.hpp"
 #include "precompute/space_file.hpp"
-#include "runtime/bodies.hpp"
+#include "compile/bodies.hpp"
 
-namespace tactus::runtime {
+namespace tactus::compile {
 
 std::shared_ptr<const CspaceBody> CspaceBody::load(const scene::Model& model, std::size_t index) {
   const scene::Body& b = model.bodies.at(index);
@@ -131,4 +131,4 @@ std::shared_ptr<const CspaceBody> cspace_body(const scene::Model& model, std::si
   return CspaceBody::load(model, index);
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::compile

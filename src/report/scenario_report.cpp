@@ -1,11 +1,14 @@
-#include "runtime/scenario_report.hpp"
+#include "report/scenario_report.hpp"
 
 #include <algorithm>
 #include <variant>
 
 #include <fmt/format.h>
 
-namespace tactus::runtime {
+namespace tactus::report {
+
+// A report reads what a run left: its loops' statistics, frames and events.
+using namespace tactus::runtime;
 namespace {
 
 const PartStats* find_part(const SessionReport& report, const std::string& name) {
@@ -75,4 +78,4 @@ std::string rupture_csv(const SessionReport& report) {
   return csv;
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::report

@@ -1,6 +1,6 @@
-#include "runtime/nodules.hpp"
+#include "compile/nodules.hpp"
 
-namespace tactus::runtime {
+namespace tactus::compile {
 
 physics::NoduleSet physics_nodules(const scene::Body& body) {
   physics::NoduleSet set;
@@ -33,4 +33,4 @@ physics::NoduleSet physics_nodules(const scene::Body& body) {
   return set;
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::compile

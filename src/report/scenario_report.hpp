@@ -9,18 +9,18 @@
 #include "runtime/session.hpp"
 #include "scene/model.hpp"
 
-namespace tactus::runtime {
+namespace tactus::report {
 
 /// The Table 1 and Fig. 10 rows as text; `visual_rate` is the visual loop's mean rate and SD
 /// [Hz] when one ran (negative: headless).
-[[nodiscard]] std::string format_scenario_measures(const scene::Model& model, const SessionReport& report,
+[[nodiscard]] std::string format_scenario_measures(const scene::Model& model, const runtime::SessionReport& report,
                                                    double visual_rate = -1.0, double visual_rate_sd = 0.0);
 
 /// One row per kept frame (SessionOptions::keep_frames): `t,device,force,contact` with the
 /// force magnitude sent to the device [N].
-[[nodiscard]] std::string force_trace_csv(const scene::Model& model, const SessionReport& report);
+[[nodiscard]] std::string force_trace_csv(const scene::Model& model, const runtime::SessionReport& report);
 
 /// One row per needle rupture: `t,device,layer,force,threshold`.
-[[nodiscard]] std::string rupture_csv(const SessionReport& report);
+[[nodiscard]] std::string rupture_csv(const runtime::SessionReport& report);
 
-}  // namespace tactus::runtime
+}  // namespace tactus::report

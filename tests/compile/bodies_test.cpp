@@ -7,7 +7,7 @@
 
 #include "core/error.hpp"
 #include "physics/fem/tet_fem.hpp"
-#include "runtime/bodies.hpp"
+#include "compile/bodies.hpp"
 #include "scene/scene.hpp"
 
 namespace tactus::runtime {
@@ -49,7 +49,7 @@ VecX random_vector(Eigen::Index n, unsigned seed) {
 
 TEST(RuntimeBodies, SceneSettingsReachThePhysicsBody) {
   const scene::Model model = scene::parse_scene(kScene, "bodies.toml");
-  const physics::Body body = make_physics_body(model, 0);
+  const physics::Body body = compile::make_physics_body(model, 0);
   EXPECT_EQ(body.settings.newton_iterations, 3);
   const auto* fem = dynamic_cast<const physics::TetFem*>(body.model.get());
   ASSERT_NE(fem, nullptr);
@@ -76,7 +76,7 @@ TEST(RuntimeBodies, MappedSurfacesFollowAffineMotionAndCarryForcesBack) {
   VecX x(3 * nodes);
   for (Eigen::Index i = 0; i < nodes; ++i) x.segment<3>(3 * i) = F * b.volume->vertices[static_cast<std::size_t>(i)] + t;
   std::vector<std::vector<Vec3>> surfaces;
-  mapped_surface_positions(b, x, surfaces);
+  compile::mapped_surface_positions(b, x, surfaces);
   ASSERT_EQ(surfaces.size(), 2u);
   for (std::size_t k = 0; k < surfaces.size(); ++k) {
     ASSERT_EQ(surfaces[k].size(), b.mapped[k].mesh.vertices.size());
@@ -88,18 +88,18 @@ TEST(RuntimeBodies, MappedSurfacesFollowAffineMotionAndCarryForcesBack) {
     Vec3 total = Vec3::Zero();
     for (std::size_t v = 0; v < forces.size(); ++v) total += forces[v] = random.segment<3>(3 * static_cast<Eigen::Index>(v));
     VecX node_forces = VecX::Zero(3 * nodes);
-    add_mapped_surface_forces(b, k, forces, node_forces);
+    compile::add_mapped_surface_forces(b, k, forces, node_forces);
     Vec3 node_total = Vec3::Zero();
     for (Eigen::Index i = 0; i < nodes; ++i) node_total += node_forces.segment<3>(3 * i);
     EXPECT_LT((node_total - total).norm(), 1e-12 * random.norm());
     const VecX dx = random_vector(3 * nodes, 17);
     std::vector<std::vector<Vec3>> moved;
-    mapped_surface_positions(b, x + dx, moved);
+    compile::mapped_surface_positions(b, x + dx, moved);
     double work = 0.0;
     for (std::size_t v = 0; v < forces.size(); ++v) work += forces[v].dot(moved[k][v] - surfaces[k][v]);
     EXPECT_NEAR(node_forces.dot(dx), work, 1e-12 * node_forces.norm() * dx.norm());
   }
-  EXPECT_THROW(add_mapped_surface_forces(b, 2, {}, x), std::out_of_range);
+  EXPECT_THROW(compile::add_mapped_surface_forces(b, 2, {}, x), std::out_of_range);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// The force map picture, read back from its PNG: cells in viridis where the map says, axes
+// The force map picture, read back from its PNG: cells in report::viridis where the map says, axes
 // with tick labels in mm, a colour bar from 0 N at the bottom to the strongest cell at the
 // top, grey for cells never visited, and the nodules' outlines.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "runtime/force_map.hpp"
+#include "report/force_map.hpp"
 
 namespace tactus::runtime {
 namespace {
@@ -18,8 +18,8 @@ namespace fs = std::filesystem;
 
 /// 10 × 8 cells of 4 mm centred on the origin, the mean rising along x, one cell unvisited,
 /// a 5 mm nodule at (2, 2) mm.
-ForceMap synthetic_map() {
-  ForceMap m;
+report::ForceMap synthetic_map() {
+  report::ForceMap m;
   m.columns = 10;
   m.rows = 8;
   m.cell = 0.004;
@@ -73,20 +73,20 @@ int ink(const Png& p, int x0, int y0, int x1, int y1) {
 }
 
 TEST(ForceMapPicture, CellsAxesColourBarAndNodulesAsTheMapSays) {
-  const ForceMap map = synthetic_map();
+  const report::ForceMap map = synthetic_map();
   const fs::path path = fs::temp_directory_path() / "tactus_force_map_test.png";
   fs::remove(path);
-  const std::string legend = write_force_map_png(map, path);
+  const std::string legend = report::write_force_map_png(map, path);
   EXPECT_NE(legend.find("1.800 N"), std::string::npos) << legend;
   EXPECT_NE(legend.find("nodules"), std::string::npos) << legend;
   const Png png = read_png(path);
-  const ForceMapLayout l = force_map_layout(map);
+  const report::ForceMapLayout l = report::force_map_layout(map);
   ASSERT_EQ(png.width, l.width);
   ASSERT_EQ(png.height, l.height);
   EXPECT_DOUBLE_EQ(l.full_scale, 1.8);
   EXPECT_GE(std::max(l.plot_width, l.plot_height), 256);
 
-  // Each cell's centre pixel (away from the nodule's outline) is viridis of its mean over 1.8 N;
+  // Each cell's centre pixel (away from the nodule's outline) is report::viridis of its mean over 1.8 N;
   // +y is up, so row 0 is the bottom row of the plot.
   const auto centre = [&](int column, int row) {
     return std::pair{l.plot_left + column * l.cell_pixels + l.cell_pixels / 2,
@@ -94,15 +94,15 @@ TEST(ForceMapPicture, CellsAxesColourBarAndNodulesAsTheMapSays) {
   };
   for (const auto& [column, row] : {std::pair{9, 0}, std::pair{5, 7}, std::pair{1, 3}}) {
     const auto [x, y] = centre(column, row);
-    const auto expected = viridis(map.mean[map.index(column, row)] / 1.8);
+    const auto expected = report::viridis(map.mean[map.index(column, row)] / 1.8);
     EXPECT_LT(distance(png.at(x, y), {expected[0], expected[1], expected[2]}), 2.0) << column << ", " << row;
   }
   const auto [ux, uy] = centre(0, 0);
   EXPECT_EQ(png.at(ux, uy), (raster::Rgb{128, 128, 128})) << "an unvisited cell is grey";
 
-  // The colour bar runs from viridis(0) at its bottom to viridis(1) at its top.
+  // The colour bar runs from report::viridis(0) at its bottom to report::viridis(1) at its top.
   const int bar_x = l.bar_left + l.bar_width / 2;
-  const auto low = viridis(0.0), high = viridis(1.0);
+  const auto low = report::viridis(0.0), high = report::viridis(1.0);
   EXPECT_LT(distance(png.at(bar_x, l.bar_top + l.bar_height - 1), {low[0], low[1], low[2]}), 6.0);
   EXPECT_LT(distance(png.at(bar_x, l.bar_top), {high[0], high[1], high[2]}), 6.0);
 
@@ -131,7 +131,7 @@ TEST(ForceMapPicture, CellsAxesColourBarAndNodulesAsTheMapSays) {
 }
 
 TEST(ForceMapPicture, AnUnwritablePathIsAnInputError) {
-  EXPECT_THROW(write_force_map_png(synthetic_map(), fs::temp_directory_path() / "no_such_folder_tactus" / "m.png"),
+  EXPECT_THROW(report::write_force_map_png(synthetic_map(), fs::temp_directory_path() / "no_such_folder_tactus" / "m.png"),
                InputError);
 }
 

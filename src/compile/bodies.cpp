@@ -1,4 +1,4 @@
-#include "runtime/bodies.hpp"
+#include "compile/bodies.hpp"
 
 #include <fmt/format.h>
 
@@ -8,9 +8,9 @@
 #include "physics/fem/tet_fem.hpp"
 #include "physics/mass_spring/surface_builder.hpp"
 #include "physics/mass_spring/tet_builder.hpp"
-#include "runtime/nodules.hpp"
+#include "compile/nodules.hpp"
 
-namespace tactus::runtime {
+namespace tactus::compile {
 namespace {
 
 physics::FemLaw fem_law(scene::ConstitutiveModel m) {
@@ -195,4 +195,4 @@ void add_mapped_surface_forces(const scene::Body& b, std::size_t index, const st
   b.mapped.at(index).mapping->apply_transpose(vertex_forces, node_forces);
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::compile

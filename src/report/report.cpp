@@ -1,10 +1,13 @@
-#include "runtime/report.hpp"
+#include "report/report.hpp"
 
 #include <fmt/format.h>
 
 #include "core/text.hpp"
 
-namespace tactus::runtime {
+namespace tactus::report {
+
+// A report reads what a run left: its loops' statistics, frames and events.
+using namespace tactus::runtime;
 namespace {
 
 double us(Nanos ns) { return static_cast<double>(ns) * 1e-3; }
@@ -110,4 +113,4 @@ std::string report_json(const SessionReport& r) {
   return out;
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::report

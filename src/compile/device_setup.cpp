@@ -1,4 +1,4 @@
-#include "runtime/device_setup.hpp"
+#include "compile/device_setup.hpp"
 
 #include <fmt/format.h>
 
@@ -19,10 +19,9 @@
 #include "haptics/algorithms/pulse_overlay.hpp"
 #include "haptics/algorithms/spheres_on_patch.hpp"
 #include "haptics/algorithms/spheres_on_plane.hpp"
-#include "runtime/cspace_body.hpp"
-#include "runtime/devices.hpp"
+#include "compile/cspace_body.hpp"
 
-namespace tactus::runtime {
+namespace tactus::compile {
 namespace {
 
 /// The tool a device drives, and which of its fingers when the tool has two.
@@ -133,6 +132,22 @@ DeviceSetup setup_needle(const scene::Model& m, const scene::Device& d, const sc
 }
 
 }  // namespace
+
+haptics::DeviceLimits device_limits(const scene::Device& device) {
+  haptics::DeviceLimits limits;
+  limits.max_force = device.max_force;
+  limits.max_stiffness = device.max_stiffness;
+  limits.workspace = device.workspace;
+  return limits;
+}
+
+haptics::WorkspaceMap workspace_map(const scene::Device& device) {
+  haptics::WorkspaceMap map;
+  map.scale = device.scale;
+  map.offset = device.offset;
+  map.rotation = device.rotation;
+  return map;
+}
 
 const scene::NeedleLinePath* needle_line(const scene::Device& d) {
   const scene::Trajectory* path = nullptr;
@@ -313,4 +328,4 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   return s;
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::compile

@@ -18,7 +18,7 @@
 #include "precompute/online.hpp"
 #include "scene/model.hpp"
 
-namespace tactus::runtime {
+namespace tactus::compile {
 
 /// The force the body exerts on the tool [N], and whether the point lies in the space's
 /// grid box and has a value.
@@ -85,4 +85,4 @@ CspaceBodies load_cspace_bodies(const scene::Model& model);
 /// The shared one of `bodies` when given, else a fresh load.
 std::shared_ptr<const CspaceBody> cspace_body(const scene::Model& model, std::size_t index, const CspaceBodies& bodies);
 
-}  // namespace tactus::runtime
+}  // namespace tactus::compile

@@ -1,4 +1,4 @@
-#include "runtime/force_map.hpp"
+#include "report/force_map.hpp"
 
 #include <fmt/format.h>
 
@@ -9,9 +9,12 @@
 
 #include "core/error.hpp"
 #include "core/png.hpp"
-#include "runtime/devices.hpp"
+#include "compile/device_setup.hpp"
 
-namespace tactus::runtime {
+namespace tactus::report {
+
+// A report reads what a run left: its loops' statistics, frames and events.
+using namespace tactus::runtime;
 namespace {
 
 const haptics::RasterPath* raster_of(const scene::Device& d) {
@@ -37,7 +40,7 @@ double ForceMap::max_peak() const {
 
 ForceMap build_force_map(const scene::Model& model, std::size_t device, const std::vector<HapticFrame>& frames) {
   const scene::Device& d = model.devices.at(device);
-  const haptics::WorkspaceMap map = workspace_map(d);
+  const haptics::WorkspaceMap map = compile::workspace_map(d);
   const Vec3 up_in_device = map.force_to_device(Vec3::UnitZ());
   ForceMap out;
   Vec2 lo, hi;
@@ -251,4 +254,4 @@ std::string write_force_map_png(const ForceMap& map, const std::filesystem::path
       map.origin.y(), far.y(), top, top, best.x(), best.y(), map.max_peak());
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::report
