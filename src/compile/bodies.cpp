@@ -177,8 +177,7 @@ physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
   for (const auto& p : b.prescribed) body.fix_nodes(p.nodes);
   body.nodules = physics_nodules(b);
   body.settings.integrator = integrator(b.integrator);
-  body.settings.solver =
-      b.solver == scene::LinearSolver::cholesky ? physics::LinearSolver::cholesky : physics::LinearSolver::conjugate_gradient;
+  body.settings.solver = b.solver;
   body.settings.cg_tolerance = b.solver_tolerance;
   body.settings.cg_max_iterations = b.solver_max_iterations;
   body.settings.newton_iterations = b.newton_iterations;

@@ -264,14 +264,10 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   for (const auto& sp : spheres) extent = std::max(extent, sp.offset.norm() + sp.radius);
   s.reach = 2.0 * extent + 0.01;
 
-  switch (a->local_model) {
-    case scene::LocalModel::plane: s.local_model = contact::LocalModelKind::plane; break;
-    case scene::LocalModel::compliance: s.local_model = contact::LocalModelKind::compliance; break;
-    case scene::LocalModel::mass_spring: s.local_model = contact::LocalModelKind::mass_spring; break;
-  }
+  s.local_model = a->local_model;
   // Multiple surfaces hold the proxy on their own planes: no local patch under them.
   if (multi) s.local_model = contact::LocalModelKind::plane;
-  if (a->local_model == scene::LocalModel::mass_spring && !multi)
+  if (a->local_model == contact::LocalModelKind::mass_spring && !multi)
     for (std::size_t b : s.bodies)
       if (m.bodies[b].kind != scene::BodyKind::rigid && m.bodies[b].kind != scene::BodyKind::embedded && !m.bodies[b].material)
         throw InputError(SourceLocation{m.source, {}, {}, {}},

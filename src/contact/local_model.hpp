@@ -26,21 +26,13 @@
 #include <vector>
 
 #include "contact/load_spread.hpp"
+#include "contact/local_model_kind.hpp"
 #include "contact/surface_query.hpp"
 #include "core/math.hpp"
 #include "mesh/tri_mesh.hpp"
 #include "physics/body.hpp"
 
 namespace tactus::contact {
-
-enum class LocalModelKind : std::uint8_t {
-  plane,        ///< a contact plane through the closest point (built by the interaction loop)
-  compliance,   ///< condensed compliance of the patch nodes
-  mass_spring,  ///< local mass-spring patch with a border at constant velocity
-};
-
-/// "plane", "compliance", "mass_spring".
-[[nodiscard]] const char* local_model_name(LocalModelKind kind);
 
 /// How big a patch may grow; fixed when the channels are built, so no loop reallocates.
 struct PatchCapacity {

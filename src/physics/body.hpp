@@ -7,20 +7,9 @@
 
 #include "physics/force_model.hpp"
 #include "physics/nodules.hpp"
+#include "physics/step_settings.hpp"
 
 namespace tactus::physics {
-
-enum class Integrator { explicit_euler, symplectic_euler, rk4, implicit_euler };
-enum class LinearSolver { conjugate_gradient, cholesky };
-
-struct StepSettings {
-  Integrator integrator = Integrator::implicit_euler;
-  LinearSolver solver = LinearSolver::conjugate_gradient;
-  double cg_tolerance = 1e-4;  ///< relative residual
-  int cg_max_iterations = 200;
-  int newton_iterations = 1;   ///< 1 = the linearized (Baraff–Witkin) step
-  double newton_tolerance = 1e-8;  ///< relative force residual, when newton_iterations > 1
-};
 
 struct Body {
   std::shared_ptr<const ForceModel> model;

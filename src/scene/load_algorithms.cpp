@@ -82,10 +82,11 @@ Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model)
     a.bodies.push_back(b);
   }
   a.enabled = r.boolean("enabled", true);
-  a.local_model = r.choice<LocalModel>("local_model",
-                                       {{"plane", LocalModel::plane}, {"compliance", LocalModel::compliance},
-                                        {"mass_spring", LocalModel::mass_spring}},
-                                       a.local_model);
+  using contact::LocalModelKind;
+  a.local_model = r.choice<LocalModelKind>("local_model",
+                                           {{"plane", LocalModelKind::plane}, {"compliance", LocalModelKind::compliance},
+                                            {"mass_spring", LocalModelKind::mass_spring}},
+                                           a.local_model);
   a.max_tool_speed = r.number("max_tool_speed", a.max_tool_speed, Range::positive());
   a.force_smoothing = r.number("force_smoothing", a.force_smoothing, Range::closed(0.0, 0.1));
   a.load_spread = r.choice<LoadSpread>(

@@ -515,8 +515,9 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
                                        {"static", Integrator::static_solve}},
                                       Integrator::implicit_euler);
   b.time_step = r.number("time_step", 1.0 / model.rates.simulation, Range::open_closed(0.0, 1.0));
-  b.solver = r.choice<LinearSolver>("solver", {{"cg", LinearSolver::cg}, {"cholesky", LinearSolver::cholesky}},
-                                    LinearSolver::cg);
+  b.solver = r.choice<physics::LinearSolver>(
+      "solver", {{"cg", physics::LinearSolver::conjugate_gradient}, {"cholesky", physics::LinearSolver::cholesky}},
+      physics::LinearSolver::conjugate_gradient);
   b.solver_tolerance = r.number("solver_tolerance", 1e-4, Range::open(0.0, 1.0));
   b.solver_max_iterations = r.integer("solver_max_iterations", 200, 1, 1000000);
   b.mass_matrix = r.choice<MassMatrix>("mass_matrix",

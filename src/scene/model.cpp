@@ -71,7 +71,7 @@ const char* to_string(Integrator i) {
   return "?";
 }
 
-const char* to_string(LinearSolver s) { return s == LinearSolver::cg ? "cg" : "cholesky"; }
+const char* to_string(physics::LinearSolver s) { return s == physics::LinearSolver::cholesky ? "cholesky" : "cg"; }
 const char* to_string(MassMatrix m) { return m == MassMatrix::lumped ? "lumped" : "consistent"; }
 
 const char* to_string(MappedRole r) {

@@ -11,13 +11,19 @@
 #include <variant>
 #include <vector>
 
+#include "contact/hertz.hpp"
+#include "contact/local_model_kind.hpp"
+#include "contact/proxy.hpp"
 #include "core/math.hpp"
+#include "haptics/algorithms/multi_surface.hpp"
+#include "haptics/algorithms/pulse.hpp"
 #include "haptics/algorithms/needle.hpp"
 #include "haptics/trajectory.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "mesh/tri_mesh.hpp"
 #include "physics/mapping.hpp"
+#include "physics/step_settings.hpp"
 #include "precompute/settings.hpp"
 
 namespace tactus::scene {
@@ -96,7 +102,6 @@ struct Material {
 /// a vessel wall inside the behaviour mesh); it has no dynamics of its own.
 enum class BodyKind { surface_mass_spring, tet_mass_spring, fem, rigid, embedded };
 enum class Integrator { explicit_euler, symplectic_euler, rk4, implicit_euler, static_solve };
-enum class LinearSolver { cg, cholesky };
 enum class MassMatrix { lumped, consistent };
 enum class SpringType { longitudinal, diagonal, torsional, bending };
 
@@ -204,7 +209,7 @@ struct Body {
   // Time stepping (deformable bodies).
   Integrator integrator = Integrator::implicit_euler;
   double time_step = 0.01;  ///< [s]
-  LinearSolver solver = LinearSolver::cg;
+  physics::LinearSolver solver = physics::LinearSolver::conjugate_gradient;
   double solver_tolerance = 1e-4;  ///< CG relative residual
   int solver_max_iterations = 200;
   MassMatrix mass_matrix = MassMatrix::lumped;
@@ -327,10 +332,10 @@ struct Device {
 
 /// God-object / proxy with virtual coupling and Coulomb friction.
 struct ProxyParams {
-  double stiffness = 500.0;  ///< [N/m]
-  double damping = 0.0;      ///< [N·s/m]
-  double static_friction = 0.0;
-  double kinetic_friction = 0.0;
+  double stiffness = contact::ProxyParams{}.stiffness;  ///< [N/m]
+  double damping = contact::ProxyParams{}.damping;      ///< [N·s/m]
+  double static_friction = contact::ProxyParams{}.static_friction;
+  double kinetic_friction = contact::ProxyParams{}.kinetic_friction;
 };
 /// Body-based finger: Hertz contact per sphere with dynamic curvature (seed 000).
 struct HertzFingerParams {
@@ -340,26 +345,26 @@ struct HertzFingerParams {
 };
 /// Pawluk & Howe fingerpad law F = (b/m)(e^(m·d) − 1) (seed 002 eq. 1).
 struct FingerpadParams {
-  double b = 190.0;   ///< [N/m]
-  double m = 2100.0;  ///< [1/m]
+  double b = contact::FingerpadParameters{}.b;  ///< [N/m]
+  double m = contact::FingerpadParameters{}.m;  ///< [1/m]
   bool quasilinear_viscoelastic = false;
 };
 /// Constraint planes at every surface hit along the tool ray (seed 003 §3.5); the layers
 /// are the algorithm's bodies, outermost first.
 struct MultiSurfaceParams {
-  double stiffness = 500.0;
-  double damping = 0.0;
-  double static_friction = 0.0;   ///< tissue dragging: μs (0 = frictionless)
-  double kinetic_friction = 0.0;  ///< μk ≤ μs
+  double stiffness = haptics::MultiSurfaceConfig{}.stiffness;  ///< [N/m]
+  double damping = haptics::MultiSurfaceConfig{}.damping;      ///< [N·s/m]
+  double static_friction = haptics::MultiSurfaceConfig{}.static_friction;    ///< tissue dragging: μs (0 = frictionless)
+  double kinetic_friction = haptics::MultiSurfaceConfig{}.kinetic_friction;  ///< μk ≤ μs
 };
 /// Rectangular pulse wave from point sources along a body (an artery).
 struct PulseParams {
   std::size_t body = 0;       ///< index into Model::bodies
-  double rate = 72.0;         ///< [beats/min], [30, 200]
-  double duty_cycle = 0.2;    ///< (0, 1)
-  double amplitude = 0.3;     ///< [N]
-  int sources = 10;           ///< point sources along the body
-  double range = 0.03;        ///< distance over which the pulse fades [m]
+  double rate = haptics::PulseConfig{}.rate;              ///< [beats/min], [30, 200]
+  double duty_cycle = haptics::PulseConfig{}.duty_cycle;  ///< (0, 1)
+  double amplitude = haptics::PulseConfig{}.amplitude;    ///< [N]
+  int sources = 10;                                       ///< point sources along the body
+  double range = haptics::PulseConfig{}.range;            ///< distance over which the pulse fades [m]
 };
 /// A layer the needle pierces (haptics/algorithms/needle.hpp): a body, its rupture
 /// threshold, its stiffness before rupture and its shaft friction after.
@@ -371,11 +376,6 @@ struct NeedleParams {
 };
 using AlgorithmParams = std::variant<ProxyParams, HertzFingerParams, FingerpadParams,
                                      MultiSurfaceParams, PulseParams, NeedleParams>;
-
-/// What the haptic loop renders between simulation steps (docs/runtime.md): a contact plane
-/// through the closest point, the patch nodes' condensed compliance, or a local mass-spring
-/// patch whose border moves at constant velocity (seed 002 §IV).
-enum class LocalModel { plane, compliance, mass_spring };
 
 /// How the contact force is shared among the tissue's nodes (contact/load_spread.hpp): by
 /// the contact triangle's barycentric weights, or over the contact disc.
@@ -389,7 +389,9 @@ struct Algorithm {
   AlgorithmParams params;
   /// The local mass-spring patch errs least against a simulation at the haptic rate
   /// (tests/contact/local_model_choice_test.cpp).
-  LocalModel local_model = LocalModel::mass_spring;
+  /// What the haptic loop renders between simulation steps (docs/runtime.md): a contact
+  /// plane, the patch nodes' condensed compliance, or a local mass-spring patch (seed 002 §IV).
+  contact::LocalModelKind local_model = contact::LocalModelKind::mass_spring;
   /// Fastest tool motion the local patch must cover between two simulation steps [m/s].
   double max_tool_speed = 0.2;
   /// Time constant over which a force step at a model update is smoothed out, passively [s];
@@ -451,7 +453,7 @@ const char* to_string(ConstitutiveModel m);
 const char* to_string(ViscoelasticModel m);
 const char* to_string(BodyKind k);
 const char* to_string(Integrator i);
-const char* to_string(LinearSolver s);
+const char* to_string(physics::LinearSolver s);
 const char* to_string(MassMatrix m);
 const char* to_string(MappedRole r);
 const char* to_string(SpringType s);

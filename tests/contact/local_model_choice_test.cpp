@@ -21,7 +21,7 @@ namespace tactus::runtime {
 namespace {
 
 namespace fs = std::filesystem;
-using scene::LocalModel;
+using LocalModel = contact::LocalModelKind;
 
 constexpr LocalModel kModels[] = {LocalModel::plane, LocalModel::compliance, LocalModel::mass_spring};
 

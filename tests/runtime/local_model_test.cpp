@@ -18,7 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-scene::Model press_slide(double simulation_rate, double interaction_rate, scene::LocalModel local_model) {
+scene::Model press_slide(double simulation_rate, double interaction_rate, contact::LocalModelKind local_model) {
   scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/runtime/data/press_slide.toml");
   m.rates.simulation = simulation_rate;
   m.rates.interaction = interaction_rate;
@@ -63,7 +63,7 @@ bool pressing_or_lifting(double t) { return t < 0.8 || t > 2.5; }
 bool sliding(double t) { return t >= 0.8 && t <= 2.5; }
 
 TEST(LocalModels, PatchesFollowTheHapticRateSimulationBetterThanThePlane) {
-  const auto reference = run(press_slide(1000.0, 1000.0, scene::LocalModel::plane));
+  const auto reference = run(press_slide(1000.0, 1000.0, contact::LocalModelKind::plane));
   ASSERT_GT(reference.size(), 2800u);
   double peak = 0.0;
   for (const HapticFrame& f : reference) peak = std::max(peak, f.force.norm());
@@ -75,9 +75,9 @@ TEST(LocalModels, PatchesFollowTheHapticRateSimulationBetterThanThePlane) {
   };
   std::vector<Row> rows;
   for (const double rate : {100.0, 25.0})
-    for (const auto& [kind, name] : {std::pair{scene::LocalModel::plane, "plane"},
-                                     std::pair{scene::LocalModel::compliance, "compliance"},
-                                     std::pair{scene::LocalModel::mass_spring, "mass_spring"}}) {
+    for (const auto& [kind, name] : {std::pair{contact::LocalModelKind::plane, "plane"},
+                                     std::pair{contact::LocalModelKind::compliance, "compliance"},
+                                     std::pair{contact::LocalModelKind::mass_spring, "mass_spring"}}) {
       const auto frames = run(press_slide(rate, 120.0, kind));
       rows.push_back({rate, name, compare(reference, frames, pressing_or_lifting), compare(reference, frames, sliding)});
     }
@@ -124,7 +124,7 @@ struct StiffPress {
 };
 
 /// The stiff-tissue stability scene (session_test) with a given local model and smoothing.
-StiffPress stiff_press(scene::LocalModel local_model, double smoothing) {
+StiffPress stiff_press(contact::LocalModelKind local_model, double smoothing) {
   scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/runtime/data/stiff_press.toml");
   for (scene::Algorithm& a : m.algorithms) {
     a.local_model = local_model;
@@ -156,15 +156,15 @@ StiffPress stiff_press(scene::LocalModel local_model, double smoothing) {
 }
 
 TEST(ForceSmoothing, RemovesTheForceStepAtUpdatesWithoutDoingWorkOnTheHand) {
-  for (const auto& [kind, name] : {std::pair{scene::LocalModel::plane, "plane"},
-                                   std::pair{scene::LocalModel::compliance, "compliance"},
-                                   std::pair{scene::LocalModel::mass_spring, "mass_spring"}}) {
+  for (const auto& [kind, name] : {std::pair{contact::LocalModelKind::plane, "plane"},
+                                   std::pair{contact::LocalModelKind::compliance, "compliance"},
+                                   std::pair{contact::LocalModelKind::mass_spring, "mass_spring"}}) {
     const StiffPress raw = stiff_press(kind, 0.0), smooth = stiff_press(kind, 0.005);
     std::printf("%-12s step %.4f -> %.4f N, ripple %.4f -> %.4f N, normal work %.2f%% -> %.2f%%, work %.2f%% -> %.2f%%\n",
                 name, raw.hold_step, smooth.hold_step, raw.hold_ripple, smooth.hold_ripple,
                 100 * raw.normal_work / raw.stored, 100 * smooth.normal_work / smooth.stored,
                 100 * raw.work / raw.stored, 100 * smooth.work / smooth.stored);
-    if (kind == scene::LocalModel::plane) continue;  // measured for the table, see docs/runtime.md
+    if (kind == contact::LocalModelKind::plane) continue;  // measured for the table, see docs/runtime.md
     // The force step at a simulation update: smoothing makes it smaller.
     EXPECT_LT(smooth.hold_step, raw.hold_step) << name;
     // Passive: the smoothing takes energy out of the press-release cycle, never puts it in.
@@ -175,7 +175,7 @@ TEST(ForceSmoothing, RemovesTheForceStepAtUpdatesWithoutDoingWorkOnTheHand) {
   // With smoothing on, the plane and the compliance patch meet the stability test's
   // passivity bound: the normal force does less than 1% of the stored energy in net work on
   // the hand (the mass-spring patch, with or without smoothing, does not: 1.1–1.3%).
-  for (const auto kind : {scene::LocalModel::plane, scene::LocalModel::compliance}) {
+  for (const auto kind : {contact::LocalModelKind::plane, contact::LocalModelKind::compliance}) {
     const StiffPress smooth = stiff_press(kind, 0.005);
     EXPECT_LT(smooth.normal_work, 0.01 * smooth.stored);
     EXPECT_LT(smooth.work, 0.10 * smooth.stored);
@@ -216,7 +216,7 @@ TEST(CompliancePatch, TheProxyRidesThePatchSoTheHandIsNeverPulledIntoTheTissue) 
   // quasi-static: when the coupling force drops it springs back within the frame. A proxy
   // left where it was then sits inside the patch and the force turns into the tissue; the
   // proxy must ride with the contact point, as the patch's implicit force solve assumes.
-  const auto make = [](scene::LocalModel kind, double simulation_rate) {
+  const auto make = [](contact::LocalModelKind kind, double simulation_rate) {
     scene::Model m = scene::default_scene();
     m.rates.simulation = simulation_rate;
     for (scene::Body& b : m.bodies) b.time_step = 1.0 / simulation_rate;
@@ -226,8 +226,8 @@ TEST(CompliancePatch, TheProxyRidesThePatchSoTheHandIsNeverPulledIntoTheTissue) 
         if (auto* press = std::get_if<haptics::PressPath>(&scripted->trajectory)) press->hold = 0.3;  // keep it short
     return m;
   };
-  const std::vector<HapticFrame> frames = run(make(scene::LocalModel::compliance, 100.0));
-  const std::vector<HapticFrame> reference = run(make(scene::LocalModel::plane, 1000.0));
+  const std::vector<HapticFrame> frames = run(make(contact::LocalModelKind::compliance, 100.0));
+  const std::vector<HapticFrame> reference = run(make(contact::LocalModelKind::plane, 1000.0));
   ASSERT_EQ(frames.size(), reference.size());
   int begins = 0, ends = 0, clamped = 0;
   double peak = 0.0, lowest_up = 1.0, hold = 0.0, hold_reference = 0.0, sum2 = 0.0;

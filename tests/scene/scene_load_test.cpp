@@ -54,7 +54,7 @@ TEST(SceneLoad, DefaultsAreApplied) {
   const Body& pad = m.bodies[0];
   EXPECT_EQ(pad.integrator, Integrator::implicit_euler);
   EXPECT_DOUBLE_EQ(pad.time_step, 0.01);  // 1 / rates.simulation
-  EXPECT_EQ(pad.solver, LinearSolver::cg);
+  EXPECT_EQ(pad.solver, physics::LinearSolver::conjugate_gradient);
   EXPECT_EQ(pad.mass_matrix, MassMatrix::lumped);
   EXPECT_TRUE(pad.fixed.empty());
   ASSERT_TRUE(pad.volume.has_value());
