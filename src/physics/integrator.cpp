@@ -1,4 +1,6 @@
 // Time integration and static solves for any ForceModel.
+#include <omp.h>
+
 #include <Eigen/CholmodSupport>
 #include <cmath>
 #include <stdexcept>
@@ -269,6 +271,23 @@ int solve_assembled(const Body& body, SolverScratch& w, const BlockMatrix& A, co
   return it;
 }
 
+/// Debian's CHOLMOD is built with OpenMP: each factorization runs its bookkeeping loops
+/// (clearing its map, zeroing and filling supernodes) in parallel regions of a fixed 4
+/// threads (a num_threads clause, which OMP_NUM_THREADS does not change). On a 2-core
+/// machine, or beside other work, libgomp's workers sleep between regions, so every region
+/// cost futex wake-ups and context switches: `tactus curves` on the upper leg spent 16.6 s of
+/// its 38 s in the kernel with 3 million voluntary switches (docs/BENCHMARKS.md, "System
+/// time"). The arithmetic is OpenBLAS's (its own threads), so these regions run on the
+/// calling thread alone: OpenMP's max-active-levels is 0 on every thread that factorizes (a
+/// per-thread setting in libgomp). The loops write disjoint entries: the factor is the same
+/// bits with any team size.
+void cholmod_without_openmp_teams() {
+  thread_local bool done = false;
+  if (done) return;
+  omp_set_max_active_levels(0);
+  done = true;
+}
+
 /// Solves (a·M + b·D + c·K) x = rhs over the free dofs, linearized already. CG warm starts
 /// from x's incoming value. Returns the number of iterations (0 for Cholesky).
 int solve_linear(const Body& body, BodyState& s, double a, double b, double c, const VecX& rhs,
@@ -279,6 +298,7 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
   const Scratch& ms = *s.model_scratch;
 
   if (body.settings.solver == LinearSolver::cholesky) {
+    cholmod_without_openmp_teams();
     w.triplets.clear();
     model.add_triplets(c, b, w.triplets, ms);
     if (a != 0.0) model.add_mass_triplets(a, w.triplets);
