@@ -135,11 +135,14 @@ scene::Model single_press_model(const scene::Model& base, const Press& p, scene:
   return m;
 }
 
-/// Lockstep run of a one-press model to the end of the hold (before the finger withdraws).
-std::vector<runtime::HapticFrame> run_press(const scene::Model& m, const haptics::PressPath& path) {
+/// Lockstep run of a one-press model to the end of the hold (before the finger withdraws),
+/// with a progress bar labelled `phase`.
+std::vector<runtime::HapticFrame> run_press(const scene::Model& m, const haptics::PressPath& path,
+                                            const std::string& phase) {
   runtime::SessionOptions o;
   o.scheduling = runtime::Scheduling::lockstep;
   o.keep_frames = true;
+  o.progress = phase;
   o.duration = path.depth / path.speed + path.hold;
   o.max_duration = o.duration + 1.0;
   return runtime::run_session(m, o).frames;
@@ -186,7 +189,7 @@ std::vector<TissueIndentation> force_vs_indentation(const scene::Model& model, c
     log::info("curves: pressing {} ({} nodes, {} tets)", name, t.nodes, t.tets);
     const scene::Model m = single_press_model(model, p, body);
     const double stroke = p.path.depth / p.path.speed;
-    for (const runtime::HapticFrame& f : run_press(m, p.path)) {
+    for (const runtime::HapticFrame& f : run_press(m, p.path, "indentation of " + name)) {
       if (f.contact == 0 || f.t > stroke || f.frame % 10 != 0) continue;
       const ScenePose pose = scene_pose(m.devices[0], f);
       IndentationSample s;
@@ -276,7 +279,7 @@ std::vector<CurvatureSample> force_vs_curvature(const scene::Model& model, const
     const double hold_start = press.path.depth / press.path.speed;
     double sum = 0.0;
     int count = 0;
-    for (const runtime::HapticFrame& f : run_press(m, press.path))
+    for (const runtime::HapticFrame& f : run_press(m, press.path, "curvature: pressing the " + m.bodies[0].name))
       if (f.t >= hold_start + 0.05) {  // past the stroke and the first interaction updates
         sum += f.force.z();
         ++count;
@@ -348,6 +351,7 @@ std::vector<TissueViscoelastic> creep_and_relaxation(const scene::Model& model, 
     relaxed.prescribed.push_back({"finger", "finger footprint", patch, kProbe * u, 0.0});
     runtime::SolveOptions probe;
     probe.static_solve = true;
+    probe.progress = "stiffness of " + name;
     const double probe_force = runtime::solve(m, probe).bodies.at(0).rows.back().reactions.back().dot(u);
     t.held_displacement = 0.05 * footprint;
     if (probe_force > 0.0) t.held_displacement = std::min(t.held_displacement, kTargetForce * kProbe / probe_force);
@@ -357,7 +361,8 @@ std::vector<TissueViscoelastic> creep_and_relaxation(const scene::Model& model, 
     so.until = t.model == "elastic" || t.model == "prony" ? 1.0 : 6.0 * tau;
     so.report_every = so.until / 200.0;
     relaxed.prescribed.back().displacement = t.held_displacement * u;
-    log::info("curves: relaxation of {} for {:.0f} s", name, so.until);
+    so.progress = fmt::format("relaxation of {} for {:.0f} s", name, so.until);
+    log::info("curves: {}", so.progress);
     const runtime::BodySolve r = runtime::solve(m, so).bodies.at(0);
     for (const runtime::SolveRow& row : r.rows) t.relaxation.push_back({row.time, row.reactions.back().dot(u), 0.0});
 
@@ -368,7 +373,8 @@ std::vector<TissueViscoelastic> creep_and_relaxation(const scene::Model& model, 
     relaxed.probes.push_back({"finger", rest.point + 1e-4 * u});
     so.until = t.model == "elastic" || t.model == "prony" ? 1.0 : 6.0 * creep_time;  // six retardation times
     so.report_every = so.until / 200.0;
-    log::info("curves: creep of {} for {:.0f} s", name, so.until);
+    so.progress = fmt::format("creep of {} for {:.0f} s", name, so.until);
+    log::info("curves: {}", so.progress);
     const runtime::BodySolve c = runtime::solve(m, so).bodies.at(0);
     for (const runtime::SolveRow& row : c.rows) t.creep.push_back({row.time, row.probe_displacements.at(0).dot(u), 0.0});
 

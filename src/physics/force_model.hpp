@@ -92,6 +92,11 @@ class ForceModel {
 
   /// Stored elastic energy at x (with internal variables q).
   [[nodiscard]] virtual double elastic_energy(const VecX& x, const VecX& q) const = 0;
+
+  /// The smallest volume ratio J = det F over the model's elements at x, where a step that
+  /// turns an element inside out (J ≤ 0) cannot be trusted: hyperelastic tetrahedra. Default:
+  /// +infinity (no such elements, or laws that take inversion in their stride).
+  [[nodiscard]] virtual double min_volume_ratio(const VecX& x) const;
 };
 
 }  // namespace tactus::physics

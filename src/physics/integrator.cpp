@@ -1,6 +1,9 @@
 // Time integration and static solves for any ForceModel.
+#include <omp.h>
+
 #include <Eigen/CholmodSupport>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -10,6 +13,7 @@
 namespace tactus::physics {
 
 void ForceModel::add_damping_product(const VecX&, VecX&, const Scratch&) const {}
+double ForceModel::min_volume_ratio(const VecX&) const { return std::numeric_limits<double>::infinity(); }
 void ForceModel::update_internal(const VecX&, double, VecX&, Scratch&) const {}
 
 void ForceModel::add_mass_product(double scale, const VecX& in, VecX& out) const {
@@ -269,6 +273,23 @@ int solve_assembled(const Body& body, SolverScratch& w, const BlockMatrix& A, co
   return it;
 }
 
+/// Debian's CHOLMOD is built with OpenMP: each factorization runs its bookkeeping loops
+/// (clearing its map, zeroing and filling supernodes) in parallel regions of a fixed 4
+/// threads (a num_threads clause, which OMP_NUM_THREADS does not change). On a 2-core
+/// machine, or beside other work, libgomp's workers sleep between regions, so every region
+/// cost futex wake-ups and context switches: `tactus curves` on the upper leg spent 16.6 s of
+/// its 38 s in the kernel with 3 million voluntary switches (docs/BENCHMARKS.md, "System
+/// time"). The arithmetic is OpenBLAS's (its own threads), so these regions run on the
+/// calling thread alone: OpenMP's max-active-levels is 0 on every thread that factorizes (a
+/// per-thread setting in libgomp). The loops write disjoint entries: the factor is the same
+/// bits with any team size.
+void cholmod_without_openmp_teams() {
+  thread_local bool done = false;
+  if (done) return;
+  omp_set_max_active_levels(0);
+  done = true;
+}
+
 /// Solves (a·M + b·D + c·K) x = rhs over the free dofs, linearized already. CG warm starts
 /// from x's incoming value. Returns the number of iterations (0 for Cholesky).
 int solve_linear(const Body& body, BodyState& s, double a, double b, double c, const VecX& rhs,
@@ -279,6 +300,7 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
   const Scratch& ms = *s.model_scratch;
 
   if (body.settings.solver == LinearSolver::cholesky) {
+    cholmod_without_openmp_teams();
     w.triplets.clear();
     model.add_triplets(c, b, w.triplets, ms);
     if (a != 0.0) model.add_mass_triplets(a, w.triplets);
@@ -410,9 +432,13 @@ void rk4_step(const Body& body, BodyState& s, double h, const VecX& f_ext) {
   (void)w;
 }
 
-void implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext) {
+/// One implicit Euler step of length h. With `may_refuse`, a step that would turn an element
+/// inside out (min_volume_ratio from > 0 to ≤ 0) is not taken: the state is left as it was
+/// and the function returns false, for the caller to take two half steps instead.
+bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, bool may_refuse) {
   SolverScratch& w = *s.solver_scratch;
   const ForceModel& model = *body.model;
+  const int warm_count = w.warm_count;
   // First iteration, linearized at (x_n, v_n) (Baraff & Witkin 1998):
   //   (M + hD + h²K) Δv = h (f_n − h K v_n)
   w.z = -h * s.v;
@@ -457,8 +483,19 @@ void implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext) 
     zero_fixed(body, w.v_trial);
     ++s.last_newton_iterations;
   }
+  if (may_refuse) {
+    w.x_trial = s.x + h * w.v_trial;
+    if (model.min_volume_ratio(w.x_trial) <= 0.0 && model.min_volume_ratio(s.x) > 0.0) {
+      // The warm start's history as before this step.
+      std::swap(w.warm, w.warm_previous);
+      std::swap(w.warm_previous, w.warm_older);
+      w.warm_count = std::min(warm_count, 2);
+      return false;
+    }
+  }
   s.v = w.v_trial;
   s.x += h * s.v;
+  return true;
 }
 
 /// Total potential energy of a static configuration: elastic energy minus the work of the
@@ -485,19 +522,43 @@ BodyState make_state(const Body& body) {
   return s;
 }
 
-void step(const Body& body, BodyState& s, double dt, const VecX& f_ext) {
-  if (!(dt > 0.0)) throw std::invalid_argument("step: dt must be positive");
+namespace {
+
+/// How many times an implicit step that turns an element inside out is halved (down to
+/// dt / 32); a step still inverting at the last halving is taken as it is.
+constexpr int kMaxStepHalvings = 5;
+
+void step_halving(const Body& body, BodyState& s, double dt, const VecX& f_ext, int halvings) {
   prepare(body, s);
   switch (body.settings.integrator) {
     case Integrator::explicit_euler: explicit_step(body, s, dt, f_ext, false); break;
     case Integrator::symplectic_euler: explicit_step(body, s, dt, f_ext, true); break;
     case Integrator::rk4: rk4_step(body, s, dt, f_ext); break;
-    case Integrator::implicit_euler: implicit_step(body, s, dt, f_ext); break;
+    case Integrator::implicit_euler:
+      // A linearized step is accurate only while the tangent at its start holds over it. A
+      // load landing on a node over a thin element (a soft organ's coarse surface) can move
+      // the node past the element's far side within one step: the element turns inside out,
+      // the next linearization overshoots further, and in a few steps the body diverges
+      // (scenes/liver.toml reached 10^13 m and then failed its Cholesky factorization). Such a
+      // step is taken as two half steps, whose shorter strokes keep the elements right side out.
+      if (!implicit_step(body, s, dt, f_ext, halvings < kMaxStepHalvings)) {
+        step_halving(body, s, 0.5 * dt, f_ext, halvings + 1);
+        step_halving(body, s, 0.5 * dt, f_ext, halvings + 1);
+        return;
+      }
+      break;
   }
   zero_fixed(body, s.v);
   enforce_nodules(body.nodules, body.fixed_dofs, body.model->lumped_mass(), dt, s.x, s.v);
   body.model->update_internal(s.x, dt, s.q, *s.model_scratch);
   s.time += dt;
+}
+
+}  // namespace
+
+void step(const Body& body, BodyState& s, double dt, const VecX& f_ext) {
+  if (!(dt > 0.0)) throw std::invalid_argument("step: dt must be positive");
+  step_halving(body, s, dt, f_ext, 0);
 }
 
 StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int max_iterations,

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <exception>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
+#include "core/progress.hpp"
 #include "core/realtime.hpp"
 #include "runtime/loop_set.hpp"
 
@@ -28,6 +30,9 @@ void run_lockstep(const scene::Model& m, const SessionOptions& o, Loops& loops, 
   std::uint64_t sim_steps = 0, inter_steps = 0;
   bool stopped = false;
   double t = 0.0;
+  std::optional<Progress> progress;
+  const auto total_steps = static_cast<std::uint64_t>(std::floor(end * haptic_rate + 1e-9)) + 1;
+  if (!o.progress.empty()) progress.emplace(o.progress, total_steps);
   // Times are integer multiples of each period (k / rate), never accumulated sums, so
   // every run visits the same instants in the same order.
   for (std::uint64_t k = 0;; ++k) {
@@ -52,9 +57,11 @@ void run_lockstep(const scene::Model& m, const SessionOptions& o, Loops& loops, 
       const Nanos now = now_ns();
       h->step(t, now, now, false);
     }
+    if (progress && (k & 63) == 0) progress->update(k);
     if (o.duration <= 0.0 && loops.all_finished(t)) break;
     if (o.interrupt && (k & 63) == 0 && o.interrupt->load()) break;
   }
+  if (progress) progress->finish();
   report.simulated_time = t;
 }
 

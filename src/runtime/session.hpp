@@ -66,6 +66,9 @@ struct SessionOptions {
   std::optional<Nanos> spin_window;
   /// Keep every haptic frame in the report (tests, replay comparison).
   bool keep_frames = false;
+  /// Lockstep runs: a progress bar over the run's length with this label
+  /// (core/progress.hpp); empty = none.
+  std::string progress;
   /// Emergency stop of every device at this time [s] (tests; the viewer has a key).
   std::optional<double> emergency_stop_at;
   /// When set and it becomes true (a signal handler, another thread), the run ends

@@ -107,7 +107,7 @@ BodySolve solve_body(const scene::Model& model, std::size_t index, const SolveOp
 
   if (o.static_solve) {
     const int steps = b.load_steps;
-    Progress progress("solving " + b.name, static_cast<std::size_t>(steps));
+    Progress progress(o.progress.empty() ? "solving " + b.name : o.progress, static_cast<std::size_t>(steps));
     for (int k = 1; k <= steps; ++k) {
       const double s_k = static_cast<double>(k) / steps;
       auto fraction = [s_k](double) { return s_k; };
@@ -121,7 +121,7 @@ BodySolve solve_body(const scene::Model& model, std::size_t index, const SolveOp
     const double dt = b.time_step;
     const auto steps = static_cast<long>(std::ceil(o.until / dt - 1e-9));
     if (steps > 100'000'000) throw InputError(fmt::format("--until {} s at dt {} s is over 10^8 steps", o.until, dt));
-    Progress progress("simulating " + b.name, static_cast<std::size_t>(steps));
+    Progress progress(o.progress.empty() ? "simulating " + b.name : o.progress, static_cast<std::size_t>(steps));
     double next_report = 0.0;
     record(0.0, 0, 0, true);
     for (long k = 1; k <= steps; ++k) {

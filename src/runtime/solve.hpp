@@ -15,6 +15,9 @@ struct SolveOptions {
   double until = 1.0;               ///< dynamic runs: end time [s]
   double report_every = 0.0;        ///< dynamic runs: seconds between CSV rows (0: every step)
   std::vector<scene::Probe> extra_probes;  ///< from --probe FILE, for every body
+  /// The progress bar's label (core/progress.hpp); empty = "solving BODY" (static) or
+  /// "simulating BODY" (dynamics).
+  std::string progress;
 };
 
 /// One row of results: at a time (dynamic) or a load step (static).

@@ -241,6 +241,30 @@ TEST(CurvesCommand, WritesParsableCsvAndPlotsWhenMatplotlibIsThere) {
   fs::remove_all(dir);
 }
 
+// Phases of minutes (the upper leg's creep lasts 80 s of simulation) each draw their own
+// bar on a terminal, named by what they do: the command runs under a pseudo-terminal
+// (script(1), util-linux) so that its stderr is one.
+TEST(CurvesCommand, EveryPhaseDrawsItsProgressBarOnATerminal) {
+  if (std::system("command -v script >/dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1) for a pseudo-terminal";
+  const fs::path dir = fs::temp_directory_path() / "tactus_curves_progress_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scene = std::string(TACTUS_SOURCE_DIR) + "/scenes/tissues.toml";
+  const std::string inner = std::string("env -u CI '") + TACTUS_BINARY + "' curves '" + scene +
+                            "' --tissue skin --no-plots -o '" + (dir / "out").string() + "'";
+  const fs::path log = dir / "terminal.txt";
+  const std::string cmd = "script -qec \"" + inner + "\" /dev/null >'" + log.string() + "' 2>&1 </dev/null";
+  const int status = std::system(cmd.c_str());
+  const std::string text = slurp(log);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << text;
+  for (const char* bar : {"indentation of skin [", "curvature: pressing the plane_0mm [",
+                          "curvature: pressing the cylinder_8mm [", "stiffness of skin [", "relaxation of skin for 6 s [",
+                          "creep of skin for 12 s ["})
+    EXPECT_NE(text.find(bar), std::string::npos) << "no bar '" << bar << "' in\n" << text;
+  EXPECT_EQ(text.find("simulating skin"), std::string::npos) << "a phase without its own name";
+  fs::remove_all(dir);
+}
+
 TEST(CurvesCommand, UnknownTissueIsAnInputError) {
   const fs::path dir = fs::temp_directory_path() / "tactus_curves_test_bad";
   fs::create_directories(dir);

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <thread>
 
 #include "physics/body.hpp"
 
@@ -135,6 +137,33 @@ TEST(Integrators, ImplicitEulerNeverGainsEnergy) {
       e = e_next;
     }
   }
+}
+
+std::size_t thread_count_of_process() {
+  std::size_t n = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator("/proc/self/task")) ++n;
+  return n;
+}
+
+// CHOLMOD's OpenMP regions (a team of 4 per factorization) cost futex wake-ups and context
+// switches per supernode on a shared 2-core machine, for loops that BLAS's arithmetic
+// dwarfs: Cholesky steps run them on the calling thread, so they start no thread, and the
+// factor is the same bits as with a team.
+TEST(Integrators, CholeskyStepsStartNoOpenMpTeam) {
+  Body b;
+  b.model = std::make_shared<SpringChain>(400, 0.01, 0.01, 200.0, 0.1);  // 1,200 dofs: CHOLMOD's regions run
+  b.fix_nodes({0});
+  b.settings.integrator = Integrator::implicit_euler;
+  b.settings.solver = LinearSolver::cholesky;
+  BodyState s = make_state(b);
+  s.x[3 * 399] += 0.01;
+  const std::size_t before = thread_count_of_process();
+  std::thread([&] {  // a fresh thread, as the simulation loop's
+    for (int i = 0; i < 5; ++i) step(b, s, 1e-2);
+  }).join();
+  for (int i = 0; i < 5; ++i) step(b, s, 1e-2);
+  EXPECT_EQ(thread_count_of_process(), before);
+  EXPECT_TRUE(s.x.allFinite());
 }
 
 TEST(Integrators, ExplicitEulerGainsEnergyAsTheTheoryPredicts) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <variant>
 
 #include "core/error.hpp"
 #include "precompute/grid.hpp"
@@ -77,6 +78,28 @@ TEST(PrecomputeScene, BundledLiverSpace) {
   EXPECT_LE(grid.size(), 120u);
   // The finger's radius: on this coarse mesh no other node is that close to the contact node.
   EXPECT_EQ(s.patch_nodes, std::vector<std::int32_t>{s.contact_node});
+
+  // The scripted hand scans inside the grid's box from its first point on: outside it the
+  // space renders no force (a start at y = -30 mm felt nothing for the first 5 s).
+  ASSERT_EQ(coarse.devices.size(), 1u);
+  const scene::Device& hand = coarse.devices[0];
+  EXPECT_EQ(hand.scale, 1.0);
+  EXPECT_TRUE(hand.offset.isZero());
+  const auto* op = std::get_if<scene::SimulatedOperatorDevice>(&hand.source);
+  ASSERT_NE(op, nullptr);
+  const auto* raster = std::get_if<scene::RasterPath>(&op->target);
+  ASSERT_NE(raster, nullptr);
+  const Vec3 lo = grid.lower(), hi = grid.upper();
+  for (const Vec2& corner : {raster->min, raster->max, Vec2(raster->min.x(), raster->max.y()),
+                             Vec2(raster->max.x(), raster->min.y())}) {
+    SCOPED_TRACE(::testing::Message() << "raster corner (" << corner.x() << ", " << corner.y() << ")");
+    EXPECT_GE(corner.x(), lo.x());
+    EXPECT_LE(corner.x(), hi.x());
+    EXPECT_GE(corner.y(), lo.y());
+    EXPECT_LE(corner.y(), hi.y());
+  }
+  EXPECT_GE(raster->z, lo.z());
+  EXPECT_LE(raster->z, hi.z());
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
 
+#include "runtime/report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
 
@@ -34,6 +36,27 @@ TEST(BundledScenes, EveryOneWithADeviceRunsItsFirstTenthOfASecond) {
     ++ran;
   }
   EXPECT_GE(ran, 10);
+}
+
+// The needle block's lockstep report was said to print an empty "parts" table: every part
+// its loops time is listed with its times (lockstep measures compute time as real time does).
+TEST(BundledScenes, NeedleBlockLockstepReportListsEveryPartItTimes) {
+  const scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "scenes" / "needle_block.toml");
+  runtime::SessionOptions o;
+  o.scheduling = runtime::Scheduling::lockstep;
+  const runtime::SessionReport r = runtime::run_session(m, o);
+  const std::string text = runtime::format_report(r);
+  const std::size_t table = text.find("\nparts ");
+  ASSERT_NE(table, std::string::npos) << text;
+  const std::string parts = text.substr(table, text.find("\n\n", table + 1) - table);
+  for (const char* part : {"haptic[hand]: device read -> force written", "simulation: contact loads",
+                           "simulation: integrate", "simulation: shaft node search", "interaction: refit trees"}) {
+    SCOPED_TRACE(part);
+    const std::size_t at = parts.find(part);
+    ASSERT_NE(at, std::string::npos) << parts;
+    const std::string row = parts.substr(at, parts.find('\n', at) - at);
+    EXPECT_EQ(row.find(" - "), std::string::npos) << "a part without times: " << row;
+  }
 }
 
 }  // namespace

@@ -109,9 +109,9 @@ TEST_P(ScenarioSmoothness, NoChatterAndNoJolt) {
   }
 }
 
-// Every bundled scene with a device but liver.toml: its lockstep run stops after some
-// seconds with "sparse Cholesky failed: the system matrix is not positive definite" (its
-// first tenth of a second runs in bundled_scenes_test.cpp).
+// Every bundled scene with a device but liver.toml, whose whole run (30 s of lockstep on a
+// 12,298-tet neo-Hookean body, about 6 s of wall clock per simulated second here) is too long
+// for the suite: its first 2.5 s run below.
 const std::vector<std::string> kScenarios = {"default",         "nodule",           "tissues",
                                              "needle_block",    "pulse_demo",       "skin_patch",
                                              "femoral",         "femoral_s1_idle",  "femoral_s2_palpation",
@@ -119,6 +119,31 @@ const std::vector<std::string> kScenarios = {"default",         "nodule",       
 
 INSTANTIATE_TEST_SUITE_P(Bundled, ScenarioSmoothness, ::testing::ValuesIn(kScenarios),
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
+
+// liver.toml diverged at t = 1.65 s: the finger's load landed on a surface node above thin
+// elements, one linearized implicit step pushed the node through them, and the inverted
+// elements' next linearization flung the body to 10^13 m, where the Cholesky factorization
+// failed ("not positive definite"). Implicit steps that would turn an element inside out are
+// now taken in halves (physics/integrator.cpp).
+TEST(ScenarioSmoothness, LiverRunsPastTheStepThatTurnedItsElementsInsideOut) {
+  const scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "scenes/liver.toml");
+  SessionOptions o;
+  o.scheduling = Scheduling::lockstep;
+  o.keep_frames = true;
+  o.duration = 2.5;
+  const SessionReport r = run_session(m, o);
+  EXPECT_GE(r.simulated_time, 2.5 - 1e-9);
+  ASSERT_EQ(r.devices.size(), 1u);
+  EXPECT_EQ(r.devices[0].safety.non_finite, 0u);
+  EXPECT_EQ(r.devices[0].safety.clamped, 0u);
+  const Smoothness s = measure(r, 0, m.devices[0].name);
+  std::printf("liver / hand, first 2.5 s: %d short contacts or gaps, largest step %.3f N at %.3f s\n",
+              s.short_segments, s.max_jump, s.jump_time);
+  // Not yet within kMaxJump, as the known defects above: frame-to-frame steps of 1.0-1.25 N
+  // from t = 0.15 s on, before the halved step (measured 1.248 N at 1.96 s). May not get worse.
+  EXPECT_LE(s.short_segments, 0);
+  EXPECT_LE(s.max_jump, 1.3) << "at t = " << s.jump_time;
+}
 
 // A scene added to scenes/ joins the list above (or says here why not).
 TEST(ScenarioSmoothness, CoversEveryBundledSceneWithADevice) {

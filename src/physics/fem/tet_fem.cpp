@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <string>
 
@@ -229,6 +230,13 @@ TetFem::Cache& TetFem::cache(Scratch& s) const { return static_cast<Cache&>(s); 
 const TetFem::Cache& TetFem::cache(const Scratch& s) const { return static_cast<const Cache&>(s); }
 
 Mat3 TetFem::deformation_gradient(const VecX& x, std::size_t e) const { return gradient_of(x, elements_.at(e)); }
+
+double TetFem::min_volume_ratio(const VecX& x) const {
+  if (!hyperelastic()) return std::numeric_limits<double>::infinity();
+  double j = std::numeric_limits<double>::infinity();
+  for (const TetElement& el : elements_) j = std::min(j, gradient_of(x, el).determinant());
+  return j;
+}
 
 bool TetFem::rotations_current(const VecX& x, const Cache& c) const {
   return c.rotations_valid && c.rotation_x.size() == x.size() &&

@@ -66,6 +66,9 @@ class TetFem final : public ForceModel {
   /// Elastic energy of the laws' strain energy densities (the Maxwell branches' stored
   /// energy is not included).
   [[nodiscard]] double elastic_energy(const VecX& x, const VecX& q) const override;
+  /// Hyperelastic laws: min over the elements of det F. Linear and corotational laws:
+  /// +infinity (their forces stay bounded through an inversion).
+  [[nodiscard]] double min_volume_ratio(const VecX& x) const override;
 
   [[nodiscard]] const FemMaterial& material() const { return material_; }
   [[nodiscard]] const LawParams& law() const { return law_; }
