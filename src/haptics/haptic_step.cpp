@@ -9,7 +9,8 @@ namespace {
 using Kind = HapticEvent::Kind;
 
 void emit(HapticOutputs& out, Kind kind, double value, std::int32_t detail = -1) {
-  if (out.event_count < HapticOutputs::kMaxEvents) out.events[static_cast<std::size_t>(out.event_count++)] = {kind, value, detail};
+  if (out.event_count < HapticOutputs::kMaxEvents)
+    out.events[static_cast<std::size_t>(out.event_count++)] = {kind, value, detail};
 }
 
 /// A live edit of the coupling, taken once from its time on; bounded again here, the step

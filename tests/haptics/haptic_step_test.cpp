@@ -70,7 +70,8 @@ TEST(HapticStep, TheSafetyLayerScalesTheReactionAndSaysSo) {
   bool clamped_event = false;
   for (int k = 0; k < 20; ++k) {
     const HapticOutputs& out = rig.step(k * 1e-3, Vec3(0, 0, 0.008));
-    for (int i = 0; i < out.event_count; ++i) clamped_event |= out.events[static_cast<std::size_t>(i)].kind == HapticEvent::Kind::force_clamped;
+    for (int i = 0; i < out.event_count; ++i)
+      clamped_event |= out.events[static_cast<std::size_t>(i)].kind == HapticEvent::Kind::force_clamped;
   }
   EXPECT_LE(rig.sink.force.norm(), 10.0);
   EXPECT_GT(rig.sink.force.norm(), 9.99);

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "runtime/report.hpp"
+#include "report/report.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
 
@@ -45,7 +45,7 @@ TEST(BundledScenes, NeedleBlockLockstepReportListsEveryPartItTimes) {
   runtime::SessionOptions o;
   o.scheduling = runtime::Scheduling::lockstep;
   const runtime::SessionReport r = runtime::run_session(m, o);
-  const std::string text = runtime::format_report(r);
+  const std::string text = report::format_report(r);
   const std::size_t table = text.find("\nparts ");
   ASSERT_NE(table, std::string::npos) << text;
   const std::string parts = text.substr(table, text.find("\n\n", table + 1) - table);

@@ -7,6 +7,7 @@
 
 #include "contact/hertz.hpp"
 #include "core/math.hpp"
+#include "haptics/force_algorithm.hpp"
 
 namespace tactus::haptics {
 
@@ -33,6 +34,11 @@ class ContactLaw {
                         : stiffness * depth;
   }
   [[nodiscard]] bool is_penalty() const { return !hertz_ && !fingerpad_; }
+  /// What the viewer's panel may edit of a finger with this law: a penalty's stiffness.
+  [[nodiscard]] EditableSurface editable_surface(bool has_spheres) const {
+    if (!is_penalty() || !has_spheres) return {};
+    return {EditableSurface::Kind::penalty, {stiffness_, 0.0, 0.0}};
+  }
   /// The penalty's stiffness as the scene set it [N/m] (0 for the other laws).
   [[nodiscard]] double stiffness() const { return stiffness_; }
 

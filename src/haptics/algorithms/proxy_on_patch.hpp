@@ -2,7 +2,7 @@
 // God-object proxy with friction against a local patch: the proxy slides on the patch's
 // deforming triangles, and the patch dents under the coupling force the hand was sent.
 #include "contact/proxy.hpp"
-#include "haptics/algorithms/contact_law.hpp"
+#include "haptics/algorithms/proxy_coupling.hpp"
 #include "haptics/algorithms/on_patch.hpp"
 
 namespace tactus::haptics {
@@ -21,9 +21,7 @@ class ProxyOnPatch final : public OnPatch {
  private:
   struct State final : PatchState {
     using PatchState::PatchState;
-    contact::ProxyParams params;  ///< the scene's, as edited
-    contact::ProxyState proxy;
-    bool started = false;
+    ProxyCoupling coupling;
   };
   void begin(const FrameInputs& frame, PatchState& state) const override;
   void patch_replaced(PatchState& state) const override;

@@ -2,8 +2,8 @@
 // God-object proxy with friction (Zilles–Salisbury, Ruspini; contact/proxy.hpp) against the
 // contact plane: the proxy stays on the plane, and the hand feels the coupling spring.
 #include "contact/proxy.hpp"
+#include "haptics/algorithms/proxy_coupling.hpp"
 #include "contact/surface_query.hpp"
-#include "haptics/algorithms/contact_law.hpp"
 #include "haptics/algorithms/on_plane.hpp"
 
 namespace tactus::haptics {
@@ -20,9 +20,7 @@ class ProxyOnPlane final : public OnPlane {
 
  private:
   struct State final : PlaneState {
-    contact::ProxyParams params;  ///< the scene's, as edited
-    contact::ProxyState proxy;
-    bool started = false;
+    ProxyCoupling coupling;
     contact::BruteForceSurfaceQuery no_surface{{}, {}};
   };
   void begin(const FrameInputs& frame, PlaneState& state) const override;

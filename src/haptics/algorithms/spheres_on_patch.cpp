@@ -12,10 +12,7 @@ std::unique_ptr<AlgorithmState> SpheresOnPatch::make_state() const {
   return s;
 }
 
-EditableSurface SpheresOnPatch::editable_surface() const {
-  if (!law_.is_penalty() || spheres_.empty()) return {};
-  return {EditableSurface::Kind::penalty, {law_.stiffness(), 0.0, 0.0}};
-}
+EditableSurface SpheresOnPatch::editable_surface() const { return law_.editable_surface(!spheres_.empty()); }
 
 void SpheresOnPatch::edit_surface(const SurfaceValues& v, AlgorithmState& state) const {
   static_cast<State&>(state).stiffness = v.stiffness;

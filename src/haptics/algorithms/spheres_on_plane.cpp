@@ -12,10 +12,7 @@ std::unique_ptr<AlgorithmState> SpheresOnPlane::make_state() const {
   return s;
 }
 
-EditableSurface SpheresOnPlane::editable_surface() const {
-  if (!law_.is_penalty() || spheres_.empty()) return {};
-  return {EditableSurface::Kind::penalty, {law_.stiffness(), 0.0, 0.0}};
-}
+EditableSurface SpheresOnPlane::editable_surface() const { return law_.editable_surface(!spheres_.empty()); }
 
 void SpheresOnPlane::edit_surface(const SurfaceValues& v, AlgorithmState& state) const {
   static_cast<State&>(state).stiffness = v.stiffness;
