@@ -21,7 +21,7 @@
 #include "mesh/generators.hpp"
 #include "mesh/half_edge.hpp"
 #include "runtime/session.hpp"
-#include "runtime/solve.hpp"
+#include "offline/solve.hpp"
 #include "scene/scene.hpp"
 
 namespace tactus::app::curves {
@@ -349,22 +349,22 @@ std::vector<TissueViscoelastic> creep_and_relaxation(const scene::Model& model, 
     // take more than 1 N (bone): the instantaneous stiffness from a static 1 µm push.
     constexpr double kProbe = 1e-6, kTargetForce = 1.0;
     relaxed.prescribed.push_back({"finger", "finger footprint", patch, kProbe * u, 0.0});
-    runtime::SolveOptions probe;
+    offline::SolveOptions probe;
     probe.static_solve = true;
     probe.progress = "stiffness of " + name;
-    const double probe_force = runtime::solve(m, probe).bodies.at(0).rows.back().reactions.back().dot(u);
+    const double probe_force = offline::solve(m, probe).bodies.at(0).rows.back().reactions.back().dot(u);
     t.held_displacement = 0.05 * footprint;
     if (probe_force > 0.0) t.held_displacement = std::min(t.held_displacement, kTargetForce * kProbe / probe_force);
 
     // Relaxation: the footprint held in (a step at t = 0) for six relaxation times.
-    runtime::SolveOptions so;
+    offline::SolveOptions so;
     so.until = t.model == "elastic" || t.model == "prony" ? 1.0 : 6.0 * tau;
     so.report_every = so.until / 200.0;
     relaxed.prescribed.back().displacement = t.held_displacement * u;
     so.progress = fmt::format("relaxation of {} for {:.0f} s", name, so.until);
     log::info("curves: {}", so.progress);
-    const runtime::BodySolve r = runtime::solve(m, so).bodies.at(0);
-    for (const runtime::SolveRow& row : r.rows) t.relaxation.push_back({row.time, row.reactions.back().dot(u), 0.0});
+    const offline::BodySolve r = offline::solve(m, so).bodies.at(0);
+    for (const offline::SolveRow& row : r.rows) t.relaxation.push_back({row.time, row.reactions.back().dot(u), 0.0});
 
     // Creep: the long-term reaction of the relaxation, as a constant load on the footprint.
     t.load = t.relaxation.back().value;
@@ -375,8 +375,8 @@ std::vector<TissueViscoelastic> creep_and_relaxation(const scene::Model& model, 
     so.report_every = so.until / 200.0;
     so.progress = fmt::format("creep of {} for {:.0f} s", name, so.until);
     log::info("curves: {}", so.progress);
-    const runtime::BodySolve c = runtime::solve(m, so).bodies.at(0);
-    for (const runtime::SolveRow& row : c.rows) t.creep.push_back({row.time, row.probe_displacements.at(0).dot(u), 0.0});
+    const offline::BodySolve c = offline::solve(m, so).bodies.at(0);
+    for (const offline::SolveRow& row : c.rows) t.creep.push_back({row.time, row.probe_displacements.at(0).dot(u), 0.0});
 
     // The closed forms with the run's last value as their scale: the spring network's
     // stiffness depends on the mesh (docs/validation-mass-spring.md), the time course only

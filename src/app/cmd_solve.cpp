@@ -11,7 +11,7 @@
 #include "core/error.hpp"
 #include "mesh/io/mesh_io.hpp"
 #include "compile/bodies.hpp"
-#include "runtime/solve.hpp"
+#include "offline/solve.hpp"
 #include "scene/scene.hpp"
 
 namespace tactus::app {
@@ -56,16 +56,16 @@ Action add_solve(CLI::App& app) {
   app.footer("Columns of the CSV: docs/solve-output.md");
   return [a] {
     const scene::Model model = scene::load_scene(a->scene);
-    runtime::SolveOptions o;
+    offline::SolveOptions o;
     o.static_solve = a->static_solve;
     o.until = a->until.value_or(1.0);
     o.report_every = a->every;
-    if (!a->probe_file.empty()) o.extra_probes = runtime::read_probe_file(a->probe_file);
-    const runtime::SolveResult result = runtime::solve(model, o);
+    if (!a->probe_file.empty()) o.extra_probes = offline::read_probe_file(a->probe_file);
+    const offline::SolveResult result = offline::solve(model, o);
     const bool several = result.bodies.size() > 1;
     int failures = 0;
     for (const auto& body : result.bodies) {
-      const std::string csv = runtime::to_csv(body, o.static_solve);
+      const std::string csv = offline::to_csv(body, o.static_solve);
       if (a->csv.empty()) {
         if (several) std::printf("# body %s\n", body.body.c_str());
         std::fputs(csv.c_str(), stdout);

@@ -13,7 +13,6 @@
 #include "haptics/algorithms/needle.hpp"
 #include "haptics/device.hpp"
 #include "haptics/haptic_step.hpp"
-#include "compile/cspace_body.hpp"
 #include "runtime/exchange.hpp"
 #include "runtime/loop_stats.hpp"
 #include "runtime/recording.hpp"

@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "compile/cspace_body.hpp"
 #include "core/spsc_ring.hpp"
 #include "core/triple_buffer.hpp"
 #include "physics/body.hpp"
@@ -24,7 +25,8 @@ class LiveMaterialModel;
 class SimulationLoop {
  public:
   /// `devices` are the haptic loops' channels (their contact loads are read here).
-  SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices, const compile::CspaceBodies& cspaces = {});
+  SimulationLoop(const scene::Model& model, std::vector<DeviceChannels*> devices,
+                 const compile::CspaceBodies& cspaces = {});
 
   /// The rest surfaces, sized as every snapshot will be: the initial value of an output.
   [[nodiscard]] SurfaceSnapshot initial_snapshot() const;

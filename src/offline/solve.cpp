@@ -1,4 +1,4 @@
-#include "runtime/solve.hpp"
+#include "offline/solve.hpp"
 
 #include <fmt/format.h>
 
@@ -13,7 +13,7 @@
 #include "physics/mapping.hpp"
 #include "compile/bodies.hpp"
 
-namespace tactus::runtime {
+namespace tactus::offline {
 namespace {
 
 /// Reads probe displacements: barycentric in the tet mesh, or the nearest surface node.
@@ -210,4 +210,4 @@ std::vector<scene::Probe> read_probe_file(const std::string& path) {
   return probes;
 }
 
-}  // namespace tactus::runtime
+}  // namespace tactus::offline

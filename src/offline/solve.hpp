@@ -8,7 +8,7 @@
 #include "core/math.hpp"
 #include "scene/model.hpp"
 
-namespace tactus::runtime {
+namespace tactus::offline {
 
 struct SolveOptions {
   bool static_solve = false;        ///< equilibrium by load stepping (else dynamics)
@@ -50,4 +50,4 @@ std::string to_csv(const BodySolve& body, bool static_solve);
 /// Reads probes from a CSV file "name,x,y,z" (a header line is optional; # comments).
 std::vector<scene::Probe> read_probe_file(const std::string& path);
 
-}  // namespace tactus::runtime
+}  // namespace tactus::offline
