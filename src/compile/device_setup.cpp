@@ -8,9 +8,10 @@
 #include <stdexcept>
 #include <variant>
 
+#include "compile/cspace_body.hpp"
+#include "contact/proxy.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
-#include "contact/proxy.hpp"
 #include "haptics/algorithms/field_lookup.hpp"
 #include "haptics/algorithms/multi_surface_algorithm.hpp"
 #include "haptics/algorithms/needle_algorithm.hpp"
@@ -19,7 +20,6 @@
 #include "haptics/algorithms/pulse_overlay.hpp"
 #include "haptics/algorithms/spheres_on_patch.hpp"
 #include "haptics/algorithms/spheres_on_plane.hpp"
-#include "compile/cspace_body.hpp"
 
 namespace tactus::compile {
 namespace {
@@ -93,7 +93,6 @@ contact::ElasticMaterial stiffest_tissue(const scene::Model& m, const std::vecto
   }
   return stiffest;
 }
-
 
 /// A needle tool: its insertion algorithm's layers, and the planned path when the device
 /// follows a scripted insertion line.
