@@ -85,7 +85,6 @@ class HapticLoop {
   [[nodiscard]] const haptics::PassivityControl& passivity() const { return state_.passivity; }
   [[nodiscard]] std::uint64_t dropped_frames() const { return dropped_frames_; }
   [[nodiscard]] const haptics::Device& device() const { return *device_; }
-  [[nodiscard]] const haptics::HapticModel& model() const { return model_; }
   /// The needle's insertion state (ruptures, deviation); null for other tools.
   [[nodiscard]] const haptics::NeedleInsertion* needle() const;
 
