@@ -432,6 +432,17 @@ void LocalModel::place_nodes() {
   }
 }
 
+Vec3 LocalModel::moved_since_published(std::int32_t triangle, const Vec3& barycentric) const {
+  Vec3 moved = Vec3::Zero();
+  if (!patch_.valid || triangle < 0 || triangle >= patch_.triangle_count) return moved;
+  const mesh::Triangle& corners = patch_.triangles[static_cast<std::size_t>(triangle)];
+  for (int k = 0; k < 3; ++k) {
+    const auto v = static_cast<std::size_t>(corners[static_cast<std::size_t>(k)]);
+    moved += barycentric[k] * (current_[v] - patch_.position[v]);
+  }
+  return moved;
+}
+
 double LocalModel::advance(const PatchContact& contact, double dt) {
   double settled = 0.0;
   advance(std::span<const PatchContact>(&contact, 1), dt, std::span<double>(&settled, 1));

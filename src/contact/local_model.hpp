@@ -217,6 +217,9 @@ class LocalModel {
   /// change weighted by the load's shares, the measure of the contact's motion its implicit
   /// force solve used (zero without contact) [m].
   [[nodiscard]] const Vec3& contact_motion() const { return contact_motion_; }
+  /// How far the point at `barycentric` on patch triangle `triangle` has moved from where
+  /// the simulation published it [m] (zero for a triangle not in the patch).
+  [[nodiscard]] Vec3 moved_since_published(std::int32_t triangle, const Vec3& barycentric) const;
   /// Free-node displacement from the published shape (3·free) [m].
   [[nodiscard]] const VecX& displacement() const { return u_; }
 

@@ -273,7 +273,8 @@ ProxyResult update_proxy(const ProxyParams& params, ProxyState& state, const Vec
   const ClosestSurfacePoint cp = surface.closest_point(x);
   if (in_contact) {
     result.force = params.stiffness * (x - goal);
-    if (dt > 0.0) result.force += params.damping * ((x - previous) / dt - goal_velocity);
+    const Vec3 moved = state.surface_replaced ? Vec3::Zero() : Vec3(x - previous);
+    if (dt > 0.0) result.force += params.damping * (moved / dt - goal_velocity);
     result.depth = depth;
     if (cp.found) {
       result.contact_point = cp.point;
@@ -288,6 +289,7 @@ ProxyResult update_proxy(const ProxyParams& params, ProxyState& state, const Vec
 
   const bool keep_anchor = friction == FrictionState::stick && state.friction == FrictionState::stick;
   state.position = x;
+  state.surface_replaced = false;
   state.in_contact = in_contact;
   state.friction = friction;
   state.plane_count = 0;

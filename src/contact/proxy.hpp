@@ -73,6 +73,10 @@ struct ProxyState {
   /// updates is detected by the side changing.
   std::int32_t side_triangle = -1;
   std::int8_t side = 0;
+  /// The surface was replaced by a newer model since the last update (a local patch from the
+  /// next simulation step): the proxy's jump onto it is the models' difference, not motion,
+  /// so the next update's damping sees none of it.
+  bool surface_replaced = false;
 };
 
 /// A free proxy at `position`; if that is inside the surface, the first update pushes it out.

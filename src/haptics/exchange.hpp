@@ -33,6 +33,14 @@ struct ContactLoad {
   std::int32_t triangle = -1;
   Vec3 barycentric = Vec3::Zero();
   Vec3 force = Vec3::Zero();  ///< on the tissue, scene coordinates [N]
+  /// How fast `force` falls for each metre the tissue under the contact gives way along it
+  /// (the contact law's slope, as sent) [N/m]: the simulation couples the push implicitly
+  /// (physics::ContactSpring). 0: a constant push.
+  double stiffness = 0.0;
+  /// How far the contact point had moved along `force` from the surface the simulation last
+  /// published when `force` was rendered (a local patch deforms between steps) [m]: where
+  /// that surface stands, the push is stiffness·surface_offset more.
+  double surface_offset = 0.0;
   /// Radius of the contact disc the force is spread over (contact/load_spread.hpp) [m].
   double contact_radius = 0.0;
   /// A sphere-set finger on a patch: each touching sphere's contact and its share of `force`

@@ -165,6 +165,8 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   load.part_count = 0;
   load.shaft = false;
   load.force = -reaction.sent;
+  load.stiffness = 0.0;  // a constant push unless the algorithm knows its slope
+  load.surface_offset = 0.0;
   if (c < model.algorithms.size())
     model.algorithms[c]->react(f, r, reaction, *s.algorithms[c], load);
   else

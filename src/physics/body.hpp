@@ -3,6 +3,7 @@
 // BodyState carries what changes.
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "physics/force_model.hpp"
@@ -42,8 +43,34 @@ struct BodyState {
 /// The rest state: x = rest positions, v = 0, q = 0.
 BodyState make_state(const Body& body);
 
-/// Advances the body by dt under the external forces f_ext (3N, may be empty).
-void step(const Body& body, BodyState& state, double dt, const VecX& f_ext = {});
+/// A node's share of a contact's push.
+struct NodeShare {
+  std::int32_t node = -1;
+  double share = 0.0;
+};
+
+/// The hand's push on the body through one contact, coupled implicitly: it acts along
+/// `direction` on a weighted set of nodes, and falls by `stiffness` for each metre the
+/// weighted nodes give way along `direction` during the step (the contact law's slope: a
+/// proxy resting on the surface follows it, so its spring relaxes), never below zero. A
+/// push held constant over a step much longer than the haptic frame makes soft tissue
+/// overshoot under it and swing back at the next step; coupled, the step ends where the
+/// tissue and the contact balance.
+struct ContactSpring {
+  std::span<const NodeShare> nodes;  ///< shares sum to 1
+  Vec3 direction = Vec3::UnitZ();    ///< unit, the push on the body
+  double force = 0.0;                ///< at the start of the step [N]
+  double stiffness = 0.0;            ///< [N/m]; 0: a constant push
+  double force_end = 0.0;            ///< out: the push at the end of the step [N]
+};
+inline constexpr std::size_t kMaxContactSprings = 8;
+
+/// Advances the body by dt under the external forces f_ext (3N, may be empty) and the
+/// contact springs (at most kMaxContactSprings). implicit_euler couples the springs into its
+/// solve; the explicit integrators apply each spring's starting force as a constant load.
+/// Throws std::invalid_argument for a non-positive dt or too many springs.
+void step(const Body& body, BodyState& state, double dt, const VecX& f_ext = {},
+          std::span<ContactSpring> springs = {});
 
 /// A static solve that stops improving (round-off) counts as converged below this relative
 /// residual.

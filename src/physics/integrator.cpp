@@ -2,6 +2,7 @@
 #include <omp.h>
 
 #include <Eigen/CholmodSupport>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -78,6 +79,15 @@ struct SolverScratch {
   Eigen::CholmodSupernodalLLT<SparseMatrix> cholesky;
   bool pattern_analyzed = false;
   VecX free_mask;  // 1 for free dofs, 0 for fixed
+  // Contact springs: each one's push per newton on the dofs (u), the system's response to it
+  // (W = A⁻¹u, kept as the next step's warm start) and the loads an explicit step applies.
+  std::array<VecX, kMaxContactSprings> spring_push, spring_response;
+  VecX loads;
+  /// Whether the last linear solve took the matrix-free path (known after the first one).
+  bool matrix_free = false, path_known = false;
+  /// Contact springs folded into the matrix-free operator as rank-one terms w·u·uᵀ (0: none).
+  std::array<double, kMaxContactSprings> folded_weight{};
+  std::size_t folded = 0;
 };
 
 namespace {
@@ -321,26 +331,34 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
       w.pattern_analyzed = true;
     }
     w.cholesky.factorize(w.matrix);
+    w.matrix_free = false;
+    w.path_known = true;
     if (w.cholesky.info() != Eigen::Success)
       throw std::runtime_error("sparse Cholesky failed: the system matrix is not positive definite");
     x = w.cholesky.solve(rhs.cwiseProduct(w.free_mask));
     return 0;
   }
 
+  w.path_known = true;
+  w.matrix_free = false;
   if (const BlockMatrix* assembled = model.assemble_system(a, b, c, *s.model_scratch)) {
     const int it = solve_assembled(body, w, *assembled, rhs, x);
     if (it >= 0) return it;
   }
+  w.matrix_free = true;
 
   // Jacobi-preconditioned conjugate gradients on the free dofs, matrix-free. The lumped mass
   // stands in for the mass's diagonal: a consistent mass is spectrally equivalent to it.
   auto apply = [&](const VecX& in, VecX& out) {
     out.setZero();
     model.add_system_product(a, b, c, in, out, ms);
+    for (std::size_t j = 0; j < w.folded; ++j)
+      if (w.folded_weight[j] > 0.0) out += (w.folded_weight[j] * w.spring_push[j].dot(in)) * w.spring_push[j];
     out.array() *= w.free_mask.array();
   };
   w.diag = a * m;
   model.add_diagonal(c, b, w.diag, ms);
+  for (std::size_t j = 0; j < w.folded; ++j) w.diag += w.folded_weight[j] * w.spring_push[j].cwiseAbs2();
   for (Eigen::Index i = 0; i < w.diag.size(); ++i)
     if (!(w.diag[i] > 0.0)) w.diag[i] = 1.0;  // guards indefinite or empty rows
 
@@ -394,6 +412,129 @@ void require_diagonal_mass(const Body& body, const char* integrator) {
                                 " needs a lumped (diagonal) mass matrix; use implicit_euler with a consistent mass");
 }
 
+/// Each spring's push per newton on the dofs, u = Σ share·direction at its nodes (free dofs only).
+void build_spring_pushes(BodyState& s, std::span<const ContactSpring> springs) {
+  SolverScratch& w = *s.solver_scratch;
+  for (std::size_t j = 0; j < springs.size(); ++j) {
+    VecX& u = w.spring_push[j];
+    u.setZero(s.x.size());  // allocates on a spring slot's first use only
+    for (const NodeShare& n : springs[j].nodes)
+      if (n.node >= 0 && 3 * static_cast<Eigen::Index>(n.node) + 2 < u.size())
+        u.segment<3>(3 * static_cast<Eigen::Index>(n.node)) += n.share * springs[j].direction;
+    u.array() *= w.free_mask.array();
+    if (w.spring_response[j].size() != u.size()) w.spring_response[j] = VecX::Zero(u.size());
+  }
+}
+
+/// A spring's push when the step ends with velocity v: F0 − k·h·uᵀv, never below zero.
+double spring_force(const SolverScratch& w, const ContactSpring& spring, std::size_t j, const VecX& v, double h) {
+  return std::max(0.0, spring.force - spring.stiffness * h * w.spring_push[j].dot(v));
+}
+
+/// Couples the springs into an implicit step's linear solve. `delta` holds A⁻¹r for the
+/// step's right-hand side r without the springs (A the system matrix just solved with), and
+/// the step would end with velocity v_base + delta. With the springs' pushes F at the end of
+/// the step, whose nodes moved h·v:
+///   v = v_base + delta + h·Σ_j F_j·W_j,  W_j = A⁻¹u_j,  F_i = F0_i − k_i·h·u_iᵀv,
+/// i.e. (I + h²·K·C)·F = F0 − h·K·uᵀ(v_base + delta) with C_ij = u_iᵀW_j, solved exactly; a
+/// spring that would pull is let go and the rest solved again. Adds h·Σ F_j·W_j to `delta`,
+/// writes each spring's force_end and returns the linear iterations spent.
+int couple_springs(const Body& body, BodyState& s, double h, std::span<ContactSpring> springs, const VecX& v_base,
+                   VecX& delta) {
+  SolverScratch& w = *s.solver_scratch;
+  const std::size_t m = springs.size();
+  int iterations = 0;
+  for (std::size_t j = 0; j < m; ++j) {
+    if (body.settings.solver == LinearSolver::cholesky)
+      w.spring_response[j] = w.cholesky.solve(w.spring_push[j]);  // the factor solve_linear left
+    else
+      iterations += solve_linear(body, s, 1.0, h, h * h, w.spring_push[j], w.spring_response[j]);
+  }
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxContactSprings, kMaxContactSprings>;
+  using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxContactSprings, 1>;
+  const auto n = static_cast<Eigen::Index>(m);
+  Small coupling(n, n);
+  SmallVec free_force(n), force = SmallVec::Zero(n);
+  w.v_trial = v_base + delta;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const ContactSpring& c = springs[static_cast<std::size_t>(i)];
+    const double k = std::max(0.0, c.stiffness);
+    free_force[i] = c.force - k * h * w.spring_push[static_cast<std::size_t>(i)].dot(w.v_trial);
+    for (Eigen::Index j = 0; j < n; ++j)
+      coupling(i, j) = h * h * k * w.spring_push[static_cast<std::size_t>(i)].dot(w.spring_response[static_cast<std::size_t>(j)]);
+  }
+  std::array<bool, kMaxContactSprings> active{};
+  active.fill(true);
+  for (Eigen::Index round = 0; round < n; ++round) {
+    Small system = Small::Identity(n, n);
+    SmallVec rhs = SmallVec::Zero(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (!active[static_cast<std::size_t>(i)]) continue;  // F_i = 0
+      for (Eigen::Index j = 0; j < n; ++j)
+        if (active[static_cast<std::size_t>(j)]) system(i, j) += coupling(i, j);
+      rhs[i] = free_force[i];
+    }
+    force = system.partialPivLu().solve(rhs);
+    Eigen::Index most_negative = -1;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (active[static_cast<std::size_t>(i)] && force[i] < 0.0 && (most_negative < 0 || force[i] < force[most_negative]))
+        most_negative = i;
+    if (most_negative < 0) break;
+    active[static_cast<std::size_t>(most_negative)] = false;
+  }
+  for (Eigen::Index j = 0; j < n; ++j) {
+    double f = force[j];
+    if (!active[static_cast<std::size_t>(j)] || !std::isfinite(f) || f < 0.0) f = 0.0;
+    delta += (h * f) * w.spring_response[static_cast<std::size_t>(j)];
+    springs[static_cast<std::size_t>(j)].force_end = f;
+  }
+  return iterations;
+}
+
+/// Where the matrix-free path solves: the springs folded into the operator instead, as
+/// rank-one terms h²·k_j·u_j·u_jᵀ, and their pushes at v_base into `rhs`:
+///   (A + h²·Σ k_j·u_j·u_jᵀ)·delta = rhs + h·Σ (F0_j − k_j·h·u_jᵀv_base)·u_j,
+/// the same coupling as couple_springs at the cost of one solve, not one per spring.
+void fold_springs(BodyState& s, double h, std::span<const ContactSpring> springs, const VecX& v_base, VecX& rhs) {
+  SolverScratch& w = *s.solver_scratch;
+  w.folded = springs.size();
+  for (std::size_t j = 0; j < springs.size(); ++j) {
+    const double k = std::max(0.0, springs[j].stiffness);
+    w.folded_weight[j] = h * h * k;
+    rhs += (h * (springs[j].force - k * h * w.spring_push[j].dot(v_base))) * w.spring_push[j];
+  }
+}
+
+/// After a solve with the springs folded in: each spring's push at the end of the step. A
+/// spring that would pull is unfolded (its push and its term taken out again) and the step
+/// solved again from where it got; returns the linear iterations spent on that.
+int settle_folded(const Body& body, BodyState& s, double h, std::span<ContactSpring> springs, const VecX& v_base,
+                  VecX& rhs, VecX& delta) {
+  SolverScratch& w = *s.solver_scratch;
+  std::array<bool, kMaxContactSprings> let_go{};
+  int iterations = 0;
+  for (std::size_t round = 0; round <= springs.size(); ++round) {
+    std::size_t most_negative = springs.size();
+    double lowest = 0.0;
+    for (std::size_t j = 0; j < springs.size(); ++j) {
+      if (let_go[j]) continue;
+      const double k = std::max(0.0, springs[j].stiffness);
+      const double f = springs[j].force - k * h * w.spring_push[j].dot(v_base + delta);
+      springs[j].force_end = std::max(0.0, f);
+      if (f < lowest) lowest = f, most_negative = j;
+    }
+    if (most_negative == springs.size()) break;
+    const ContactSpring& c = springs[most_negative];
+    const double k = std::max(0.0, c.stiffness);
+    rhs -= (h * (c.force - k * h * w.spring_push[most_negative].dot(v_base))) * w.spring_push[most_negative];
+    w.folded_weight[most_negative] = 0.0;
+    let_go[most_negative] = true;
+    iterations += solve_linear(body, s, 1.0, h, h * h, rhs, delta);
+  }
+  w.folded = 0;
+  return iterations;
+}
+
 void explicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, bool symplectic) {
   require_diagonal_mass(body, symplectic ? "symplectic_euler" : "explicit_euler");
   SolverScratch& w = *s.solver_scratch;
@@ -435,7 +576,8 @@ void rk4_step(const Body& body, BodyState& s, double h, const VecX& f_ext) {
 /// One implicit Euler step of length h. With `may_refuse`, a step that would turn an element
 /// inside out (min_volume_ratio from > 0 to ≤ 0) is not taken: the state is left as it was
 /// and the function returns false, for the caller to take two half steps instead.
-bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, bool may_refuse) {
+bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, std::span<ContactSpring> springs,
+                   bool may_refuse) {
   SolverScratch& w = *s.solver_scratch;
   const ForceModel& model = *body.model;
   const int warm_count = w.warm_count;
@@ -452,11 +594,15 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
     w.delta = 3.0 * w.warm - 3.0 * w.warm_previous + w.warm_older;
   else
     w.delta = w.warm;
+  const bool fold = !springs.empty() && w.path_known && w.matrix_free;
+  if (fold) fold_springs(s, h, springs, s.v, w.rhs);
   s.last_linear_iterations = solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+  if (fold) s.last_linear_iterations += settle_folded(body, s, h, springs, s.v, w.rhs, w.delta);
   std::swap(w.warm_older, w.warm_previous);
   std::swap(w.warm_previous, w.warm);
   w.warm = w.delta;
   w.warm_count = std::min(w.warm_count + 1, 3);
+  if (!springs.empty() && !fold) s.last_linear_iterations += couple_springs(body, s, h, springs, s.v, w.delta);
   w.v_trial = s.v + w.delta;
   zero_fixed(body, w.v_trial);
   s.last_newton_iterations = 1;
@@ -475,10 +621,18 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
     w.z = w.v_trial - s.v;
     model.add_mass_product(-1.0, w.z, w.rhs);
     w.rhs.array() *= w.free_mask.array();
+    // The springs' pushes at v_trial count in the residual; the solve couples them again.
+    for (std::size_t j = 0; j < springs.size(); ++j)
+      w.rhs += (h * spring_force(w, springs[j], j, w.v_trial, h)) * w.spring_push[j];
     if (w.rhs.norm() <= body.settings.newton_tolerance * h * scale) break;
+    for (std::size_t j = 0; j < springs.size(); ++j)
+      w.rhs -= (h * spring_force(w, springs[j], j, w.v_trial, h)) * w.spring_push[j];
     model.linearize(w.x_trial, w.v_trial, s.q, *s.model_scratch);
     w.delta.setZero();
+    if (fold) fold_springs(s, h, springs, w.v_trial, w.rhs);
     s.last_linear_iterations += solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+    if (fold) s.last_linear_iterations += settle_folded(body, s, h, springs, w.v_trial, w.rhs, w.delta);
+    else if (!springs.empty()) s.last_linear_iterations += couple_springs(body, s, h, springs, w.v_trial, w.delta);
     w.v_trial += w.delta;
     zero_fixed(body, w.v_trial);
     ++s.last_newton_iterations;
@@ -528,12 +682,27 @@ namespace {
 /// dt / 32); a step still inverting at the last halving is taken as it is.
 constexpr int kMaxStepHalvings = 5;
 
-void step_halving(const Body& body, BodyState& s, double dt, const VecX& f_ext, int halvings) {
+/// Loads for an explicit step: f_ext plus each spring's starting push, held constant.
+const VecX& explicit_loads(BodyState& s, const VecX& f_ext, std::span<ContactSpring> springs) {
+  if (springs.empty()) return f_ext;
+  SolverScratch& w = *s.solver_scratch;
+  if (f_ext.size() == s.x.size()) w.loads = f_ext;
+  else w.loads.setZero(s.x.size());
+  for (std::size_t j = 0; j < springs.size(); ++j) {
+    w.loads += std::max(0.0, springs[j].force) * w.spring_push[j];
+    springs[j].force_end = std::max(0.0, springs[j].force);
+  }
+  return w.loads;
+}
+
+void step_halving(const Body& body, BodyState& s, double dt, const VecX& f_ext, std::span<ContactSpring> springs,
+                  int halvings) {
   prepare(body, s);
+  build_spring_pushes(s, springs);
   switch (body.settings.integrator) {
-    case Integrator::explicit_euler: explicit_step(body, s, dt, f_ext, false); break;
-    case Integrator::symplectic_euler: explicit_step(body, s, dt, f_ext, true); break;
-    case Integrator::rk4: rk4_step(body, s, dt, f_ext); break;
+    case Integrator::explicit_euler: explicit_step(body, s, dt, explicit_loads(s, f_ext, springs), false); break;
+    case Integrator::symplectic_euler: explicit_step(body, s, dt, explicit_loads(s, f_ext, springs), true); break;
+    case Integrator::rk4: rk4_step(body, s, dt, explicit_loads(s, f_ext, springs)); break;
     case Integrator::implicit_euler:
       // A linearized step is accurate only while the tangent at its start holds over it. A
       // load landing on a node over a thin element (a soft organ's coarse surface) can move
@@ -541,9 +710,14 @@ void step_halving(const Body& body, BodyState& s, double dt, const VecX& f_ext, 
       // the next linearization overshoots further, and in a few steps the body diverges
       // (scenes/liver.toml reached 10^13 m and then failed its Cholesky factorization). Such a
       // step is taken as two half steps, whose shorter strokes keep the elements right side out.
-      if (!implicit_step(body, s, dt, f_ext, halvings < kMaxStepHalvings)) {
-        step_halving(body, s, 0.5 * dt, f_ext, halvings + 1);
-        step_halving(body, s, 0.5 * dt, f_ext, halvings + 1);
+      if (!implicit_step(body, s, dt, f_ext, springs, halvings < kMaxStepHalvings)) {
+        // The second half starts from the pushes the first ended with.
+        std::array<double, kMaxContactSprings> start{};
+        for (std::size_t j = 0; j < springs.size(); ++j) start[j] = springs[j].force;
+        step_halving(body, s, 0.5 * dt, f_ext, springs, halvings + 1);
+        for (ContactSpring& c : springs) c.force = c.force_end;
+        step_halving(body, s, 0.5 * dt, f_ext, springs, halvings + 1);
+        for (std::size_t j = 0; j < springs.size(); ++j) springs[j].force = start[j];
         return;
       }
       break;
@@ -556,9 +730,12 @@ void step_halving(const Body& body, BodyState& s, double dt, const VecX& f_ext, 
 
 }  // namespace
 
-void step(const Body& body, BodyState& s, double dt, const VecX& f_ext) {
+void step(const Body& body, BodyState& s, double dt, const VecX& f_ext, std::span<ContactSpring> springs) {
   if (!(dt > 0.0)) throw std::invalid_argument("step: dt must be positive");
-  step_halving(body, s, dt, f_ext, 0);
+  if (springs.size() > kMaxContactSprings)
+    throw std::invalid_argument("step: " + std::to_string(springs.size()) + " contact springs, at most " +
+                                std::to_string(kMaxContactSprings));
+  step_halving(body, s, dt, f_ext, springs, 0);
 }
 
 StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int max_iterations,

@@ -61,6 +61,9 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
     }
     bodies_.push_back(std::move(sb));
   }
+  pushes_.resize(devices_.size());
+  for (DevicePush& p : pushes_) p.nodes.reserve(shares_.size());
+  for (SimBody& sb : bodies_) sb.springs.reserve(physics::kMaxContactSprings);
   for (DeviceChannels* d : devices_) {
     if (!d->patch) continue;
     PatchSource source;
@@ -282,7 +285,10 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
       compile::place_prescribed(b, sb.rest, fraction, sb.state.x);
     }
     for (PatchSource& source : patch_sources_) source.applied = ContactLoad{}, source.applied_shares.clear();
-    for (DeviceChannels* d : devices_) {
+    for (SimBody& sb : bodies_) sb.springs.clear();
+    for (std::size_t device = 0; device < devices_.size(); ++device) {
+      DeviceChannels* d = devices_[device];
+      pushes_[device].spring = -1;
       d->load.update();
       const ContactLoad& load = d->load.read();
       if (load.shaft) push_along_shaft(load);
@@ -295,9 +301,26 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
       }
       if (!sb.body) continue;
       const std::span<const contact::LoadShare> shares = spread(sb, load);
-      for (const contact::LoadShare& s : shares)
-        sb.f_ext.segment<3>(3 * static_cast<Eigen::Index>(sb.surface_to_node[static_cast<std::size_t>(s.vertex)])) +=
-            s.share * load.force;
+      const double push = load.force.norm();
+      if (push > 0.0 && sb.springs.size() < physics::kMaxContactSprings) {
+        // Coupled into the step: the push eases as the tissue gives way under it.
+        DevicePush& p = pushes_[device];
+        p.nodes.clear();
+        for (const contact::LoadShare& s : shares)
+          p.nodes.push_back({sb.surface_to_node[static_cast<std::size_t>(s.vertex)], s.share});
+        p.body = static_cast<std::size_t>(load.body);
+        p.spring = static_cast<int>(sb.springs.size());
+        // The push where the published surface stands (the step starts from it), not where
+        // the haptic loop's patch had moved the contact point to.
+        const double stiffness = std::max(0.0, load.stiffness);
+        const double offset = stiffness * load.surface_offset;
+        const double at_surface = std::isfinite(offset) ? push + offset : push;
+        sb.springs.push_back({p.nodes, load.force / push, at_surface, stiffness, std::max(0.0, at_surface)});
+      } else {
+        for (const contact::LoadShare& s : shares)
+          sb.f_ext.segment<3>(3 * static_cast<Eigen::Index>(sb.surface_to_node[static_cast<std::size_t>(s.vertex)])) +=
+              s.share * load.force;
+      }
       for (PatchSource& source : patch_sources_)
         if (source.channels == d) source.applied = load, source.applied_shares.assign(shares.begin(), shares.end());
     }
@@ -309,7 +332,8 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
       if (!patch_sources_.empty()) sb.x_before = sb.state.x;
       const double dt = period / sb.substeps;
       for (int k = 0; k < sb.substeps; ++k) {
-        physics::step(*sb.body, sb.state, dt, sb.f_ext);
+        physics::step(*sb.body, sb.state, dt, sb.f_ext, sb.springs);
+        for (physics::ContactSpring& c : sb.springs) c.force = c.force_end;
         iterations += sb.state.last_linear_iterations;
       }
       if (!sb.state.x.allFinite())
@@ -317,6 +341,14 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
                                              "its time_step, soften the contact or use implicit_euler",
                                              model_.bodies[sb.index].name, t_end));
     }
+    // The patches are built around the push the tissue took at the end of the step.
+    for (PatchSource& source : patch_sources_)
+      for (std::size_t device = 0; device < devices_.size(); ++device)
+        if (devices_[device] == source.channels && pushes_[device].spring >= 0) {
+          const physics::ContactSpring& c =
+              bodies_[pushes_[device].body].springs[static_cast<std::size_t>(pushes_[device].spring)];
+          source.applied.force = c.force * c.direction;
+        }
     const Nanos integrated = now_ns();
     parts_[1].time.record(integrated - loads_done);
   }

@@ -68,6 +68,14 @@ class SimulationLoop {
     /// Volumetric bodies: nodes within this distance of a needle's shaft share its push
     /// (three quarters of the mean tetrahedron edge, so the shaft always finds some) [m].
     double shaft_reach = 0.0;
+    /// The devices' contact pushes on this body this step, coupled into its solve.
+    std::vector<physics::ContactSpring> springs;
+  };
+  /// Where a device's push went this step: its nodes' shares, and the spring it became.
+  struct DevicePush {
+    std::vector<physics::NodeShare> nodes;
+    std::size_t body = 0;
+    int spring = -1;  ///< index into that body's springs; −1: none this step
   };
   /// A device whose local model is a patch: one builder per body it may touch, and the
   /// contact load the last step applied for it.
@@ -99,6 +107,7 @@ class SimulationLoop {
   std::vector<TripleBuffer<SurfaceSnapshot>*> outputs_;
   std::vector<SimBody> bodies_;
   std::vector<PatchSource> patch_sources_;
+  std::vector<DevicePush> pushes_;  ///< per device
   static constexpr std::size_t kSharesPerContact = 64;  ///< vertices one contact's load spreads over, at most
   std::array<contact::LoadShare, 256> shares_{};         ///< up to 32 per sphere of an 8-sphere finger
   std::uint64_t step_ = 0;

@@ -578,6 +578,39 @@ TEST(ProxyDeforming, AStickingProxyIsCarriedByTheSurfaceUnderIt) {
   }
 }
 
+TEST(ProxyDeforming, AReplacedSurfaceIsNoMotionForTheDamping) {
+  // A proxy resting on a sheet 3 mm above the goal, which a newer model puts 2 mm lower: the
+  // proxy falls with it in one update. As motion at 2 m/s, a 0.2 N·s/m damper takes 0.4 N off
+  // the 0.2 N spring and pulls the hand into the tissue; as a replaced model the spring alone
+  // is rendered.
+  for (const bool replaced : {false, true}) {
+    const mesh::TriMesh rest = floor_plate();
+    mesh::TriMesh moving = rest;
+    const BruteForceSurfaceQuery surface(moving.vertices, moving.triangles);
+    ProxyParams params = params_with(0.0, 0.0, 0.0);
+    params.closed_surfaces = false;
+    params.stiffness = 200.0;
+    params.damping = 0.2;
+    ProxyState state = make_proxy_state(Vec3(0, 0, 0.01));
+    const Vec3 goal(0, 0, -0.003);
+    for (int i = 0; i < 3; ++i) (void)update_proxy(params, state, goal, Vec3::Zero(), kDt, surface);
+    const double before = state.position.z();
+    for (std::size_t v = 0; v < rest.vertices.size(); ++v) moving.vertices[v] = rest.vertices[v] + Vec3(0, 0, -0.002);
+    state.surface_replaced = replaced;
+    const ProxyResult res = update_proxy(params, state, goal, Vec3::Zero(), kDt, surface);
+    EXPECT_NEAR(res.position.z(), -0.002, 1e-5);  // on the sheet (within the proxy's skin)
+    const double spring = 200.0 * (res.position.z() - goal.z());
+    if (replaced) {
+      EXPECT_NEAR(res.force.z(), spring, 1e-9);
+      EXPECT_GT(res.force.z(), 0.19);
+      EXPECT_FALSE(state.surface_replaced);  // one update only
+    } else {
+      EXPECT_NEAR(res.force.z(), spring + 0.2 * (res.position.z() - before) / kDt, 1e-9);
+      EXPECT_LT(res.force.z(), -0.19);
+    }
+  }
+}
+
 // --- blending planes between surface updates ------------------------------------------------
 
 TEST(PlaneBlending, TurnsAboutTheCommonLineAndTranslatesParallelPlanes) {

@@ -2,9 +2,11 @@
 // check by hand: linear (isotropic) springs with parallel dashpots between nodes.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <thread>
+#include <vector>
 
 #include "physics/body.hpp"
 
@@ -249,6 +251,119 @@ TEST(Step, RejectsNonPositiveTimeStep) {
   BodyState s = make_state(b);
   EXPECT_THROW(step(b, s, 0.0), std::invalid_argument);
   EXPECT_THROW(step(b, s, std::nan("")), std::invalid_argument);
+}
+
+// --- Contact springs: the hand's push coupled into the implicit step ---------------------
+
+/// A light node (1 g) on a 200 N/m tissue spring with a 0.1 N·s/m dashpot: one implicit
+/// 10 ms step takes it 91 % of the way to its static position under a load,
+/// h²k / (m + h·c + h²k) = 0.02 / 0.022.
+Body tissue_node(LinearSolver solver = LinearSolver::conjugate_gradient) {
+  Body b;
+  b.model = std::make_shared<SpringChain>(2, 0.1, 0.001, 200.0, 0.1);
+  b.fix_nodes({0});
+  b.settings.integrator = Integrator::implicit_euler;
+  b.settings.solver = solver;
+  b.settings.cg_tolerance = 1e-12;
+  return b;
+}
+
+/// A finger held still 2 N deep into the node at rest, through a 300 N/m proxy spring, pushing
+/// along +x; each 10 ms period starts from the force the haptic loop renders at the node's
+/// position then, as the simulation loop does. Returns the forces rendered, one per period.
+std::vector<double> press(bool coupled, LinearSolver solver = LinearSolver::conjugate_gradient) {
+  const Body b = tissue_node(solver);
+  BodyState s = make_state(b);
+  const double k_contact = 300.0, finger = 0.1 + 2.0 / k_contact;
+  const std::array<NodeShare, 1> node{{{1, 1.0}}};
+  std::vector<double> rendered;
+  for (int period = 0; period < 60; ++period) {
+    const double force = std::max(0.0, k_contact * (finger - s.x[3]));
+    rendered.push_back(force);
+    std::array<ContactSpring, 1> spring{{{node, Vec3::UnitX(), force, coupled ? k_contact : 0.0, force}}};
+    step(b, s, 0.01, {}, spring);
+  }
+  return rendered;
+}
+
+TEST(ContactSprings, ThePushSettlesWhereTissueAndContactBalance) {
+  // Two springs in series: F = F0·k_t / (k_t + k_c) = 2 · 200 / 500 = 0.8 N, the tissue 4 mm in.
+  for (const auto solver : {LinearSolver::conjugate_gradient, LinearSolver::cholesky}) {
+    const std::vector<double> f = press(true, solver);
+    EXPECT_NEAR(f.back(), 0.8, 1e-6) << static_cast<int>(solver);
+    double swing = 0.0;  // after the first periods, no period-to-period swing
+    for (std::size_t i = 21; i < f.size(); ++i) swing = std::max(swing, std::abs(f[i] - f[i - 1]));
+    EXPECT_LT(swing, 1e-6) << static_cast<int>(solver);
+  }
+}
+
+TEST(ContactSprings, AConstantPushOverThePeriodSwingsForever) {
+  // The failure the coupling removes: the push held constant over each period moves the
+  // tissue most of the way to F/k_t, and with k_c > k_t the next period's push overshoots the
+  // other way (gain −1.5 · 0.91), until it swings between nothing and a full push.
+  const std::vector<double> f = press(false);
+  double swing = 0.0;
+  for (std::size_t i = f.size() - 10; i < f.size(); ++i) swing = std::max(swing, std::abs(f[i] - f[i - 1]));
+  EXPECT_GT(swing, 1.0);
+}
+
+TEST(ContactSprings, WithoutStiffnessTheyAreTheConstantLoad) {
+  for (const auto solver : {LinearSolver::conjugate_gradient, LinearSolver::cholesky}) {
+    const Body b = tissue_node(solver);
+    BodyState with_spring = make_state(b), with_load = make_state(b);
+    const std::array<NodeShare, 1> node{{{1, 1.0}}};
+    VecX load = VecX::Zero(6);
+    load.segment<3>(3) = 1.5 * Vec3(0.6, 0.0, 0.8);
+    for (int i = 0; i < 20; ++i) {
+      std::array<ContactSpring, 1> spring{{{node, Vec3(0.6, 0.0, 0.8), 1.5, 0.0, 0.0}}};
+      step(b, with_spring, 0.01, {}, spring);
+      step(b, with_load, 0.01, load);
+      EXPECT_DOUBLE_EQ(spring[0].force_end, 1.5);
+    }
+    EXPECT_LT((with_spring.x - with_load.x).norm(), 1e-12) << static_cast<int>(solver);
+  }
+}
+
+TEST(ContactSprings, NeverPull) {
+  // The node flies away along the push faster than the contact can follow: the push ends at
+  // zero and the node moves as if nothing touched it. Both ways of coupling: a separate solve
+  // per spring (a body's first solve), and the springs folded into the matrix-free operator
+  // (once the solver's path is known), where the spring is let go and the step solved again.
+  for (const bool path_known : {false, true}) {
+    const Body b = tissue_node();
+    BodyState touched = make_state(b), free = make_state(b);
+    if (path_known) step(b, touched, 0.01), step(b, free, 0.01);
+    touched.v[3] = free.v[3] = 2.0;
+    const std::array<NodeShare, 1> node{{{1, 1.0}}};
+    std::array<ContactSpring, 1> spring{{{node, Vec3::UnitX(), 0.1, 1000.0, 0.1}}};
+    step(b, touched, 0.01, {}, spring);
+    step(b, free, 0.01);
+    EXPECT_EQ(spring[0].force_end, 0.0) << path_known;
+    EXPECT_LT((touched.x - free.x).norm(), 1e-9) << path_known;
+    EXPECT_EQ(spring[0].stiffness, 1000.0);  // the caller's spring is not changed
+  }
+}
+
+TEST(ContactSprings, ExplicitIntegratorsHoldTheStartingPush) {
+  Body b = tissue_node();
+  b.settings.integrator = Integrator::symplectic_euler;
+  BodyState with_spring = make_state(b), with_load = make_state(b);
+  const std::array<NodeShare, 1> node{{{1, 1.0}}};
+  std::array<ContactSpring, 1> spring{{{node, Vec3::UnitX(), 0.7, 300.0, 0.0}}};
+  VecX load = VecX::Zero(6);
+  load[3] = 0.7;
+  step(b, with_spring, 1e-4, {}, spring);
+  step(b, with_load, 1e-4, load);
+  EXPECT_EQ(with_spring.x, with_load.x);
+  EXPECT_EQ(spring[0].force_end, 0.7);
+}
+
+TEST(ContactSprings, MoreThanTheLimitAreRefused) {
+  const Body b = tissue_node();
+  BodyState s = make_state(b);
+  const std::array<NodeShare, 1> node{{{1, 1.0}}};
+  std::vector<ContactSpring> springs(kMaxContactSprings + 1, ContactSpring{node, Vec3::UnitX(), 0.1, 10.0, 0.1});
+  EXPECT_THROW(step(b, s, 0.01, {}, springs), std::invalid_argument);
 }
 
 }  // namespace

@@ -201,7 +201,8 @@ void check_recording(const NoduleRun& run) {
 // (a lockstep run repeats bit for bit; 1 % leaves room for another compiler's rounding).
 // A local patch cut short of its radius once let the finger reach the patch's rim over the
 // soft nodule: the force jumped to 4.4 N with three contact losses, and the map's strongest
-// cell moved off the hard nodule.
+// cell moved off the hard nodule. With the push held constant over each simulation step the
+// skin swung between two depths: peak 1.959 N, mean 0.383 N, largest frame 1.810 N.
 void check_documented_numbers(const NoduleRun& run) {
   const auto count = [&](const char* kind) {
     const auto it = run.report.events.find(kind);
@@ -210,11 +211,11 @@ void check_documented_numbers(const NoduleRun& run) {
   EXPECT_EQ(count("contact_begin"), 1u) << "the finger touches down once and never loses the skin";
   EXPECT_EQ(count("contact_end"), 0u);
   const PalpationFeedback& f = *run.report.palpation;
-  EXPECT_NEAR(f.peak_force, 1.959, 0.01 * 1.959);
-  EXPECT_NEAR(f.mean_force, 0.383, 0.01 * 0.383);
+  EXPECT_NEAR(f.peak_force, 1.151, 0.01 * 1.151);
+  EXPECT_NEAR(f.mean_force, 0.412, 0.01 * 0.412);
   EXPECT_NEAR(f.coverage, 0.708, 0.005);
   const report::ForceMap map = report::build_force_map(run.model, 0, run.report.frames);
-  EXPECT_NEAR(map.max_peak(), 1.810, 0.01 * 1.810);
+  EXPECT_NEAR(map.max_peak(), 1.150, 0.01 * 1.150);
   double strongest = 0.0;
   Vec2 where = Vec2::Zero();
   for (int row = 0; row < map.rows; ++row)
@@ -223,7 +224,7 @@ void check_documented_numbers(const NoduleRun& run) {
         strongest = map.mean[map.index(column, row)];
         where = map.cell_center(column, row);
       }
-  EXPECT_NEAR(strongest, 0.711, 0.01 * 0.711);
+  EXPECT_NEAR(strongest, 0.773, 0.01 * 0.773);
   EXPECT_NEAR(where.x(), -0.012, 1e-9);  // over the hard nodule, at (-14, +12) mm
   EXPECT_NEAR(where.y(), 0.012, 1e-9);
 }

@@ -47,10 +47,14 @@ void OnPatch::react(const FrameInputs& f, const Rendering& rendered, const React
     const double sent_normal = std::max(0.0, reaction.sent.dot(on_patch.normal));
     if (rendered.law_force > 0.0) on_patch.stiffness *= std::min(1.0, sent_normal / rendered.law_force);
     on_patch.force = sent_normal;
+    load.stiffness = on_patch.stiffness;
   } else {
     on_patch.triangle = -1;
   }
   advance(f, rendered, reaction, on, on_patch, s, load);
+  const double push = load.force.norm();
+  if (on && push > 0.0)
+    load.surface_offset = s.local.moved_since_published(on_patch.triangle, on_patch.barycentric).dot(load.force / push);
 }
 
 }  // namespace tactus::haptics

@@ -26,6 +26,7 @@ void ProxyOnPatch::patch_replaced(PatchState& state) const {
   s.coupling.proxy.side_triangle = -1;
   s.coupling.proxy.side = 0;
   s.coupling.proxy.anchor_triangle = -1;
+  s.coupling.proxy.surface_replaced = true;
 }
 
 Rendering ProxyOnPatch::against(const FrameInputs& f, PatchState& state, bool trial) const {

@@ -77,9 +77,14 @@ void SpheresOnPatch::advance(const FrameInputs& f, const Rendering& rendered, co
     s.contacts[static_cast<std::size_t>(i)].stiffness *= scale;
   }
   s.local.advance({s.contacts.data(), static_cast<std::size_t>(s.contact_count)}, f.dt);
-  // The tissue takes each sphere's force where that sphere touches, in proportion.
+  // The tissue takes each sphere's force where that sphere touches, in proportion; the
+  // spheres' slopes add up as the tissue gives way under all of them.
   double total = 0.0;
-  for (int i = 0; i < s.contact_count; ++i) total += s.contacts[static_cast<std::size_t>(i)].force;
+  load.stiffness = 0.0;
+  for (int i = 0; i < s.contact_count; ++i) {
+    total += s.contacts[static_cast<std::size_t>(i)].force;
+    load.stiffness += s.contacts[static_cast<std::size_t>(i)].stiffness;
+  }
   for (int i = 0; i < s.contact_count && i < ContactLoad::kMaxParts && total > 0.0; ++i) {
     const contact::PatchContact& c = s.contacts[static_cast<std::size_t>(i)];
     if (c.triangle < 0 || c.triangle >= patch.triangle_count || !(c.force > 0.0)) continue;
