@@ -13,25 +13,14 @@
 namespace tactus::compile {
 namespace {
 
-physics::FemLaw fem_law(scene::ConstitutiveModel m) {
-  switch (m) {
-    case scene::ConstitutiveModel::linear: return physics::FemLaw::linear;
-    case scene::ConstitutiveModel::corotational: return physics::FemLaw::corotational;
-    case scene::ConstitutiveModel::stvk: return physics::FemLaw::stvk;
-    case scene::ConstitutiveModel::neo_hookean: return physics::FemLaw::neo_hookean;
-    case scene::ConstitutiveModel::mooney_rivlin: return physics::FemLaw::mooney_rivlin;
-    case scene::ConstitutiveModel::mass_spring: break;
-  }
-  throw InputError("a mass_spring material cannot drive a FEM body");
-}
-
 std::shared_ptr<const physics::ForceModel> fem_model(const scene::Body& b, const scene::Material& m) {
+  if (!m.law) throw InputError("a mass_spring material cannot drive a FEM body");
   physics::FemMaterial fm;
-  fm.law = fem_law(m.model);
+  fm.law = *m.law;
   fm.young_modulus = m.young_modulus;
   fm.poisson_ratio = m.poisson_ratio;
   fm.density = m.density;
-  if (m.model == scene::ConstitutiveModel::mooney_rivlin) {
+  if (m.law == physics::FemLaw::mooney_rivlin) {
     fm.c10 = m.c10;
     fm.c01 = m.c01;
     fm.bulk_modulus = m.bulk_modulus;
@@ -129,17 +118,6 @@ std::shared_ptr<const physics::ForceModel> surface_spring_model(const scene::Bod
   return physics::surface_mass_spring(b.surface, p);
 }
 
-physics::Integrator integrator(scene::Integrator i) {
-  switch (i) {
-    case scene::Integrator::explicit_euler: return physics::Integrator::explicit_euler;
-    case scene::Integrator::symplectic_euler: return physics::Integrator::symplectic_euler;
-    case scene::Integrator::rk4: return physics::Integrator::rk4;
-    case scene::Integrator::implicit_euler:
-    case scene::Integrator::static_solve: return physics::Integrator::implicit_euler;
-  }
-  return physics::Integrator::implicit_euler;
-}
-
 }  // namespace
 
 physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
@@ -154,9 +132,9 @@ physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
     if (b.kind != scene::BodyKind::fem)
       throw InputError(fmt::format("body '{}': mass_matrix = \"consistent\" is for 'fem' bodies; spring networks"
                                    " carry lumped masses", b.name));
-    if (b.integrator != scene::Integrator::implicit_euler && b.integrator != scene::Integrator::static_solve)
-      throw InputError(fmt::format("body '{}': mass_matrix = \"consistent\" needs integrator = \"implicit_euler\""
-                                   " (or \"static\"): explicit integrators divide by a lumped mass", b.name));
+    if (b.stepping.integrator != physics::Integrator::implicit_euler)
+      throw InputError(fmt::format("body '{}': mass_matrix = \"consistent\" needs integrator = \"implicit_euler\":"
+                                   " explicit integrators divide by a lumped mass", b.name));
   }
 
   physics::Body body;
@@ -176,11 +154,7 @@ physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
   for (const auto& f : b.fixed) body.fix_nodes(f.nodes);
   for (const auto& p : b.prescribed) body.fix_nodes(p.nodes);
   body.nodules = physics_nodules(b);
-  body.settings.integrator = integrator(b.integrator);
-  body.settings.solver = b.solver;
-  body.settings.cg_tolerance = b.solver_tolerance;
-  body.settings.cg_max_iterations = b.solver_max_iterations;
-  body.settings.newton_iterations = b.newton_iterations;
+  body.settings = b.stepping;
   return body;
 }
 

@@ -449,7 +449,7 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
 
   if (const auto material = r.string("material")) {
     b.material = resolve_name(r, "material", *material, model.materials, "material");
-    if (b.kind == BodyKind::fem && model.materials[*b.material].model == ConstitutiveModel::mass_spring)
+    if (b.kind == BodyKind::fem && !model.materials[*b.material].law)
       r.fail("material", "material '" + *material + "' has model 'mass_spring'; a 'fem' body needs a continuum model"
                          " (linear, corotational, stvk, neo_hookean or mooney_rivlin)");
   } else if (!rigid) {
@@ -507,30 +507,34 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
   }
   b.load_steps = r.integer("load_steps", 1, 1, 100000);
 
-  b.integrator = r.choice<Integrator>("integrator",
-                                      {{"explicit_euler", Integrator::explicit_euler},
-                                       {"symplectic_euler", Integrator::symplectic_euler},
-                                       {"rk4", Integrator::rk4},
-                                       {"implicit_euler", Integrator::implicit_euler},
-                                       {"static", Integrator::static_solve}},
-                                      Integrator::implicit_euler);
+  physics::StepSettings& step = b.stepping;
+  const physics::StepSettings defaults;
+  if (r.string("integrator") == "static")
+    r.fail("integrator", "'static' is not a time integrator: bodies step in time in a run (use implicit_euler); "
+                         "`tactus solve --static` solves a scene for equilibrium");
+  step.integrator = r.choice<physics::Integrator>("integrator",
+                                                  {{"explicit_euler", physics::Integrator::explicit_euler},
+                                                   {"symplectic_euler", physics::Integrator::symplectic_euler},
+                                                   {"rk4", physics::Integrator::rk4},
+                                                   {"implicit_euler", physics::Integrator::implicit_euler}},
+                                                  defaults.integrator);
   b.time_step = r.number("time_step", 1.0 / model.rates.simulation, Range::open_closed(0.0, 1.0));
-  b.solver = r.choice<physics::LinearSolver>(
+  step.solver = r.choice<physics::LinearSolver>(
       "solver", {{"cg", physics::LinearSolver::conjugate_gradient}, {"cholesky", physics::LinearSolver::cholesky}},
-      physics::LinearSolver::conjugate_gradient);
-  b.solver_tolerance = r.number("solver_tolerance", 1e-4, Range::open(0.0, 1.0));
-  b.solver_max_iterations = r.integer("solver_max_iterations", 200, 1, 1000000);
+      defaults.solver);
+  step.cg_tolerance = r.number("solver_tolerance", defaults.cg_tolerance, Range::open(0.0, 1.0));
+  step.cg_max_iterations = r.integer("solver_max_iterations", defaults.cg_max_iterations, 1, 1000000);
   b.mass_matrix = r.choice<MassMatrix>("mass_matrix",
                                        {{"lumped", MassMatrix::lumped}, {"consistent", MassMatrix::consistent}},
                                        MassMatrix::lumped);
   if (b.mass_matrix == MassMatrix::consistent) {
     if (b.kind != BodyKind::fem) r.fail("mass_matrix", "a consistent mass is for 'fem' bodies; spring networks carry lumped masses");
-    if (b.integrator != Integrator::implicit_euler && b.integrator != Integrator::static_solve)
-      r.fail("mass_matrix", "a consistent mass needs integrator = \"implicit_euler\" (or \"static\"): explicit"
-                            " integrators divide by a lumped mass");
+    if (step.integrator != physics::Integrator::implicit_euler)
+      r.fail("mass_matrix", "a consistent mass needs integrator = \"implicit_euler\": explicit integrators divide by"
+                            " a lumped mass");
   }
-  b.newton_iterations = r.integer("newton_iterations", 1, 1, 100);
-  if (b.newton_iterations > 1 && b.integrator != Integrator::implicit_euler)
+  step.newton_iterations = r.integer("newton_iterations", defaults.newton_iterations, 1, 100);
+  if (step.newton_iterations > 1 && step.integrator != physics::Integrator::implicit_euler)
     r.fail("newton_iterations", "only implicit_euler steps iterate Newton; remove the key or use implicit_euler");
 
   if (b.kind == BodyKind::surface_mass_spring) {

@@ -29,16 +29,16 @@ const Range kPoisson = Range::open(-1.0, 0.5);
 
 void read_elasticity(Reader& r, Material& m) {
   const bool hyperelastic =
-      m.model == ConstitutiveModel::neo_hookean || m.model == ConstitutiveModel::mooney_rivlin;
+      m.law == physics::FemLaw::neo_hookean || m.law == physics::FemLaw::mooney_rivlin;
   const auto& t = r.table();
   const bool by_young = t.contains("young_modulus");
   const bool by_mu = hyperelastic && t.contains("mu");
-  const bool by_c = m.model == ConstitutiveModel::mooney_rivlin && (t.contains("c10") || t.contains("c01"));
+  const bool by_c = m.law == physics::FemLaw::mooney_rivlin && (t.contains("c10") || t.contains("c01"));
   const int forms = int(by_young) + int(by_mu) + int(by_c);
   if (forms > 1)
     r.fail_here("give the elastic constants one way only: young_modulus + poisson_ratio"
                 + std::string(hyperelastic ? ", or mu + kappa" : "")
-                + (m.model == ConstitutiveModel::mooney_rivlin ? ", or c10 + c01 (+ kappa or poisson_ratio)" : ""));
+                + (m.law == physics::FemLaw::mooney_rivlin ? ", or c10 + c01 (+ kappa or poisson_ratio)" : ""));
 
   if (by_mu) {
     const double mu = r.required_number("mu", Range::positive());
@@ -66,7 +66,7 @@ void read_elasticity(Reader& r, Material& m) {
   if (!by_young) {
     std::string alternatives = "a number";
     if (hyperelastic) alternatives += "; or give mu + kappa";
-    if (m.model == ConstitutiveModel::mooney_rivlin) alternatives += ", or c10 + c01";
+    if (m.law == physics::FemLaw::mooney_rivlin) alternatives += ", or c10 + c01";
     r.fail_missing("young_modulus", alternatives);
   }
   const double e = r.required_number("young_modulus", Range::positive());
@@ -130,14 +130,15 @@ Viscoelasticity read_viscoelastic(Reader& r) {
 Material read_material(Reader& r, const std::string& name) {
   Material m;
   m.name = name;
-  m.model = r.choice<ConstitutiveModel>("model",
-                                        {{"mass_spring", ConstitutiveModel::mass_spring},
-                                         {"linear", ConstitutiveModel::linear},
-                                         {"corotational", ConstitutiveModel::corotational},
-                                         {"stvk", ConstitutiveModel::stvk},
-                                         {"neo_hookean", ConstitutiveModel::neo_hookean},
-                                         {"mooney_rivlin", ConstitutiveModel::mooney_rivlin}},
-                                        ConstitutiveModel::corotational);
+  using Law = std::optional<physics::FemLaw>;  // none: a spring material
+  m.law = r.choice<Law>("model",
+                        {{"mass_spring", Law{}},
+                         {"linear", physics::FemLaw::linear},
+                         {"corotational", physics::FemLaw::corotational},
+                         {"stvk", physics::FemLaw::stvk},
+                         {"neo_hookean", physics::FemLaw::neo_hookean},
+                         {"mooney_rivlin", physics::FemLaw::mooney_rivlin}},
+                        Law{physics::FemLaw::corotational});
   read_elasticity(r, m);
   m.density = r.required_number("density", Range::positive());
   m.damping = read_damping(r);

@@ -27,17 +27,7 @@ const Device* Model::find_device(std::string_view n) const { return find_named(d
 const Tool* Model::find_tool(std::string_view n) const { return find_named(tools, n); }
 const Algorithm* Model::find_algorithm(std::string_view n) const { return find_named(algorithms, n); }
 
-const char* to_string(ConstitutiveModel m) {
-  switch (m) {
-    case ConstitutiveModel::mass_spring: return "mass_spring";
-    case ConstitutiveModel::linear: return "linear";
-    case ConstitutiveModel::corotational: return "corotational";
-    case ConstitutiveModel::stvk: return "stvk";
-    case ConstitutiveModel::neo_hookean: return "neo_hookean";
-    case ConstitutiveModel::mooney_rivlin: return "mooney_rivlin";
-  }
-  return "?";
-}
+std::string_view model_name(const Material& m) { return m.law ? physics::to_string(*m.law) : "mass_spring"; }
 
 const char* to_string(ViscoelasticModel m) {
   switch (m) {
@@ -60,13 +50,12 @@ const char* to_string(BodyKind k) {
   return "?";
 }
 
-const char* to_string(Integrator i) {
+const char* to_string(physics::Integrator i) {
   switch (i) {
-    case Integrator::explicit_euler: return "explicit_euler";
-    case Integrator::symplectic_euler: return "symplectic_euler";
-    case Integrator::rk4: return "rk4";
-    case Integrator::implicit_euler: return "implicit_euler";
-    case Integrator::static_solve: return "static";
+    case physics::Integrator::explicit_euler: return "explicit_euler";
+    case physics::Integrator::symplectic_euler: return "symplectic_euler";
+    case physics::Integrator::rk4: return "rk4";
+    case physics::Integrator::implicit_euler: return "implicit_euler";
   }
   return "?";
 }

@@ -22,6 +22,7 @@
 #include "mesh/generators.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "mesh/tri_mesh.hpp"
+#include "physics/fem/material.hpp"
 #include "physics/mapping.hpp"
 #include "physics/step_settings.hpp"
 #include "precompute/settings.hpp"
@@ -51,7 +52,6 @@ struct RealtimeSettings {
 // ---------------------------------------------------------------------------------------
 // Materials
 
-enum class ConstitutiveModel { mass_spring, linear, corotational, stvk, neo_hookean, mooney_rivlin };
 
 struct Damping {
   double rayleigh_alpha = 0.0;  ///< mass-proportional [1/s]
@@ -80,7 +80,8 @@ struct Viscoelasticity {
 /// Elastic constants are always all filled in, whichever pair the file gave.
 struct Material {
   std::string name;
-  ConstitutiveModel model = ConstitutiveModel::corotational;
+  /// The FEM law (`model = "..."`); none for a spring material (`model = "mass_spring"`).
+  std::optional<physics::FemLaw> law = physics::FemLaw::corotational;
   double young_modulus = 0.0;  ///< E [Pa]
   double poisson_ratio = 0.0;  ///< ν, in (−1, 0.5)
   double shear_modulus = 0.0;  ///< μ [Pa]
@@ -101,7 +102,6 @@ struct Material {
 /// embedded: a surface carried by another body's tetrahedra (seed 003 §3.1: a fascia sheet,
 /// a vessel wall inside the behaviour mesh); it has no dynamics of its own.
 enum class BodyKind { surface_mass_spring, tet_mass_spring, fem, rigid, embedded };
-enum class Integrator { explicit_euler, symplectic_euler, rk4, implicit_euler, static_solve };
 enum class MassMatrix { lumped, consistent };
 enum class SpringType { longitudinal, diagonal, torsional, bending };
 
@@ -206,15 +206,11 @@ struct Body {
   std::optional<std::size_t> host;
   std::shared_ptr<const physics::BarycentricMapping> host_mapping;
 
-  // Time stepping (deformable bodies).
-  Integrator integrator = Integrator::implicit_euler;
+  // Time stepping (deformable bodies): the integrator, the linear solver and its tolerances,
+  // the Newton iterations of an implicit step.
+  physics::StepSettings stepping;
   double time_step = 0.01;  ///< [s]
-  physics::LinearSolver solver = physics::LinearSolver::conjugate_gradient;
-  double solver_tolerance = 1e-4;  ///< CG relative residual
-  int solver_max_iterations = 200;
   MassMatrix mass_matrix = MassMatrix::lumped;
-  /// Newton iterations of each implicit Euler step (1 = the linearized step).
-  int newton_iterations = 1;
   std::vector<SpringType> springs;  ///< surface_mass_spring only
   /// surface_mass_spring only: sheet thickness [m]; with the material it sets the spring
   /// stiffnesses and the areal density (docs/scene-format.md gives the rules).
@@ -449,10 +445,11 @@ struct Model {
 using ModelPtr = std::shared_ptr<const Model>;
 
 // Names as written in scene files (the inverse of what the loader accepts).
-const char* to_string(ConstitutiveModel m);
+/// The material's `model` key: its FEM law, or "mass_spring".
+std::string_view model_name(const Material& m);
 const char* to_string(ViscoelasticModel m);
 const char* to_string(BodyKind k);
-const char* to_string(Integrator i);
+const char* to_string(physics::Integrator i);
 const char* to_string(physics::LinearSolver s);
 const char* to_string(MassMatrix m);
 const char* to_string(MappedRole r);

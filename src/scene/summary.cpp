@@ -27,9 +27,9 @@ bool closed(const mesh::TriMesh& s) {
 }
 
 std::string material_line(const Material& m) {
-  std::string s = fmt::format("  {}: {}, E {} Pa, nu {}, density {} kg/m^3", m.name, to_string(m.model),
+  std::string s = fmt::format("  {}: {}, E {} Pa, nu {}, density {} kg/m^3", m.name, model_name(m),
                               g(m.young_modulus), g(m.poisson_ratio), g(m.density));
-  if (m.model == ConstitutiveModel::mooney_rivlin) s += fmt::format(", C10 {} Pa, C01 {} Pa", g(m.c10), g(m.c01));
+  if (m.law == physics::FemLaw::mooney_rivlin) s += fmt::format(", C10 {} Pa, C01 {} Pa", g(m.c10), g(m.c01));
   const Damping& d = m.damping;
   if (d.rayleigh_alpha > 0 || d.rayleigh_beta > 0)
     s += fmt::format(", Rayleigh alpha {} 1/s beta {} s", g(d.rayleigh_alpha), g(d.rayleigh_beta));
@@ -84,9 +84,9 @@ std::string body_lines(const Model& model, const Body& b) {
                      b.cspace->file.string(), precompute::to_string(b.cspace->interpolation));
   } else if (b.kind != BodyKind::rigid && b.kind != BodyKind::embedded) {
     s += fmt::format("    stepping: {}, dt {} s, solver {} (tolerance {:g}, at most {} iterations), {} mass",
-                     to_string(b.integrator), g(b.time_step), to_string(b.solver), b.solver_tolerance,
-                     b.solver_max_iterations, to_string(b.mass_matrix));
-    if (b.newton_iterations > 1) s += fmt::format(", {} Newton iterations", b.newton_iterations);
+                     to_string(b.stepping.integrator), g(b.time_step), to_string(b.stepping.solver),
+                     b.stepping.cg_tolerance, b.stepping.cg_max_iterations, to_string(b.mass_matrix));
+    if (b.stepping.newton_iterations > 1) s += fmt::format(", {} Newton iterations", b.stepping.newton_iterations);
     if (!b.springs.empty()) {
       s += ", springs";
       for (const SpringType t : b.springs) s += std::string(" ") + to_string(t);

@@ -43,7 +43,7 @@ TEST(SceneLoad, DefaultsAreApplied) {
 
   ASSERT_EQ(m.materials.size(), 1u);
   const Material& gel = m.materials[0];
-  EXPECT_EQ(gel.model, ConstitutiveModel::corotational);
+  EXPECT_EQ(gel.law, physics::FemLaw::corotational);
   EXPECT_EQ(gel.poisson_ratio, 0.45);
   EXPECT_NEAR(gel.shear_modulus, 1e4 / (2 * 1.45), 1e-9);
   EXPECT_NEAR(gel.bulk_modulus, 1e4 / (3 * 0.1), 1e-6);
@@ -52,9 +52,9 @@ TEST(SceneLoad, DefaultsAreApplied) {
 
   ASSERT_EQ(m.bodies.size(), 1u);
   const Body& pad = m.bodies[0];
-  EXPECT_EQ(pad.integrator, Integrator::implicit_euler);
+  EXPECT_EQ(pad.stepping.integrator, physics::Integrator::implicit_euler);
   EXPECT_DOUBLE_EQ(pad.time_step, 0.01);  // 1 / rates.simulation
-  EXPECT_EQ(pad.solver, physics::LinearSolver::conjugate_gradient);
+  EXPECT_EQ(pad.stepping.solver, physics::LinearSolver::conjugate_gradient);
   EXPECT_EQ(pad.mass_matrix, MassMatrix::lumped);
   EXPECT_TRUE(pad.fixed.empty());
   ASSERT_TRUE(pad.volume.has_value());

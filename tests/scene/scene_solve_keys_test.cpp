@@ -110,10 +110,10 @@ std::string body_error(const std::string& keys) {
 
 TEST(SceneBodyKeys, NewtonIterationsAndConsistentMassAreRead) {
   const Body plain = parse_scene(pad_with(""), "body.toml").bodies.at(0);
-  EXPECT_EQ(plain.newton_iterations, 1);
+  EXPECT_EQ(plain.stepping.newton_iterations, 1);
   EXPECT_EQ(plain.mass_matrix, MassMatrix::lumped);
   const Model m = parse_scene(pad_with("newton_iterations = 3\nmass_matrix = \"consistent\"\n"), "body.toml");
-  EXPECT_EQ(m.bodies.at(0).newton_iterations, 3);
+  EXPECT_EQ(m.bodies.at(0).stepping.newton_iterations, 3);
   EXPECT_EQ(m.bodies.at(0).mass_matrix, MassMatrix::consistent);
   const std::string summary = summarize(m);
   EXPECT_NE(summary.find("consistent mass, 3 Newton iterations"), std::string::npos) << summary;
@@ -127,6 +127,10 @@ TEST(SceneBodyKeys, NewtonIterationsAndConsistentMassErrors) {
   }
   EXPECT_NE(body_error("integrator = \"symplectic_euler\"\nnewton_iterations = 3\n").find("only implicit_euler"),
             std::string::npos);
+  // "static" once parsed and stepped as implicit_euler: equilibrium is tactus solve --static's.
+  const std::string static_integrator = body_error("integrator = \"static\"\n");
+  EXPECT_NE(static_integrator.find("not a time integrator"), std::string::npos) << static_integrator;
+  EXPECT_NE(static_integrator.find("tactus solve --static"), std::string::npos) << static_integrator;
   const std::string explicit_mass = body_error("integrator = \"rk4\"\nmass_matrix = \"consistent\"\n");
   EXPECT_NE(explicit_mass.find("mass_matrix"), std::string::npos) << explicit_mass;
   EXPECT_NE(explicit_mass.find("explicit integrators divide by a lumped mass"), std::string::npos) << explicit_mass;
