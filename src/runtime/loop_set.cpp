@@ -14,6 +14,7 @@ constexpr std::size_t kFrameRingCapacity = 1 << 15;
 Loops build_loops(const scene::Model& m, const SessionOptions& o) {
   Loops loops;
   std::vector<InteractionTarget> targets;
+  std::vector<DeviceChannels*> target_channels;
   // Loaded once: an on-line space's solver threads serve the haptic and simulation loops alike.
   loops.cspaces = compile::load_cspace_bodies(m);
   const compile::CspaceBodies& cspaces = loops.cspaces;
@@ -29,8 +30,10 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
     DeviceChannels& ch = *loops.channels.back();
     if (setup.renders && setup.local_model != contact::LocalModelKind::plane)
       ch.request_patches({setup.local_model, setup.patch_capacity, setup.patch_radius, setup.bodies});
-    if (setup.renders)
-      targets.push_back({&ch, m.devices[i].name, setup.bodies, setup.reach, setup.curvature_rings, setup.needle_length});
+    if (setup.renders) {
+      targets.push_back({m.devices[i].name, setup.bodies, setup.reach, setup.curvature_rings, setup.needle_length});
+      target_channels.push_back(&ch);
+    }
     if (o.live) o.live->describe_device(i, setup.model, m.devices[i].max_stiffness);
     loops.haptic.push_back(std::make_unique<HapticLoop>(std::move(setup.model), std::move(device), ch));
     if (o.live) loops.haptic.back()->set_live_parameters(o.live);
@@ -42,7 +45,7 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
   loops.simulation->add_output(*loops.surfaces);
   if (o.visual) loops.simulation->add_output(o.visual->surface_buffer(loops.simulation->initial_snapshot()));
   if (o.live) loops.simulation->set_live_parameters(o.live);
-  loops.interaction = std::make_unique<InteractionLoop>(m, std::move(targets), *loops.surfaces);
+  loops.interaction = std::make_unique<InteractionLoop>(m, std::move(targets), std::move(target_channels), *loops.surfaces);
   return loops;
 }
 
