@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "contact/local_model.hpp"
 #include "core/math.hpp"
 #include "haptics/exchange.hpp"
 
@@ -23,6 +24,14 @@ struct ToolState {
 
 using haptics::ContactLoad;
 using haptics::LocalContact;
+
+/// What the simulation builds for a device whose local model is a patch.
+struct PatchRequest {
+  contact::LocalModelKind kind = contact::LocalModelKind::plane;
+  contact::PatchCapacity capacity;
+  double radius = 0.0;              ///< of the bounding sphere around the tool origin [m]
+  std::vector<std::size_t> bodies;  ///< bodies the device's algorithm touches
+};
 
 /// Deformed surfaces of every body, published after each simulation step.
 struct SurfaceSnapshot {

@@ -31,14 +31,6 @@ struct LoopEvent {
   std::int32_t detail = -1;
 };
 
-/// What the simulation builds for a device whose local model is a patch.
-struct PatchRequest {
-  contact::LocalModelKind kind = contact::LocalModelKind::plane;
-  contact::PatchCapacity capacity;
-  double radius = 0.0;              ///< of the bounding sphere around the tool origin [m]
-  std::vector<std::size_t> bodies;  ///< bodies the device's algorithm touches
-};
-
 /// Channels between one device's haptic loop and the other loops.
 struct DeviceChannels {
   explicit DeviceChannels(std::size_t ring_capacity)

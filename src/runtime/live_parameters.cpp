@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "core/error.hpp"
-#include "runtime/simulation_loop.hpp"
 
 namespace tactus::runtime {
 
@@ -243,29 +242,5 @@ double LiveMaterialModel::elastic_energy(const VecX& x, const VecX& q) const {
 }
 
 // --- the loops' side -------------------------------------------------------------------------
-
-void SimulationLoop::set_live_parameters(const LiveParameters* live) {
-  live_ = live;
-  if (!live_) return;
-  for (SimBody& sb : bodies_) {
-    if (!sb.body || !live_->material_editable(sb.index)) continue;
-    VecX damping = scene_mass_damping(model_, sb.index, sb.body->model->lumped_mass());
-    sb.live = std::make_shared<LiveMaterialModel>(sb.body->model, std::move(damping));
-    sb.body->model = sb.live;
-    sb.state.model_scratch = sb.live->make_scratch();  // the wrapper's, holding the scene model's
-  }
-}
-
-void SimulationLoop::apply_live_parameters(double t) {
-  const LiveParameters::Materials m = live_->materials();
-  if (m.version == live_version_ || t < m.from) return;
-  live_version_ = m.version;
-  const LiveParameters::Materials& scene = live_->scene_materials();
-  for (SimBody& sb : bodies_) {
-    if (!sb.live) continue;
-    const LiveParameters::Material& edit = m.body[sb.index];
-    sb.live->set(edit.young_modulus / scene.body[sb.index].young_modulus, edit.damping_set ? edit.damping : -1.0);
-  }
-}
 
 }  // namespace tactus::runtime

@@ -40,11 +40,10 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
   }
   if (o.live) o.live->devices_described();
   // The simulation publishes into a buffer pre-sized with the rest surfaces.
-  loops.simulation = std::make_unique<SimulationLoop>(m, loops.channel_ptrs(), cspaces);
+  loops.simulation = std::make_unique<SimulationLoop>(m, loops.channel_ptrs(), cspaces, o.live);
   loops.surfaces = std::make_unique<TripleBuffer<SurfaceSnapshot>>(loops.simulation->initial_snapshot());
   loops.simulation->add_output(*loops.surfaces);
   if (o.visual) loops.simulation->add_output(o.visual->surface_buffer(loops.simulation->initial_snapshot()));
-  if (o.live) loops.simulation->set_live_parameters(o.live);
   loops.interaction = std::make_unique<InteractionLoop>(m, std::move(targets), std::move(target_channels), *loops.surfaces);
   return loops;
 }

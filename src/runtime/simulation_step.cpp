@@ -1,0 +1,430 @@
+#include "runtime/simulation_step.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "compile/bodies.hpp"
+#include "contact/closest_point.hpp"
+
+namespace tactus::runtime {
+namespace {
+
+/// Times a part when the inputs carry a clock.
+struct PartTimer {
+  Nanos (*clock)() = nullptr;
+  Nanos start = 0;
+  PartTimer(Nanos (*c)(), Nanos from) : clock(c), start(from) {}
+  explicit PartTimer(Nanos (*c)()) : PartTimer(c, c ? c() : 0) {}
+  /// Records the time since `start` and returns now (the next part's start).
+  Nanos record(std::span<PartStats> parts, SimulationPart part) const {
+    if (!clock) return 0;
+    const Nanos now = clock();
+    if (part < parts.size()) parts[part].time.record(now - start);
+    return now;
+  }
+};
+
+constexpr std::size_t kSharesPerContact = 64;  ///< vertices one contact's load spreads over, at most
+
+const physics::Body& stepped(const SimulationModel::Body& mb, const SimulationState::Body& sb) {
+  return sb.edited ? *sb.edited : *mb.physics;
+}
+
+/// The surface vertices' shares of a contact load, on the body's current shape.
+std::span<const contact::LoadShare> spread(const SimulationModel& model, SimulationState& state, std::size_t b,
+                                           const ContactLoad& load) {
+  const SimulationModel::Body& mb = model.bodies[b];
+  SimulationState::Body& sb = state.bodies[b];
+  const auto& triangles = model.scene->bodies[mb.index].surface.triangles;
+  if (load.triangle < 0 || static_cast<std::size_t>(load.triangle) >= triangles.size()) return {};
+  sb.surface.resize(mb.surface_to_node.size());
+  for (std::size_t v = 0; v < sb.surface.size(); ++v)
+    sb.surface[v] = sb.state.x.segment<3>(3 * static_cast<Eigen::Index>(mb.surface_to_node[v]));
+  if (load.part_count <= 0) {
+    const int count = contact::spread_load(sb.surface, triangles, mb.surface_area, load.triangle, load.barycentric,
+                                           load.contact_radius, std::span(state.shares.data(), kSharesPerContact));
+    return {state.shares.data(), static_cast<std::size_t>(count)};
+  }
+  // A sphere-set finger: each sphere's part spread over its own disc, weighted by its share;
+  // each gets an equal slice of the buffer.
+  const int parts = std::min(load.part_count, ContactLoad::kMaxParts);
+  const std::size_t slice = std::min(kSharesPerContact, state.shares.size() / static_cast<std::size_t>(parts));
+  std::size_t used = 0;
+  for (int i = 0; i < parts; ++i) {
+    const ContactLoad::Part& part = load.parts[static_cast<std::size_t>(i)];
+    if (part.triangle < 0 || static_cast<std::size_t>(part.triangle) >= triangles.size()) continue;
+    const std::span<contact::LoadShare> out(state.shares.data() + used, slice);
+    const int count = contact::spread_load(sb.surface, triangles, mb.surface_area, part.triangle, part.barycentric,
+                                           part.contact_radius, out);
+    for (int k = 0; k < count; ++k) out[static_cast<std::size_t>(k)].share *= part.share;
+    used += static_cast<std::size_t>(count);
+  }
+  return {state.shares.data(), used};
+}
+
+/// Adds a contact load on an embedded surface to its host's external forces.
+void carry_to_host(const SimulationModel& model, SimulationState& state, std::size_t b,
+                   std::span<const contact::LoadShare> shares, const Vec3& force) {
+  const scene::Body& body = model.scene->bodies[model.bodies[b].index];
+  if (!model.bodies[*body.host].physics) return;
+  SimulationState::Body& sb = state.bodies[b];
+  std::fill(sb.carried_forces.begin(), sb.carried_forces.end(), Vec3::Zero());
+  for (const contact::LoadShare& s : shares) sb.carried_forces[static_cast<std::size_t>(s.vertex)] += s.share * force;
+  body.host_mapping->apply_transpose(sb.carried_forces, state.bodies[*body.host].f_ext);
+}
+
+/// A needle shaft's push shared by the tissue nodes near it (seed 003 §3.3's proximity
+/// search of behaviour-mesh nodes near the needle's ray).
+void push_along_shaft(const SimulationModel& model, SimulationState& state, const ContactLoad& load,
+                      const SimulationInputs& in, std::span<PartStats> parts) {
+  const PartTimer search(in.clock);
+  if (load.body < 0 || static_cast<std::size_t>(load.body) >= model.bodies.size()) return;
+  std::size_t index = static_cast<std::size_t>(load.body);
+  if (model.scene->bodies[index].host) index = *model.scene->bodies[index].host;
+  const SimulationModel::Body& mb = model.bodies[index];
+  SimulationState::Body& sb = state.bodies[index];
+  if (!mb.physics || !(mb.shaft_reach > 0.0) || !load.shaft_force.allFinite()) return;
+  const Vec3 a = load.shaft_from, axis = load.shaft_to - load.shaft_from;
+  const double length2 = axis.squaredNorm();
+  // Weights fall linearly from 1 on the shaft to 0 at the reach; they share the force.
+  const auto weight = [&](Eigen::Index n) {
+    const Vec3 p = sb.state.x.segment<3>(3 * n);
+    const double s = length2 > 0.0 ? std::clamp((p - a).dot(axis) / length2, 0.0, 1.0) : 0.0;
+    const double d = (p - (a + s * axis)).norm();
+    return d < mb.shaft_reach ? 1.0 - d / mb.shaft_reach : 0.0;
+  };
+  const Eigen::Index nodes = sb.state.x.size() / 3;
+  double total = 0.0;
+  for (Eigen::Index n = 0; n < nodes; ++n) total += weight(n);
+  if (total > 0.0)
+    for (Eigen::Index n = 0; n < nodes; ++n)
+      if (const double w = weight(n); w > 0.0) sb.f_ext.segment<3>(3 * n) += (w / total) * load.shaft_force;
+  search.record(parts, shaft_node_search);
+}
+
+/// Scene loads and prescribed motions at the end of the period, then each device's push
+/// spread over the vertices around its contact point.
+void apply_loads(const SimulationModel& model, SimulationState& state, const SimulationInputs& in,
+                 std::span<PartStats> parts) {
+  const double t_end = static_cast<double>(state.step) / model.scene->rates.simulation;  // simulated time reached
+  auto fraction = [t_end](double ramp_time) { return compile::ramp(t_end, ramp_time); };
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    if (!model.bodies[b].physics) continue;
+    const scene::Body& body = model.scene->bodies[model.bodies[b].index];
+    compile::assemble_loads(body, fraction, state.bodies[b].f_ext);
+    compile::place_prescribed(body, model.bodies[b].rest, fraction, state.bodies[b].state.x);
+  }
+  for (SimulationState::Device& d : state.devices) d.applied = ContactLoad{}, d.applied_shares.clear();
+  for (SimulationState::Body& sb : state.bodies) sb.springs.clear();
+  for (std::size_t device = 0; device < in.loads.size() && device < state.devices.size(); ++device) {
+    SimulationState::Device& d = state.devices[device];
+    d.spring = -1;
+    const ContactLoad& load = in.loads[device];
+    if (load.shaft) push_along_shaft(model, state, load, in, parts);
+    if (!load.active || load.body < 0 || static_cast<std::size_t>(load.body) >= model.bodies.size()) continue;
+    const std::size_t b = static_cast<std::size_t>(load.body);
+    SimulationState::Body& sb = state.bodies[b];
+    if (model.scene->bodies[model.bodies[b].index].host) {
+      // A fascia sheet or a vessel wall: its host's tetrahedra take the load.
+      carry_to_host(model, state, b, spread(model, state, b, load), load.force);
+      continue;
+    }
+    if (!model.bodies[b].physics) continue;
+    const std::span<const contact::LoadShare> shares = spread(model, state, b, load);
+    const double push = load.force.norm();
+    if (push > 0.0 && sb.springs.size() < physics::kMaxContactSprings) {
+      // Coupled into the step: the push eases as the tissue gives way under it.
+      d.nodes.clear();
+      for (const contact::LoadShare& s : shares)
+        d.nodes.push_back({model.bodies[b].surface_to_node[static_cast<std::size_t>(s.vertex)], s.share});
+      d.body = b;
+      d.spring = static_cast<int>(sb.springs.size());
+      // The push where the published surface stands (the step starts from it), not where
+      // the haptic loop's patch had moved the contact point to.
+      const double stiffness = std::max(0.0, load.stiffness);
+      const double offset = stiffness * load.surface_offset;
+      const double at_surface = std::isfinite(offset) ? push + offset : push;
+      sb.springs.push_back({d.nodes, load.force / push, at_surface, stiffness, std::max(0.0, at_surface)});
+    } else {
+      for (const contact::LoadShare& s : shares)
+        sb.f_ext.segment<3>(3 * static_cast<Eigen::Index>(model.bodies[b].surface_to_node[static_cast<std::size_t>(s.vertex)])) +=
+            s.share * load.force;
+    }
+    if (model.patches[device]) d.applied = load, d.applied_shares.assign(shares.begin(), shares.end());
+  }
+}
+
+void apply_live_materials(const SimulationModel& model, SimulationState& state, const SimulationInputs& in) {
+  if (!in.materials || !in.scene_materials) return;
+  const LiveParameters::Materials& m = *in.materials;
+  if (m.version == state.materials_version || in.t < m.from) return;
+  state.materials_version = m.version;
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    SimulationState::Body& sb = state.bodies[b];
+    if (!sb.live) continue;
+    const std::size_t index = model.bodies[b].index;
+    const LiveParameters::Material& edit = m.body[index];
+    sb.live->set(edit.young_modulus / in.scene_materials->body[index].young_modulus,
+                 edit.damping_set ? edit.damping : -1.0);
+  }
+}
+
+/// Cspace bodies take the interpolated shape at the tool of the first device without a
+/// patch that reports one (devices with a patch hand theirs to the patches instead).
+void shape_cspace_bodies(const SimulationModel& model, SimulationState& state, std::span<const ToolState> tools) {
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    if (!model.bodies[b].cspace) continue;
+    for (std::size_t device = 0; device < tools.size() && device < model.patches.size(); ++device) {
+      if (model.patches[device] || !tools[device].valid) continue;
+      model.bodies[b].cspace->positions(tools[device].position, state.bodies[b].state.x);
+      break;
+    }
+  }
+}
+
+/// Embedded surfaces follow their hosts' new node positions.
+void carry_embedded(const SimulationModel& model, SimulationState& state) {
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    const scene::Body& body = model.scene->bodies[model.bodies[b].index];
+    if (!body.host) continue;
+    SimulationState::Body& sb = state.bodies[b];
+    body.host_mapping->apply(state.bodies[*body.host].state.x, sb.carried_positions);
+    for (std::size_t v = 0; v < sb.carried_positions.size(); ++v)
+      sb.state.x.segment<3>(3 * static_cast<Eigen::Index>(v)) = sb.carried_positions[v];
+  }
+}
+
+void write_surfaces(const SimulationModel& model, const SimulationState& state, double t, SurfaceSnapshot& s) {
+  s.t = t;
+  s.step = state.step;
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    auto& p = s.positions[b];
+    for (std::size_t v = 0; v < p.size(); ++v)
+      p[v] = state.bodies[b].state.x.segment<3>(3 * static_cast<Eigen::Index>(model.bodies[b].surface_to_node[v]));
+  }
+}
+
+void write_patches(const SimulationModel& model, SimulationState& state, double t, std::span<const ToolState> tools,
+                   std::span<contact::LocalPatch* const> patches) {
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    // Only the bodies a patch may be cut from.
+    const bool wanted = std::any_of(state.devices.begin(), state.devices.end(),
+                                    [&](const SimulationState::Device& d) { return !d.builders.empty() && d.builders[b]; });
+    if (!wanted) continue;
+    const SimulationModel::Body& mb = model.bodies[b];
+    SimulationState::Body& sb = state.bodies[b];
+    sb.surface.resize(mb.surface_to_node.size());
+    sb.surface_before.resize(mb.surface_to_node.size());
+    const bool moved = sb.x_before.size() == sb.state.x.size();
+    for (std::size_t v = 0; v < sb.surface.size(); ++v) {
+      const auto n = 3 * static_cast<Eigen::Index>(mb.surface_to_node[v]);
+      sb.surface[v] = sb.state.x.segment<3>(n);
+      sb.surface_before[v] = moved ? Vec3(sb.x_before.segment<3>(n)) : sb.surface[v];
+    }
+  }
+  for (std::size_t device = 0; device < model.patches.size() && device < patches.size(); ++device) {
+    if (!model.patches[device] || !patches[device]) continue;
+    const PatchRequest& request = *model.patches[device];
+    SimulationState::Device& d = state.devices[device];
+    const ToolState& tool = tools[device];
+    contact::LocalPatch& out = *patches[device];
+    out.valid = false;
+    out.time = t;
+    out.free_count = out.node_count = out.triangle_count = 0;
+    // The body whose surface (its triangles, as PatchBuilder::select tests them) comes
+    // nearest the tool, within the patch's sphere. Its vertices would not do: on a coarse
+    // mesh a face's centre lies far from every corner, the patch appeared only deep in the
+    // face, and the first load's dent pushed the corner out of reach again (on/off at 50 Hz).
+    std::size_t best_body = model.bodies.size();
+    double best = request.radius;
+    if (tool.valid)
+      for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+        if (!d.builders[b]) continue;
+        const contact::SurfacePoint nearest = contact::closest_point_on_surface(
+            tool.position, state.bodies[b].surface, model.scene->bodies[model.bodies[b].index].surface.triangles);
+        if (nearest.triangle >= 0 && nearest.distance <= best) best = nearest.distance, best_body = b;
+      }
+    if (best_body == model.bodies.size()) continue;
+    const SimulationModel::Body& mb = model.bodies[best_body];
+    const SimulationState::Body& sb = state.bodies[best_body];
+    const scene::Body& body = model.scene->bodies[mb.index];
+    contact::PatchBuilder::Inputs patch_in;
+    patch_in.kind = request.kind;
+    patch_in.body = static_cast<std::int32_t>(best_body);
+    patch_in.time = t;
+    patch_in.center = tool.position;
+    patch_in.radius = request.radius;
+    patch_in.surface = sb.surface;
+    patch_in.surface_previous = sb.surface_before;
+    patch_in.step_period = model.period;
+    patch_in.vertex_area = mb.surface_area;
+    if (d.applied.active && d.applied.body == patch_in.body) {
+      patch_in.load_shares = d.applied_shares;
+      patch_in.load_force = d.applied.force;
+    }
+    patch_in.rigid = !mb.physics;
+    if (mb.physics) {
+      patch_in.physics_body = &stepped(mb, sb);
+      patch_in.physics_state = &sb.state;
+    }
+    patch_in.surface_to_node = mb.surface_to_node;
+    if (body.material) {
+      const scene::Material& m = model.scene->materials[*body.material];
+      patch_in.material = {m.young_modulus, m.poisson_ratio, m.density};
+    }
+    patch_in.frame_time = 1.0 / model.scene->rates.haptic;
+    d.builders[best_body]->build(patch_in, out);
+  }
+}
+
+}  // namespace
+
+SimulationModel make_simulation_model(const scene::Model& scene, std::vector<std::optional<PatchRequest>> patches,
+                                      const compile::CspaceBodies& cspaces) {
+  SimulationModel model;
+  model.scene = &scene;
+  model.period = 1.0 / scene.rates.simulation;
+  model.patches = std::move(patches);
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const scene::Body& b = scene.bodies[i];
+    SimulationModel::Body mb;
+    mb.index = i;
+    const auto& nodes = b.simulation_vertices();
+    mb.rest.resize(static_cast<Eigen::Index>(3 * nodes.size()));
+    for (std::size_t n = 0; n < nodes.size(); ++n) mb.rest.segment<3>(static_cast<Eigen::Index>(3 * n)) = nodes[n];
+    if (b.cspace) {
+      mb.cspace = compile::cspace_body(scene, i, cspaces);
+    } else if (b.kind == scene::BodyKind::embedded) {
+      model.embedded = true;
+    } else if (b.kind != scene::BodyKind::rigid) {
+      mb.physics = compile::make_physics_body(scene, i);
+      mb.substeps = std::max(1, static_cast<int>(std::ceil(model.period / b.time_step - 1e-9)));
+    }
+    if (b.volumetric()) {
+      mb.surface_to_node = b.surface_to_volume;
+    } else {
+      mb.surface_to_node.resize(b.surface.vertices.size());
+      for (std::size_t n = 0; n < mb.surface_to_node.size(); ++n) mb.surface_to_node[n] = static_cast<mesh::Index>(n);
+    }
+    mb.surface_area = contact::vertex_areas(b.surface.vertices, b.surface.triangles);
+    if (b.volume && !b.volume->tets.empty()) {
+      double edges = 0.0;
+      for (const auto& t : b.volume->tets)
+        for (std::size_t p = 0; p < 4; ++p)
+          for (std::size_t q = p + 1; q < 4; ++q) edges += (b.volume->vertices[t[p]] - b.volume->vertices[t[q]]).norm();
+      mb.shaft_reach = 0.75 * edges / (6.0 * static_cast<double>(b.volume->tets.size()));
+    }
+    model.bodies.push_back(std::move(mb));
+  }
+  return model;
+}
+
+SimulationState make_simulation_state(const SimulationModel& model, const LiveParameters* live_materials) {
+  SimulationState state;
+  for (const SimulationModel::Body& mb : model.bodies) {
+    const scene::Body& b = model.scene->bodies[mb.index];
+    SimulationState::Body sb;
+    if (mb.physics) {
+      sb.state = physics::make_state(*mb.physics);
+      if (live_materials && live_materials->material_editable(mb.index)) {
+        VecX damping = scene_mass_damping(*model.scene, mb.index, mb.physics->model->lumped_mass());
+        sb.live = std::make_shared<LiveMaterialModel>(mb.physics->model, std::move(damping));
+        sb.edited = *mb.physics;
+        sb.edited->model = sb.live;
+        sb.state.model_scratch = sb.live->make_scratch();  // the wrapper's, holding the scene model's
+      }
+    } else {
+      sb.state.x = mb.rest;
+    }
+    if (b.kind == scene::BodyKind::embedded) {
+      sb.carried_forces.assign(b.surface.vertices.size(), Vec3::Zero());
+      sb.carried_positions.assign(b.surface.vertices.size(), Vec3::Zero());
+    }
+    sb.f_ext = VecX::Zero(mb.rest.size());
+    sb.springs.reserve(physics::kMaxContactSprings);
+    state.bodies.push_back(std::move(sb));
+  }
+  state.devices.resize(model.patches.size());
+  for (std::size_t device = 0; device < model.patches.size(); ++device) {
+    SimulationState::Device& d = state.devices[device];
+    d.nodes.reserve(state.shares.size());
+    if (!model.patches[device]) continue;
+    const PatchRequest& request = *model.patches[device];
+    d.builders.resize(model.bodies.size());
+    for (const std::size_t b : request.bodies)
+      if (b < model.bodies.size())
+        d.builders[b] = std::make_unique<contact::PatchBuilder>(model.scene->bodies[b].surface.vertices.size(),
+                                                                model.scene->bodies[b].surface.triangles,
+                                                                request.capacity);
+  }
+  return state;
+}
+
+SurfaceSnapshot rest_surfaces(const SimulationModel& model) {
+  SurfaceSnapshot s;
+  for (const SimulationModel::Body& mb : model.bodies) {
+    std::vector<Vec3> p(mb.surface_to_node.size());
+    for (std::size_t v = 0; v < p.size(); ++v) p[v] = mb.rest.segment<3>(3 * static_cast<Eigen::Index>(mb.surface_to_node[v]));
+    s.positions.push_back(std::move(p));
+  }
+  return s;
+}
+
+int advance_bodies(const SimulationModel& model, SimulationState& state, const SimulationInputs& in,
+                   std::span<PartStats> parts) {
+  apply_live_materials(model, state, in);
+  if (state.step == 0) return 0;  // the first step publishes the rest shapes
+  const PartTimer loads(in.clock, in.start);
+  apply_loads(model, state, in, parts);
+  const PartTimer integration(in.clock, loads.record(parts, contact_loads));
+  const bool patches = std::any_of(model.patches.begin(), model.patches.end(), [](const auto& p) { return p.has_value(); });
+  int iterations = 0;
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    const SimulationModel::Body& mb = model.bodies[b];
+    if (!mb.physics) continue;
+    SimulationState::Body& sb = state.bodies[b];
+    const physics::Body& body = stepped(mb, sb);
+    if (patches) sb.x_before = sb.state.x;
+    const double dt = model.period / mb.substeps;
+    for (int k = 0; k < mb.substeps; ++k) {
+      physics::step(body, sb.state, dt, sb.f_ext, sb.springs);
+      for (physics::ContactSpring& c : sb.springs) c.force = c.force_end;
+      iterations += sb.state.last_linear_iterations;
+    }
+    if (!sb.state.x.allFinite())
+      throw std::runtime_error(fmt::format("body '{}' diverged at t = {} s (NaN or infinite positions); reduce "
+                                           "its time_step, soften the contact or use implicit_euler",
+                                           model.scene->bodies[mb.index].name,
+                                           static_cast<double>(state.step) / model.scene->rates.simulation));
+  }
+  // The patches are built around the push the tissue took at the end of the step.
+  for (SimulationState::Device& d : state.devices)
+    if (d.spring >= 0 && !d.builders.empty()) {
+      const physics::ContactSpring& c = state.bodies[d.body].springs[static_cast<std::size_t>(d.spring)];
+      d.applied.force = c.force * c.direction;
+    }
+  integration.record(parts, integrate);
+  return iterations;
+}
+
+void publish_shapes(const SimulationModel& model, SimulationState& state, const SimulationInputs& in,
+                    std::span<const ToolState> tools, const SimulationOutputs& out) {
+  shape_cspace_bodies(model, state, tools);
+  const PartTimer embedded(in.clock);
+  carry_embedded(model, state);
+  const PartTimer publish(in.clock, model.embedded ? embedded.record(out.parts, embedded_surfaces)
+                                                   : (in.clock ? in.clock() : 0));
+  for (SurfaceSnapshot* s : out.surfaces) write_surfaces(model, state, in.t, *s);
+  const PartTimer local(in.clock, publish.record(out.parts, publish_surfaces));
+  if (std::any_of(out.patches.begin(), out.patches.end(), [](const auto* p) { return p != nullptr; })) {
+    write_patches(model, state, in.t, tools, out.patches);
+    local.record(out.parts, local_models);
+  }
+  ++state.step;
+}
+
+}  // namespace tactus::runtime
