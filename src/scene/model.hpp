@@ -384,7 +384,7 @@ struct Algorithm {
   bool enabled = true;
   AlgorithmParams params;
   /// The local mass-spring patch errs least against a simulation at the haptic rate
-  /// (tests/contact/local_model_choice_test.cpp).
+  /// (tests/scenarios/local_model_choice_test.cpp).
   /// What the haptic loop renders between simulation steps (docs/runtime.md): a contact
   /// plane, the patch nodes' condensed compliance, or a local mass-spring patch (seed 002 §IV).
   contact::LocalModelKind local_model = contact::LocalModelKind::mass_spring;

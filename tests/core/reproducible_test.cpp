@@ -1,7 +1,7 @@
 // Eigen's dense products block by the CPU's cache sizes, so the same product sums in another
 // order on another CPU (the patch models' solves differed in the last bits between two 2-core
 // EPYC machines, and with them every recorded force). fix_dense_blocking() makes every machine
-// block alike; tests/app/replay_regression_test.cpp checks the forces end to end.
+// block alike; tests/scenarios/replay_regression_test.cpp checks the forces end to end.
 #include "core/reproducible.hpp"
 
 #include <gtest/gtest.h>

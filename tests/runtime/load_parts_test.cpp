@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,28 +17,9 @@
 namespace tactus::runtime {
 namespace {
 
-const std::string kBlock = R"(
-[scene]
-gravity = [0, 0, 0]
-
-[rates]
-simulation = 100
-
-[materials.soft]
-model = "corotational"
-young_modulus = 2e4
-poisson_ratio = 0.4
-density = 1000
-damping = { rayleigh_alpha = 2.0 }
-
-[bodies.tissue]
-kind = "fem"
-material = "soft"
-mesh = { generator = "box", size = [0.06, 0.04, 0.02], cells = [6, 4, 2], translate = [0, 0, -0.01] }
-time_step = 0.01
-[[bodies.tissue.fixed]]
-side = "z_min"
-)";
+scene::Model soft_block() {
+  return scene::load_scene(std::filesystem::path(TACTUS_SOURCE_DIR) / "tests/fixtures/scenes/soft_block.toml");
+}
 
 /// The top-surface triangle whose centroid is nearest (x, 0, 0).
 std::int32_t top_triangle(const scene::Body& b, double x) {
@@ -56,7 +38,7 @@ std::int32_t top_triangle(const scene::Body& b, double x) {
 /// (split false) all of it on the first part's triangle: how far its top sinks near
 /// x = −20 mm and x = +20 mm.
 std::pair<double, double> drops(double force, const std::vector<std::pair<double, double>>& parts, bool split) {
-  const scene::Model m = scene::parse_scene(kBlock, "block.toml");
+  const scene::Model m = soft_block();
   const scene::Body& b = m.bodies.front();
   DeviceChannels channels(16);
   SimulationLoop sim(m, {&channels});

@@ -150,7 +150,7 @@ TEST(PassivityControl, TheRunReportSaysHowOftenItActed) {
   // late in the release (docs/contact-mechanics.md), and the report says so; switched off,
   // it never does.
   for (const bool on : {true, false}) {
-    scene::Model m = scene::load_scene(std::filesystem::path(TACTUS_SOURCE_DIR) / "tests/runtime/data/stiff_press.toml");
+    scene::Model m = scene::load_scene(std::filesystem::path(TACTUS_SOURCE_DIR) / "tests/fixtures/scenes/stiff_press.toml");
     for (scene::Algorithm& a : m.algorithms) a.passivity_control = on;
     SessionOptions o;
     o.scheduling = Scheduling::lockstep;

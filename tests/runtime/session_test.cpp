@@ -29,7 +29,7 @@ fs::path temp_file(const std::string& name) {
 }
 
 scene::Model data_scene(const std::string& name) {
-  return scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/runtime/data" / name);
+  return scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/fixtures/scenes" / name);
 }
 
 SessionOptions lockstep(double duration) {

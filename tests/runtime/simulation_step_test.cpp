@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <filesystem>
 #include <vector>
 
 #include "runtime/simulation_step.hpp"
@@ -13,28 +14,8 @@ namespace tactus::runtime {
 namespace {
 
 const scene::Model& block() {
-  static const scene::Model m = scene::parse_scene(R"(
-[scene]
-gravity = [0, 0, 0]
-
-[rates]
-simulation = 100
-
-[materials.soft]
-model = "corotational"
-young_modulus = 2e4
-poisson_ratio = 0.4
-density = 1000
-damping = { rayleigh_alpha = 2.0 }
-
-[bodies.tissue]
-kind = "fem"
-material = "soft"
-mesh = { generator = "box", size = [0.06, 0.04, 0.02], cells = [6, 4, 2], translate = [0, 0, -0.01] }
-time_step = 0.01
-[[bodies.tissue.fixed]]
-side = "z_min"
-)", "block.toml");
+  static const scene::Model m =
+      scene::load_scene(std::filesystem::path(TACTUS_SOURCE_DIR) / "tests/fixtures/scenes/soft_block.toml");
   return m;
 }
 

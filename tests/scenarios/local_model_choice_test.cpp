@@ -61,7 +61,7 @@ scene::Model default_scene_short() {
 }
 
 scene::Model press_slide() {
-  return scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/runtime/data/press_slide.toml");
+  return scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/fixtures/scenes/press_slide.toml");
 }
 
 struct Error {
@@ -88,7 +88,7 @@ Error compare(const std::vector<HapticFrame>& reference, const std::vector<Hapti
 /// Net work of the normal force on the hand over the stiff press, as a share of the largest
 /// stored contact energy F²/(2k) (the measure of runtime_session_test's stability test).
 double normal_work_share(LocalModel local, scene::LoadSpread spread) {
-  scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/runtime/data/stiff_press.toml");
+  scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/fixtures/scenes/stiff_press.toml");
   for (scene::Algorithm& a : m.algorithms) {
     a.local_model = local;
     a.force_smoothing = 0.005;  // as the runtime's passivity check runs it

@@ -19,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 scene::Model press_slide(double simulation_rate, double interaction_rate, contact::LocalModelKind local_model) {
-  scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/runtime/data/press_slide.toml");
+  scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/fixtures/scenes/press_slide.toml");
   m.rates.simulation = simulation_rate;
   m.rates.interaction = interaction_rate;
   for (scene::Algorithm& a : m.algorithms) {
@@ -58,7 +58,7 @@ ForceError compare(const std::vector<HapticFrame>& reference, const std::vector<
   return e;
 }
 
-// The trajectory's phases (tests/runtime/data/press_slide.toml).
+// The trajectory's phases (tests/fixtures/scenes/press_slide.toml).
 bool pressing_or_lifting(double t) { return t < 0.8 || t > 2.5; }
 bool sliding(double t) { return t >= 0.8 && t <= 2.5; }
 
@@ -125,7 +125,7 @@ struct StiffPress {
 
 /// The stiff-tissue stability scene (session_test) with a given local model and smoothing.
 StiffPress stiff_press(contact::LocalModelKind local_model, double smoothing) {
-  scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/runtime/data/stiff_press.toml");
+  scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "tests/fixtures/scenes/stiff_press.toml");
   for (scene::Algorithm& a : m.algorithms) {
     a.local_model = local_model;
     a.force_smoothing = smoothing;
