@@ -6,6 +6,7 @@
 // patch (publish_shapes). Two, so that the tools a patch is cut around are read after the
 // integration, as late as they can be. SimulationLoop wraps them with the channels, the
 // clock and the statistics.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
