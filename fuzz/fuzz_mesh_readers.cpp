@@ -1,5 +1,5 @@
-// libFuzzer target for the mesh readers. The first byte picks the format, the rest is
-// the file's content, parsed from memory. For TetGen the content is split at NUL bytes
+// libFuzzer target for the mesh readers. The first byte picks the format ('v': legacy VTK;
+// otherwise its value modulo 6), the rest is the file's content, parsed from memory. For TetGen the content is split at NUL bytes
 // into .node, .ele and .face. InputError is the expected outcome for bad input; any
 // other exception, crash or sanitizer report is a bug.
 #include <cstddef>
@@ -14,6 +14,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size == 0) return 0;
   const std::string_view body(reinterpret_cast<const char*>(data) + 1, size - 1);
   try {
+    if (data[0] == 'v') {
+      (void)parse_vtk(body, "fuzz.vtk");
+      return 0;
+    }
     switch (data[0] % 6) {
       case 0: (void)parse_obj(body, "fuzz.obj"); break;
       case 1: (void)parse_stl(body, "fuzz.stl"); break;

@@ -95,10 +95,11 @@ Action add_inspect(CLI::App& app) {
     }
     const auto file = mesh::read_mesh(p);
     std::printf("%s (%s)\n", path->c_str(), mesh::format_name(file.format));
+    if (!file.skipped.empty()) std::printf("left out: %s (tetrahedra and triangles are read)\n", file.skipped.c_str());
     bool errors = false;
     if (file.volume) errors |= inspect_volume(*file.volume);
     if (file.volume && file.surface) {
-      // Gmsh: triangles beside tetrahedra are labelled boundary patches on the volume's nodes.
+      // Gmsh, VTK: triangles beside tetrahedra are labelled boundary patches on the volume's nodes.
       std::printf("labelled surface patches: %zu triangles on the volume's nodes\n",
                   file.surface->triangles.size());
     } else if (file.surface) {

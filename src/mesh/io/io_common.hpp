@@ -137,6 +137,7 @@ MeshFile parse_stl(std::string_view data, const std::string& file);
 MeshFile parse_off(std::string_view data, const std::string& file);
 MeshFile parse_ply(std::string_view data, const std::string& file);
 MeshFile parse_msh(std::string_view data, const std::string& file);
+MeshFile parse_vtk(std::string_view data, const std::string& file);
 /// TetGen: `ele` or `face` may be absent (nullptr). Without .ele the result is a surface
 /// from .face.
 MeshFile parse_tetgen(std::string_view node, const std::string& node_file, const std::string_view* ele,

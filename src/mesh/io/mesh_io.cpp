@@ -106,13 +106,13 @@ MeshFile read_mesh(const std::filesystem::path& path) {
     case MeshFormat::ply: return io::parse_ply(io::read_file(path), name);
     case MeshFormat::msh: return io::parse_msh(io::read_file(path), name);
     case MeshFormat::tetgen: return read_tetgen(path);
-    case MeshFormat::vtk:
+    case MeshFormat::vtk: return io::parse_vtk(io::read_file(path), name);
     case MeshFormat::vtu: break;
   }
   throw InputError(SourceLocation{name, {}, {}, {}},
                    std::string(format_name(format)) +
-                       " files are written for viewing only and cannot be read; readable: .obj .stl .off "
-                       ".ply .msh .node .ele .face");
+                       " files are written for viewing only and cannot be read yet; readable: .obj .stl .off "
+                       ".ply .msh .node .ele .face .vtk");
 }
 
 void write_mesh(const std::filesystem::path& path, const TriMesh& mesh, const WriteOptions& options) {

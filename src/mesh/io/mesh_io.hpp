@@ -3,7 +3,9 @@
 //   .obj .stl .off .ply            surface (read + write)
 //   .msh (Gmsh 2.2 / 4.1 ASCII)    surface or volume (read + write 2.2 and 4.1)
 //   .node/.ele/.face (TetGen)      volume (read + write); name any of the three
-//   .vtk (legacy) .vtu             volume or surface (write only, for ParaView)
+//   .vtk (legacy, ASCII or binary)  volume and/or surface (read + write); tetrahedra and
+//                                  triangles are read, other cells counted in `skipped`
+//   .vtu                           volume or surface (write only, for ParaView)
 // Every reader throws tactus::InputError naming the file, the line (byte offset for
 // binary files) and what is wrong; indices are checked before a mesh is returned.
 #include <filesystem>
@@ -22,6 +24,9 @@ struct MeshFile {
   MeshFormat format{};
   std::optional<TriMesh> surface;
   std::optional<TetMesh> volume;
+  /// What the reader left out, e.g. "1942 lines, 12 quads" (VTK cells of other types);
+  /// empty when it read everything.
+  std::string skipped;
 };
 
 struct WriteOptions {

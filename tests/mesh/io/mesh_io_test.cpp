@@ -124,8 +124,8 @@ TEST(MeshIoFormat, UnknownExtensionListsSupported) {
 TEST(MeshIoFormat, MissingFileAndWriteOnlyFormats) {
   const auto dir = scratch_dir();
   expect_read_error(dir / "absent.obj", "cannot open");
-  write_mesh(dir / "t.vtk", tet_surface());
-  expect_read_error(dir / "t.vtk", "cannot be read");
+  write_mesh(dir / "t.vtu", tet_surface());
+  expect_read_error(dir / "t.vtu", "cannot be read");
   EXPECT_THROW(write_mesh(dir / "t.obj", two_tets()), InputError);
 }
 
