@@ -1,7 +1,8 @@
 // Reading legacy VTK files (.vtk): ASCII or BINARY (big endian), versions 2.0 to 5.1,
 // DATASET UNSTRUCTURED_GRID (tetrahedra and triangles kept, other cells counted and left
-// out) or POLYDATA (polygons fanned into triangles, triangle strips split). Point and cell
-// data, field data and metadata are skipped.
+// out) or POLYDATA (polygons fanned into triangles, triangle strips split). The region
+// labels Tactus writes as cell data are read; other point and cell data, field data and
+// metadata are skipped.
 #include <charconv>
 #include <map>
 
@@ -228,6 +229,28 @@ void skip_field(VtkCursor& in, const std::vector<std::string_view>& header) {
   }
 }
 
+/// CELL_DATA: the integer scalars named "region" (what Tactus writes), one per cell, if
+/// they come before any other attribute; reading stops at the first other one.
+std::vector<std::int64_t> read_cell_regions(VtkCursor& in, const std::vector<std::string_view>& header) {
+  if (header.size() != 2) in.fail("CELL_DATA needs a count");
+  const std::int64_t n = header_count(in, header[1], "the number of cells");
+  const std::vector<std::string_view> w = words(in.content_line());
+  if (w.size() < 3 || w.size() > 4 || upper(w[0]) != "SCALARS" || w[1] != "region") return {};
+  const std::string type = upper(w[2]);
+  if (type != "INT" && type != "VTKTYPEINT32" && type != "VTKTYPEINT64" && type != "LONG") return {};
+  if (w.size() == 4 && w[3] != "1") return {};
+  const std::vector<std::string_view> table = words(in.content_line());
+  if (table.empty() || upper(table[0]) != "LOOKUP_TABLE") in.fail("SCALARS needs a LOOKUP_TABLE line");
+  std::vector<std::int64_t> regions;
+  reserve_bounded(regions, static_cast<std::uint64_t>(n), in.remaining(), 2);
+  for (std::int64_t c = 0; c < n; ++c) {
+    const std::int64_t r = integer(in, type, "a region label");
+    if (r < INT32_MIN || r > INT32_MAX) in.fail("region label " + std::to_string(r) + " out of range");
+    regions.push_back(r);
+  }
+  return regions;
+}
+
 const char* cell_name(std::int64_t type) {
   switch (type) {
     case 1: return "vertices";
@@ -268,11 +291,16 @@ MeshFile parse_vtk(std::string_view data, const std::string& file) {
   std::vector<std::vector<std::int64_t>> cells;   // UNSTRUCTURED_GRID
   std::vector<std::int64_t> types;
   std::vector<std::vector<std::int64_t>> polygons, strips;  // POLYDATA
+  std::vector<std::int64_t> regions;  // per cell, from CELL_DATA "region"
   std::map<std::string, std::size_t> skipped;  // cells left out, by kind
   for (std::string_view l = in.content_line(); !l.empty(); l = in.content_line()) {
     const std::vector<std::string_view> w = words(l);
     const std::string key = upper(w[0]);
-    if (key == "POINT_DATA" || key == "CELL_DATA") break;  // attributes: nothing of the mesh follows
+    if (key == "CELL_DATA" && kind == "UNSTRUCTURED_GRID") {
+      regions = read_cell_regions(in, w);
+      break;  // attributes: nothing of the mesh follows
+    }
+    if (key == "POINT_DATA" || key == "CELL_DATA") break;
     if (key == "POINTS") {
       if (w.size() != 3) in.fail("POINTS needs a count and a data type");
       const std::int64_t n = header_count(in, w[1], "the number of points");
@@ -321,10 +349,13 @@ MeshFile parse_vtk(std::string_view data, const std::string& file) {
   if (kind == "UNSTRUCTURED_GRID") {
     if (cells.size() != types.size())
       in.fail(std::to_string(cells.size()) + " cells but " + std::to_string(types.size()) + " cell types");
+    if (!regions.empty() && regions.size() != cells.size())
+      in.fail(std::to_string(cells.size()) + " cells but " + std::to_string(regions.size()) + " region labels");
     for (std::size_t c = 0; c < cells.size(); ++c) {
       const auto& cell = cells[c];
       if (types[c] == 10 && cell.size() == 4) {
         volume.tets.push_back({index(cell[0]), index(cell[1]), index(cell[2]), index(cell[3])});
+        if (!regions.empty()) volume.tet_regions.push_back(static_cast<int>(regions[c]));
       } else if (types[c] == 5 && cell.size() == 3) {
         surface.triangles.push_back({index(cell[0]), index(cell[1]), index(cell[2])});
       } else if (types[c] == 10 || types[c] == 5) {

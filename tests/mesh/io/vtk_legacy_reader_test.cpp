@@ -57,6 +57,17 @@ TEST(VtkLegacyReader, TactusFilesReadBack) {
   ASSERT_TRUE(rv.volume);
   EXPECT_EQ(rv.volume->vertices, v.vertices);  // shortest round-trip text: bit for bit
   EXPECT_EQ(rv.volume->tets, v.tets);
+  EXPECT_TRUE(rv.volume->tet_regions.empty());
+  v.tet_regions = {3, -7};  // written as cell data, read back
+  write_mesh(dir / "regions.vtk", v);
+  EXPECT_EQ(read_mesh(dir / "regions.vtk").volume.value().tet_regions, v.tet_regions);
+  // The external volume with its physical regions, through the VTK writer and reader.
+  const TetMesh box = read_mesh(data_dir / "skfem_box.msh").volume.value();
+  write_mesh(dir / "box.vtk", box);
+  const TetMesh back = read_mesh(dir / "box.vtk").volume.value();
+  EXPECT_EQ(back.vertices, box.vertices);
+  EXPECT_EQ(back.tets, box.tets);
+  EXPECT_EQ(back.tet_regions, box.tet_regions);
   TriMesh s;
   s.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-0.125, 2.5e-9, 3}};
   s.triangles = {{0, 1, 2}, {0, 2, 3}};
