@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "app/commands.hpp"
+#include "core/input_file.hpp"
 #include "core/clock.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -86,12 +87,7 @@ struct PrecomputeArgs {
   double online_dwell = 0.5;  ///< [s]
 };
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string read_text(const std::string& path) { return read_input_file(path); }
 
 std::string duration_text(double seconds) {
   if (!(seconds >= 0.0) || seconds > 1e7) return "?";

@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "app/commands.hpp"
+#include "core/input_file.hpp"
 #include "app/curves.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -52,9 +53,7 @@ struct LoadedScene {
 
 LoadedScene load(const std::string& path) {
   if (path.empty()) return {scene::default_scene(), std::string(scene::default_scene_text()), "built-in:default"};
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path, {}, {}, {}}, "cannot open the scene file");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text = read_input_file(path);
   return {scene::parse_scene(text, path), text, path};
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "core/input_file.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/png.hpp"
@@ -29,10 +30,7 @@ struct SnapshotFlags {
 
 scene::Model load_scene(const std::string& path) {
   if (path.empty()) return scene::default_scene();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path, {}, {}, {}}, "cannot open the scene file");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return scene::parse_scene(text, path);
+  return scene::parse_scene(read_input_file(path), path);
 }
 
 }  // namespace

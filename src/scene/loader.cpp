@@ -8,6 +8,8 @@
 #include "scene/loader.hpp"
 #include "scene/scene.hpp"
 
+#include "core/input_file.hpp"
+
 namespace tactus::scene {
 
 namespace detail {
@@ -137,6 +139,42 @@ void merge_tables(toml::table& base, const toml::table& over) {
 
 /// A scene that names `[scene] base = "FILE"` is that file's scene with its own keys on top
 /// (a scenario: the same patient, other devices). Bases may chain, at most 8 deep.
+/// Arrays and inline tables nested deeper than this are refused before parsing: the TOML
+/// parser recurses once per level, and a hundred thousand levels overflow its stack.
+constexpr int kMaxNesting = 128;
+
+/// Refuses text whose brackets and braces (outside strings and comments) nest deeper than
+/// kMaxNesting, naming the line where it happens.
+void check_nesting(std::string_view text, const std::string& source) {
+  int depth = 0;
+  std::uint64_t line = 1;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+    } else if (c == '#') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '"' || c == '\'') {
+      // Strings, basic ("...", with escapes) or literal ('...'), single or triple quoted.
+      const bool triple = text.substr(i, 3) == std::string(3, c);
+      const std::string_view close = triple ? std::string_view(c == '"' ? "\"\"\"" : "'''") : std::string_view(&text[i], 1);
+      i += triple ? 3 : 1;
+      while (i < text.size() && text.substr(i, close.size()) != close) {
+        if (text[i] == '\n') ++line;
+        if (c == '"' && text[i] == '\\') ++i;  // an escaped character
+        ++i;
+      }
+      i += close.size() - 1;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxNesting)
+        throw InputError(SourceLocation{source, line, {}, {}},
+                         "arrays and tables nested more than " + std::to_string(kMaxNesting) + " levels deep");
+    } else if (c == ']' || c == '}') {
+      depth = std::max(0, depth - 1);
+    }
+  }
+}
+
 void apply_base(toml::table& root, const detail::Context& ctx, int depth) {
   toml::table* scene = root["scene"].as_table();
   if (!scene || !scene->contains("base")) return;
@@ -147,13 +185,16 @@ void apply_base(toml::table& root, const detail::Context& ctx, int depth) {
     throw InputError(detail::location(ctx, node.source()), "'scene.base' chains more than 8 scenes deep (a cycle?)");
   std::filesystem::path path(*name);
   if (path.is_relative()) path = ctx.base_dir / path;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(detail::location(ctx, node.source()), "cannot open base scene '" + path.string() + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
+  std::string text;
+  try {
+    text = read_input_file(path);
+  } catch (const InputError& e) {
+    throw InputError(detail::location(ctx, node.source()), "base scene '" + path.string() + "': " + e.reason());
+  }
+  check_nesting(text, path.string());
   toml::table base;
   try {
-    base = toml::parse(text.str(), path.string());
+    base = toml::parse(text, path.string());
   } catch (const toml::parse_error& e) {
     throw InputError(detail::location(ctx, e.source()), std::string(e.description()));
   }
@@ -170,6 +211,7 @@ Model parse_scene(std::string_view toml_text, const std::string& source_name, co
   ctx.file = source_name;
   ctx.base_dir = options.base_dir.empty() ? std::filesystem::path(source_name).parent_path() : options.base_dir;
   ctx.options = options;
+  check_nesting(toml_text, source_name);
   toml::table root;
   try {
     root = toml::parse(toml_text, source_name);
@@ -182,13 +224,10 @@ Model parse_scene(std::string_view toml_text, const std::string& source_name, co
 }
 
 Model load_scene(const std::filesystem::path& path, const LoadOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path.string(), {}, {}, {}}, "cannot open scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  const std::string text = read_input_file(path);
   LoadOptions opts = options;
   if (opts.base_dir.empty()) opts.base_dir = path.parent_path();
-  return parse_scene(text.str(), path.string(), opts);
+  return parse_scene(text, path.string(), opts);
 }
 
 }  // namespace tactus::scene

@@ -72,6 +72,27 @@ TEST(SceneErrors, BaseSceneIsValid) {
   EXPECT_EQ(error_of(kBase), "(no error)");
 }
 
+TEST(SceneErrors, NestingTooDeepIsRefusedBeforeParsing) {
+  // A hundred thousand nested arrays overflowed the TOML parser's stack (SIGSEGV); the depth
+  // is now bounded before parsing. Brackets inside strings and comments do not count.
+  std::string deep = "a = ";  // appended, not concatenated: GCC 12 warns falsely on the latter
+  deep.append(100000, '[');
+  deep.append(100000, ']');
+  EXPECT_EQ(error_of(deep), "dir/x.toml:1: arrays and tables nested more than 128 levels deep");
+  std::string tables = "[scene]\nname = \"n\"\nx = ";
+  for (int i = 0; i < 200; ++i) tables += "{ y = ";
+  tables += "1";
+  tables.append(200, '}');
+  EXPECT_EQ(error_of(tables), "dir/x.toml:3: arrays and tables nested more than 128 levels deep");
+  std::string comment = "# ";
+  comment.append(300, '[');
+  std::string quoted = with_line(1, comment);
+  quoted += "[materials.z]\nmodel = \"";
+  quoted.append(300, '{');
+  quoted += "\"\n";
+  EXPECT_EQ(error_of(quoted).find("nested"), std::string::npos) << error_of(quoted);
+}
+
 TEST(SceneErrors, PoissonRatioOutOfRange) {
   EXPECT_EQ(error_of(with_line(4, "poisson_ratio = 0.5")),
             "dir/x.toml:4:17: materials.skin.poisson_ratio: 0.5 is out of range: must be in (-1, 0.5)");

@@ -113,7 +113,7 @@ TEST_F(SceneDir, MissingSceneFile) {
     load_scene(dir_ / "nope.toml");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("nope.toml: cannot open scene file"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("nope.toml: cannot open file for reading"), std::string::npos) << e.what();
   }
 }
 

@@ -1,5 +1,7 @@
 #include "mesh/io/io_common.hpp"
 
+#include "core/input_file.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -27,13 +29,7 @@ std::string quote(std::string_view token) {
   return out;
 }
 
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path.string(), {}, {}, {}}, "cannot open file for reading");
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(SourceLocation{path.string(), {}, {}, {}}, "error while reading file");
-  return data;
-}
+std::string read_file(const std::filesystem::path& path) { return read_input_file(path); }
 
 void write_file(const std::filesystem::path& path, std::string_view data) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
