@@ -17,6 +17,22 @@ namespace tactus::mesh::io {
 
 namespace {
 
+/// Gmsh's element types a reader meets, by what they are (msh's element type table).
+std::string element_name(std::int64_t type) {
+  switch (type) {
+    case 1: return "lines (type 1)";
+    case 3: return "quadrangles (type 3)";
+    case 5: return "hexahedra (type 5)";
+    case 6: return "prisms (type 6)";
+    case 7: return "pyramids (type 7)";
+    case 8: return "second-order lines (type 8)";
+    case 9: return "second-order triangles (type 9)";
+    case 11: return "second-order tetrahedra (type 11)";
+    case 15: return "points (type 15)";
+    default: return "elements of type " + std::to_string(type);
+  }
+}
+
 struct Element {
   std::array<Index, 4> nodes{};
   int physical = 0;
@@ -216,7 +232,10 @@ class MshReader {
       const std::int64_t type = in_.to_int(tok[1], "an element type");
       const std::int64_t ntags = in_.count(tok[2], "tag count");
       if (static_cast<std::int64_t>(tok.size()) < 3 + ntags) in_.fail("element has fewer tags than its count");
-      if (type != 2 && type != 4) continue;
+      if (type != 2 && type != 4) {
+        ++skipped_[type];
+        continue;
+      }
       const int phys = ntags > 0 ? physical_of(tok[3]) : 0;
       add_element(type, tok, 3 + static_cast<std::size_t>(ntags), phys, tok[0]);
     }
@@ -244,6 +263,7 @@ class MshReader {
       for (std::int64_t i = 0; i < m; ++i) {
         const auto tok = content(std::to_string(m) + " elements of a block: got " + std::to_string(i));
         if (type == 2 || type == 4) add_element(type, tok, 1, phys, tok[0]);
+        else ++skipped_[type];
       }
     }
     if (seen != n) in_.fail("$Elements declares " + std::to_string(n) + " elements but its blocks hold " + std::to_string(seen));
@@ -253,6 +273,11 @@ class MshReader {
   MeshFile result() {
     MeshFile out;
     out.format = MeshFormat::msh;
+    for (const auto& [type, count] : skipped_)
+      out.skipped += (out.skipped.empty() ? "" : ", ") + std::to_string(count) + " " + element_name(type);
+    if (tris_.empty() && tets_.empty())
+      in_.fail("no triangles (type 2) or tetrahedra (type 4) to read" +
+               (out.skipped.empty() ? std::string() : " (the file holds " + out.skipped + ")"));
     std::vector<Triangle> tris;
     std::vector<int> markers;
     bool any_marker = false;
@@ -294,6 +319,7 @@ class MshReader {
   std::unordered_map<std::int64_t, Index> node_index_;
   std::map<std::pair<int, std::int64_t>, int> entity_physical_;
   std::vector<Element> tris_, tets_;
+  std::map<std::int64_t, std::size_t> skipped_;  ///< elements of other types, by type
 };
 
 void put_vec(std::string& out, const Vec3& v) {

@@ -56,6 +56,8 @@ MeshFile parse_obj(std::string_view data, const std::string& file) {
       in.fail_at(tok[0], "unknown keyword '" + quote(tok[0]) + "'");
     }
   }
+  if (mesh.triangles.empty())
+    in.fail("no faces to read (" + std::to_string(mesh.vertices.size()) + " vertices, no 'f' statement)");
   MeshFile out;
   out.format = MeshFormat::obj;
   out.surface = std::move(mesh);

@@ -166,6 +166,9 @@ TEST(MeshIoObj, Errors) {
   expect_read_error(write_bytes(dir / "fewv.obj", "v 0 0\n"), "needs 3 coordinates", {1});
   expect_read_error(write_bytes(dir / "idx.obj", "v 0 0 0\nf 1 x 1\n"), "expected a vertex index, got 'x'", {2});
   expect_read_error(write_bytes(dir / "kw.obj", "v 0 0 0\n\x01\x02garbage 1\n"), "unknown keyword", {2, {}, 1});
+  // Nothing to read is an error, not an empty surface with infinite bounds.
+  expect_read_error(write_bytes(dir / "empty.obj", "# nothing\n"), "no faces to read (0 vertices, no 'f' statement)");
+  expect_read_error(write_bytes(dir / "points.obj", "v 0 0 0\nv 1 0 0\n"), "no faces to read (2 vertices");
 }
 
 TEST(MeshIoObj, TruncationNeverCrashes) {
@@ -424,6 +427,7 @@ TEST(MeshIoMsh, Reads22WithPhysicalTagsAndSkipsOtherElements) {
   EXPECT_EQ(f.volume->faces, (std::vector<Triangle>{{0, 2, 1}}));
   EXPECT_EQ(f.volume->face_markers, (std::vector<int>{7}));
   EXPECT_EQ(f.surface->triangles, (std::vector<Triangle>{{0, 2, 1}}));
+  EXPECT_EQ(f.skipped, "1 lines (type 1), 1 points (type 15)");
 }
 
 TEST(MeshIoMsh, Reads41EntitiesAndNonContiguousTags) {
@@ -494,6 +498,11 @@ TEST(MeshIoMsh, Errors) {
                                                      "0 1 0 1\n1\n0 0 0\n$EndNodes\n"),
                     "declares 2 nodes but its blocks hold 1");
   expect_read_error(write_bytes(dir / "skip.msh", fmt + "$Comments\nabc\n"), "missing '$EndComments'");
+  // Only elements of other types: an error naming them, not a surface of 0 triangles.
+  expect_read_error(write_bytes(dir / "other.msh", fmt + "$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n"
+                                                         "$Elements\n2\n1 99 2 0 0 1 2 3\n2 3 2 0 0 1 2 3 1\n$EndElements\n"),
+                    "no triangles (type 2) or tetrahedra (type 4) to read (the file holds 1 quadrangles (type 3), "
+                    "1 elements of type 99)");
 }
 
 TEST(MeshIoMsh, TruncationNeverCrashes) {
