@@ -21,7 +21,7 @@ class VtkCursor {
 
   [[noreturn]] void fail(const std::string& reason) const {
     if (binary_seen_) throw InputError(SourceLocation{file_, {}, {}, pos_}, reason);
-    throw InputError(SourceLocation{file_, line_, {}, {}}, reason);
+    throw InputError(SourceLocation{file_, last_line_, {}, {}}, reason);
   }
   [[nodiscard]] bool at_end() const { return pos_ >= data_.size(); }
 
@@ -29,8 +29,9 @@ class VtkCursor {
   std::string_view line() {
     const std::size_t end = std::min(data_.find('\n', pos_), data_.size());
     std::string_view l = data_.substr(pos_, end - pos_);
+    last_line_ = line_;
+    if (end < data_.size()) ++line_;
     pos_ = std::min(end + 1, data_.size());
-    ++line_;
     if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
     return l;
   }
@@ -48,6 +49,7 @@ class VtkCursor {
       if (data_[pos_] == '\n') ++line_;
       ++pos_;
     }
+    last_line_ = line_;
     if (pos_ >= data_.size()) fail(std::string("truncated file: expected ") + what);
     const std::size_t start = pos_;
     while (pos_ < data_.size() && !std::isspace(static_cast<unsigned char>(data_[pos_]))) ++pos_;
@@ -93,7 +95,8 @@ class VtkCursor {
   std::string_view data_;
   std::string file_;
   std::size_t pos_ = 0;
-  std::uint64_t line_ = 0;
+  std::uint64_t line_ = 1;       ///< the line the cursor is on
+  std::uint64_t last_line_ = 1;  ///< the line of the last line or token read (where errors point)
   bool binary_seen_ = false;  ///< past the first binary block, lines no longer count
 };
 

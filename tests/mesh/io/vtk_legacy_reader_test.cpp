@@ -131,7 +131,8 @@ TEST(VtkLegacyReader, BrokenFilesAreRefusedWithWhereAndWhy) {
   expect_read_error(write_bytes(dir / "c.vtk", "# vtk DataFile Version 2.0\nt\nASCII\nDATASET STRUCTURED_POINTS\n"),
                     "holds no cells to read", At{4});
   expect_read_error(write_bytes(dir / "d.vtk", header + "POINTS 3 float\n0 0 0 1 0\n"), "truncated file");
-  expect_read_error(write_bytes(dir / "e.vtk", header + "POINTS 2 float\n0 0 0 1 nan 0\n"), "expected a coordinate");
+  expect_read_error(write_bytes(dir / "e.vtk", header + "POINTS 2 float\n0 0 0\n1 nan 0\n"), "expected a coordinate",
+                    At{7});
   expect_read_error(write_bytes(dir / "f.vtk", header + points + "CELLS 1 4\n3 0 1 7\nCELL_TYPES 1\n5\n"),
                     "point index 7 out of range (3 points)");
   expect_read_error(write_bytes(dir / "g.vtk", header + points + "CELLS 1 4\n9 0 1 2\n"),
@@ -140,7 +141,7 @@ TEST(VtkLegacyReader, BrokenFilesAreRefusedWithWhereAndWhy) {
                     "1 cells but 2 cell types");
   expect_read_error(write_bytes(dir / "i.vtk", header + points + "CELLS 1 4\n3 0 1 2\nCELL_TYPES 1\n10\n"),
                     "cell 0 of type 10 has 3 points");
-  expect_read_error(write_bytes(dir / "j.vtk", header + points + "SPLINES 1\n"), "unexpected 'SPLINES'");
+  expect_read_error(write_bytes(dir / "j.vtk", header + points + "SPLINES 1\n"), "unexpected 'SPLINES'", At{7});
   expect_read_error(write_bytes(dir / "k.vtk", header + "CELLS 0 0\nCELL_TYPES 0\n"), "no POINTS section");
   // A binary file cut short names the byte where its data ran out.
   const std::string strip = binary_strip();
