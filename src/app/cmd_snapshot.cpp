@@ -1,6 +1,4 @@
 // `tactus snapshot`: a scene at one instant of a lockstep run, rendered offscreen to PNG.
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <string>
 

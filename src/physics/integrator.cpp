@@ -426,9 +426,12 @@ void build_spring_pushes(BodyState& s, std::span<const ContactSpring> springs) {
   }
 }
 
-/// A spring's push when the step ends with velocity v: F0 − k·h·uᵀv, never below zero.
-double spring_force(const SolverScratch& w, const ContactSpring& spring, std::size_t j, const VecX& v, double h) {
-  return std::max(0.0, spring.force - spring.stiffness * h * w.spring_push[j].dot(v));
+/// A spring's push when the step ends with velocity v, F0 − k·h·uᵀv: its nodes moved h·v.
+/// Below zero it would pull (and is let go).
+template <class V>
+double push_at(const SolverScratch& w, const ContactSpring& spring, std::size_t j, const Eigen::MatrixBase<V>& v,
+               double h) {
+  return spring.force - std::max(0.0, spring.stiffness) * h * w.spring_push[j].dot(v);
 }
 
 /// Couples the springs into an implicit step's linear solve. `delta` holds A⁻¹r for the
@@ -459,7 +462,7 @@ int couple_springs(const Body& body, BodyState& s, double h, std::span<ContactSp
   for (Eigen::Index i = 0; i < n; ++i) {
     const ContactSpring& c = springs[static_cast<std::size_t>(i)];
     const double k = std::max(0.0, c.stiffness);
-    free_force[i] = c.force - k * h * w.spring_push[static_cast<std::size_t>(i)].dot(w.v_trial);
+    free_force[i] = push_at(w, c, static_cast<std::size_t>(i), w.v_trial, h);
     for (Eigen::Index j = 0; j < n; ++j)
       coupling(i, j) = h * h * k * w.spring_push[static_cast<std::size_t>(i)].dot(w.spring_response[static_cast<std::size_t>(j)]);
   }
@@ -499,9 +502,8 @@ void fold_springs(BodyState& s, double h, std::span<const ContactSpring> springs
   SolverScratch& w = *s.solver_scratch;
   w.folded = springs.size();
   for (std::size_t j = 0; j < springs.size(); ++j) {
-    const double k = std::max(0.0, springs[j].stiffness);
-    w.folded_weight[j] = h * h * k;
-    rhs += (h * (springs[j].force - k * h * w.spring_push[j].dot(v_base))) * w.spring_push[j];
+    w.folded_weight[j] = h * h * std::max(0.0, springs[j].stiffness);
+    rhs += (h * push_at(w, springs[j], j, v_base, h)) * w.spring_push[j];
   }
 }
 
@@ -518,15 +520,12 @@ int settle_folded(const Body& body, BodyState& s, double h, std::span<ContactSpr
     double lowest = 0.0;
     for (std::size_t j = 0; j < springs.size(); ++j) {
       if (let_go[j]) continue;
-      const double k = std::max(0.0, springs[j].stiffness);
-      const double f = springs[j].force - k * h * w.spring_push[j].dot(v_base + delta);
+      const double f = push_at(w, springs[j], j, v_base + delta, h);
       springs[j].force_end = std::max(0.0, f);
       if (f < lowest) lowest = f, most_negative = j;
     }
     if (most_negative == springs.size()) break;
-    const ContactSpring& c = springs[most_negative];
-    const double k = std::max(0.0, c.stiffness);
-    rhs -= (h * (c.force - k * h * w.spring_push[most_negative].dot(v_base))) * w.spring_push[most_negative];
+    rhs -= (h * push_at(w, springs[most_negative], most_negative, v_base, h)) * w.spring_push[most_negative];
     w.folded_weight[most_negative] = 0.0;
     let_go[most_negative] = true;
     iterations += solve_linear(body, s, 1.0, h, h * h, rhs, delta);
@@ -623,10 +622,10 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
     w.rhs.array() *= w.free_mask.array();
     // The springs' pushes at v_trial count in the residual; the solve couples them again.
     for (std::size_t j = 0; j < springs.size(); ++j)
-      w.rhs += (h * spring_force(w, springs[j], j, w.v_trial, h)) * w.spring_push[j];
+      w.rhs += (h * std::max(0.0, push_at(w, springs[j], j, w.v_trial, h))) * w.spring_push[j];
     if (w.rhs.norm() <= body.settings.newton_tolerance * h * scale) break;
     for (std::size_t j = 0; j < springs.size(); ++j)
-      w.rhs -= (h * spring_force(w, springs[j], j, w.v_trial, h)) * w.spring_push[j];
+      w.rhs -= (h * std::max(0.0, push_at(w, springs[j], j, w.v_trial, h))) * w.spring_push[j];
     model.linearize(w.x_trial, w.v_trial, s.q, *s.model_scratch);
     w.delta.setZero();
     if (fold) fold_springs(s, h, springs, w.v_trial, w.rhs);

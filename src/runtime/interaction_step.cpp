@@ -10,16 +10,6 @@
 namespace tactus::runtime {
 namespace {
 
-/// Times a part when the inputs carry a clock.
-struct PartTimer {
-  Nanos (*clock)() = nullptr;
-  Nanos start = 0;
-  explicit PartTimer(Nanos (*c)()) : clock(c), start(c ? c() : 0) {}
-  void record(std::span<PartStats> parts, std::size_t part) const {
-    if (clock && part < parts.size()) parts[part].time.record(clock() - start);
-  }
-};
-
 void find_needle_crossings(const InteractionModel& model, InteractionState& state, const InteractionInputs& in,
                            std::span<PartStats> parts, std::size_t k, const ToolState& tool,
                            haptics::NeedleSurfaces& out) {

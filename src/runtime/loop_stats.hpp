@@ -3,6 +3,7 @@
 // deadlines and overruns. Each loop owns its LoopStats and records into it without
 // allocating; the session reads them once the loops have stopped.
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,23 @@ struct LoopStats {
 struct PartStats {
   std::string name;
   LatencyHistogram time;
+};
+
+/// Times a step's parts with the clock its loop hands it, if any: the steps read no clock of
+/// their own, and a step driven by hand (tests) passes none and records nothing.
+struct PartTimer {
+  Nanos (*clock)() = nullptr;
+  Nanos start = 0;
+  explicit PartTimer(Nanos (*c)()) : PartTimer(c, c ? c() : 0) {}
+  PartTimer(Nanos (*c)(), Nanos from) : clock(c), start(from) {}
+  /// Records the time since `start` into parts[part] (where there is one) and returns now,
+  /// the next part's start (0 without a clock).
+  Nanos record(std::span<PartStats> parts, std::size_t part) const {
+    if (!clock) return 0;
+    const Nanos now = clock();
+    if (part < parts.size()) parts[part].time.record(now - start);
+    return now;
+  }
 };
 
 }  // namespace tactus::runtime

@@ -36,9 +36,7 @@ SimulationLoop::SimulationLoop(const scene::Model& model, std::vector<DeviceChan
 }
 
 const VecX* SimulationLoop::positions(std::size_t body) const {
-  for (std::size_t b = 0; b < model_.bodies.size(); ++b)
-    if (model_.bodies[b].index == body) return &state_.bodies[b].state.x;
-  return nullptr;
+  return body < state_.bodies.size() ? &state_.bodies[body].state.x : nullptr;
 }
 
 void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include "compile/bodies.hpp"
@@ -12,21 +11,6 @@
 
 namespace tactus::runtime {
 namespace {
-
-/// Times a part when the inputs carry a clock.
-struct PartTimer {
-  Nanos (*clock)() = nullptr;
-  Nanos start = 0;
-  PartTimer(Nanos (*c)(), Nanos from) : clock(c), start(from) {}
-  explicit PartTimer(Nanos (*c)()) : PartTimer(c, c ? c() : 0) {}
-  /// Records the time since `start` and returns now (the next part's start).
-  Nanos record(std::span<PartStats> parts, SimulationPart part) const {
-    if (!clock) return 0;
-    const Nanos now = clock();
-    if (part < parts.size()) parts[part].time.record(now - start);
-    return now;
-  }
-};
 
 constexpr std::size_t kSharesPerContact = 64;  ///< vertices one contact's load spreads over, at most
 
@@ -39,7 +23,7 @@ std::span<const contact::LoadShare> spread(const SimulationModel& model, Simulat
                                            const ContactLoad& load) {
   const SimulationModel::Body& mb = model.bodies[b];
   SimulationState::Body& sb = state.bodies[b];
-  const auto& triangles = model.scene->bodies[mb.index].surface.triangles;
+  const auto& triangles = model.scene->bodies[b].surface.triangles;
   if (load.triangle < 0 || static_cast<std::size_t>(load.triangle) >= triangles.size()) return {};
   sb.surface.resize(mb.surface_to_node.size());
   for (std::size_t v = 0; v < sb.surface.size(); ++v)
@@ -69,7 +53,7 @@ std::span<const contact::LoadShare> spread(const SimulationModel& model, Simulat
 /// Adds a contact load on an embedded surface to its host's external forces.
 void carry_to_host(const SimulationModel& model, SimulationState& state, std::size_t b,
                    std::span<const contact::LoadShare> shares, const Vec3& force) {
-  const scene::Body& body = model.scene->bodies[model.bodies[b].index];
+  const scene::Body& body = model.scene->bodies[b];
   if (!model.bodies[*body.host].physics) return;
   SimulationState::Body& sb = state.bodies[b];
   std::fill(sb.carried_forces.begin(), sb.carried_forces.end(), Vec3::Zero());
@@ -114,7 +98,7 @@ void apply_loads(const SimulationModel& model, SimulationState& state, const Sim
   auto fraction = [t_end](double ramp_time) { return compile::ramp(t_end, ramp_time); };
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     if (!model.bodies[b].physics) continue;
-    const scene::Body& body = model.scene->bodies[model.bodies[b].index];
+    const scene::Body& body = model.scene->bodies[b];
     compile::assemble_loads(body, fraction, state.bodies[b].f_ext);
     compile::place_prescribed(body, model.bodies[b].rest, fraction, state.bodies[b].state.x);
   }
@@ -128,7 +112,7 @@ void apply_loads(const SimulationModel& model, SimulationState& state, const Sim
     if (!load.active || load.body < 0 || static_cast<std::size_t>(load.body) >= model.bodies.size()) continue;
     const std::size_t b = static_cast<std::size_t>(load.body);
     SimulationState::Body& sb = state.bodies[b];
-    if (model.scene->bodies[model.bodies[b].index].host) {
+    if (model.scene->bodies[b].host) {
       // A fascia sheet or a vessel wall: its host's tetrahedra take the load.
       carry_to_host(model, state, b, spread(model, state, b, load), load.force);
       continue;
@@ -166,9 +150,8 @@ void apply_live_materials(const SimulationModel& model, SimulationState& state, 
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     SimulationState::Body& sb = state.bodies[b];
     if (!sb.live) continue;
-    const std::size_t index = model.bodies[b].index;
-    const LiveParameters::Material& edit = m.body[index];
-    sb.live->set(edit.young_modulus / in.scene_materials->body[index].young_modulus,
+    const LiveParameters::Material& edit = m.body[b];
+    sb.live->set(edit.young_modulus / in.scene_materials->body[b].young_modulus,
                  edit.damping_set ? edit.damping : -1.0);
   }
 }
@@ -189,7 +172,7 @@ void shape_cspace_bodies(const SimulationModel& model, SimulationState& state, s
 /// Embedded surfaces follow their hosts' new node positions.
 void carry_embedded(const SimulationModel& model, SimulationState& state) {
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
-    const scene::Body& body = model.scene->bodies[model.bodies[b].index];
+    const scene::Body& body = model.scene->bodies[b];
     if (!body.host) continue;
     SimulationState::Body& sb = state.bodies[b];
     body.host_mapping->apply(state.bodies[*body.host].state.x, sb.carried_positions);
@@ -245,13 +228,13 @@ void write_patches(const SimulationModel& model, SimulationState& state, double 
       for (std::size_t b = 0; b < model.bodies.size(); ++b) {
         if (!d.builders[b]) continue;
         const contact::SurfacePoint nearest = contact::closest_point_on_surface(
-            tool.position, state.bodies[b].surface, model.scene->bodies[model.bodies[b].index].surface.triangles);
+            tool.position, state.bodies[b].surface, model.scene->bodies[b].surface.triangles);
         if (nearest.triangle >= 0 && nearest.distance <= best) best = nearest.distance, best_body = b;
       }
     if (best_body == model.bodies.size()) continue;
     const SimulationModel::Body& mb = model.bodies[best_body];
     const SimulationState::Body& sb = state.bodies[best_body];
-    const scene::Body& body = model.scene->bodies[mb.index];
+    const scene::Body& body = model.scene->bodies[best_body];
     contact::PatchBuilder::Inputs patch_in;
     patch_in.kind = request.kind;
     patch_in.body = static_cast<std::int32_t>(best_body);
@@ -292,7 +275,6 @@ SimulationModel make_simulation_model(const scene::Model& scene, std::vector<std
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     const scene::Body& b = scene.bodies[i];
     SimulationModel::Body mb;
-    mb.index = i;
     const auto& nodes = b.simulation_vertices();
     mb.rest.resize(static_cast<Eigen::Index>(3 * nodes.size()));
     for (std::size_t n = 0; n < nodes.size(); ++n) mb.rest.segment<3>(static_cast<Eigen::Index>(3 * n)) = nodes[n];
@@ -325,13 +307,14 @@ SimulationModel make_simulation_model(const scene::Model& scene, std::vector<std
 
 SimulationState make_simulation_state(const SimulationModel& model, const LiveParameters* live_materials) {
   SimulationState state;
-  for (const SimulationModel::Body& mb : model.bodies) {
-    const scene::Body& b = model.scene->bodies[mb.index];
+  for (std::size_t index = 0; index < model.bodies.size(); ++index) {
+    const SimulationModel::Body& mb = model.bodies[index];
+    const scene::Body& b = model.scene->bodies[index];
     SimulationState::Body sb;
     if (mb.physics) {
       sb.state = physics::make_state(*mb.physics);
-      if (live_materials && live_materials->material_editable(mb.index)) {
-        VecX damping = scene_mass_damping(*model.scene, mb.index, mb.physics->model->lumped_mass());
+      if (live_materials && live_materials->material_editable(index)) {
+        VecX damping = scene_mass_damping(*model.scene, index, mb.physics->model->lumped_mass());
         sb.live = std::make_shared<LiveMaterialModel>(mb.physics->model, std::move(damping));
         sb.edited = *mb.physics;
         sb.edited->model = sb.live;
@@ -398,7 +381,7 @@ int advance_bodies(const SimulationModel& model, SimulationState& state, const S
     if (!sb.state.x.allFinite())
       throw std::runtime_error(fmt::format("body '{}' diverged at t = {} s (NaN or infinite positions); reduce "
                                            "its time_step, soften the contact or use implicit_euler",
-                                           model.scene->bodies[mb.index].name,
+                                           model.scene->bodies[b].name,
                                            static_cast<double>(state.step) / model.scene->rates.simulation));
   }
   // The patches are built around the push the tissue took at the end of the step.
@@ -416,8 +399,8 @@ void publish_shapes(const SimulationModel& model, SimulationState& state, const 
   shape_cspace_bodies(model, state, tools);
   const PartTimer embedded(in.clock);
   carry_embedded(model, state);
-  const PartTimer publish(in.clock, model.embedded ? embedded.record(out.parts, embedded_surfaces)
-                                                   : (in.clock ? in.clock() : 0));
+  // Only a scene with embedded layers reports that part.
+  const PartTimer publish(in.clock, embedded.record(model.embedded ? out.parts : std::span<PartStats>{}, embedded_surfaces));
   for (SurfaceSnapshot* s : out.surfaces) write_surfaces(model, state, in.t, *s);
   const PartTimer local(in.clock, publish.record(out.parts, publish_surfaces));
   if (std::any_of(out.patches.begin(), out.patches.end(), [](const auto* p) { return p != nullptr; })) {

@@ -27,8 +27,8 @@ namespace tactus::runtime {
 
 /// What the step reads and never changes: each body as the compile stage built it.
 struct SimulationModel {
+  /// One per scene body, in the scene's order (bodies[i] is scene->bodies[i]).
   struct Body {
-    std::size_t index = 0;                  ///< into scene::Model::bodies
     std::optional<physics::Body> physics;   ///< empty for rigid, embedded and cspace bodies
     VecX rest;
     int substeps = 1;  ///< steps of at most the body's time step in one period

@@ -1,7 +1,5 @@
 // Scene text → Model: parses the TOML, then reads the sections in dependency order.
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include <fmt/format.h>
 

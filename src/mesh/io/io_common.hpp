@@ -62,6 +62,26 @@ class LineReader {
   std::string_view current_;
 };
 
+/// A T from its bytes at `p`, stored in byte order `order`.
+template <class T>
+T load_bytes(const char* p, std::endian order) {
+  unsigned char bytes[sizeof(T)];
+  std::memcpy(bytes, p, sizeof(T));
+  if (order != std::endian::native) std::reverse(bytes, bytes + sizeof(T));
+  T value;
+  std::memcpy(&value, bytes, sizeof(T));
+  return value;
+}
+
+/// Appends `value`'s bytes in byte order `order`.
+template <class T>
+void append_bytes(std::string& out, T value, std::endian order) {
+  unsigned char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  if (order != std::endian::native) std::reverse(bytes, bytes + sizeof(T));
+  out.append(reinterpret_cast<const char*>(bytes), sizeof(T));
+}
+
 /// Little-endian reads from a byte buffer; every failure names the byte offset.
 class ByteCursor {
  public:
@@ -85,11 +105,7 @@ class ByteCursor {
   template <class T>
   T read(const std::string& context) {
     need(sizeof(T), context);
-    unsigned char bytes[sizeof(T)];
-    std::memcpy(bytes, data_.data() + pos_, sizeof(T));
-    if constexpr (std::endian::native == std::endian::big) std::reverse(bytes, bytes + sizeof(T));
-    T value;
-    std::memcpy(&value, bytes, sizeof(T));
+    const T value = load_bytes<T>(data_.data() + pos_, std::endian::little);
     pos_ += sizeof(T);
     return value;
   }
@@ -107,10 +123,7 @@ class ByteCursor {
 /// Appends `value` little endian.
 template <class T>
 void put_le(std::string& out, T value) {
-  unsigned char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  if constexpr (std::endian::native == std::endian::big) std::reverse(bytes, bytes + sizeof(T));
-  out.append(reinterpret_cast<const char*>(bytes), sizeof(T));
+  append_bytes(out, value, std::endian::little);
 }
 
 /// Shortest text that reads back to exactly `value`.

@@ -70,18 +70,14 @@ class VtkCursor {
     if (r.ec != std::errc() || r.ptr != t.data() + t.size()) fail(std::string("expected ") + what + ", got '" + quote(t) + "'");
     return v;
   }
-  /// A big-endian value of `bytes` bytes (4 or 8), as an integer or a floating point number.
+  /// A big-endian T (a 4- or 8-byte integer or floating point number).
   template <class T>
   T big_endian(const char* what) {
     binary_seen_ = true;
     if (data_.size() - pos_ < sizeof(T))
       fail(std::string("truncated file: ") + what + " needs " + std::to_string(sizeof(T)) + " bytes, only " +
            std::to_string(data_.size() - pos_) + " left");
-    unsigned char bytes[sizeof(T)];
-    std::memcpy(bytes, data_.data() + pos_, sizeof(T));
-    if constexpr (std::endian::native == std::endian::little) std::reverse(bytes, bytes + sizeof(T));
-    T value;
-    std::memcpy(&value, bytes, sizeof(T));
+    const T value = load_bytes<T>(data_.data() + pos_, std::endian::big);
     pos_ += sizeof(T);
     return value;
   }

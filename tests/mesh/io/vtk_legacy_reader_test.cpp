@@ -3,11 +3,10 @@
 // 5.1 layouts, and broken files refused with where and why.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <bit>
-#include <cstring>
 
 #include "io_test_util.hpp"
+#include "mesh/io/io_common.hpp"
 
 namespace tactus::mesh::test {
 namespace {
@@ -80,10 +79,7 @@ TEST(VtkLegacyReader, TactusFilesReadBack) {
 
 template <class T>
 void put_be(std::string& out, T value) {
-  unsigned char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  if constexpr (std::endian::native == std::endian::little) std::reverse(bytes, bytes + sizeof(T));
-  out.append(reinterpret_cast<const char*>(bytes), sizeof(T));
+  io::append_bytes(out, value, std::endian::big);
 }
 
 /// A binary POLYDATA square of two triangles as one triangle strip (0 1 2 3), doubles.
