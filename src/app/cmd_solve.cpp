@@ -73,6 +73,10 @@ Action add_solve(CLI::App& app) {
         write_text(per_body(a->csv, body.body, several), csv);
       }
       for (const auto& row : body.rows) failures += row.converged ? 0 : 1;
+      if (!body.failure.empty())
+        std::fprintf(stderr, "tactus: body '%s' stopped at %s\n", body.body.c_str(), body.failure.c_str());
+      else if (body.step_halvings > 0)
+        std::fprintf(stderr, "body '%s': %d load step halving(s) to converge\n", body.body.c_str(), body.step_halvings);
       if (!a->output.empty()) {
         const scene::Body& sb = *model.find_body(body.body);
         const auto out = per_body(a->output, body.body, several);

@@ -106,15 +106,55 @@ BodySolve solve_body(const scene::Model& model, std::size_t index, const SolveOp
   };
 
   if (o.static_solve) {
+    const scene::StaticSolve& settings = model.static_solve;
     const int steps = b.load_steps;
     Progress progress(o.progress.empty() ? "solving " + b.name : o.progress, static_cast<std::size_t>(steps));
-    for (int k = 1; k <= steps; ++k) {
-      const double s_k = static_cast<double>(k) / steps;
-      auto fraction = [s_k](double) { return s_k; };
-      compile::assemble_loads(b, fraction, f_ext);
-      compile::place_prescribed(b, rest, fraction, s.x);
-      const auto r = physics::solve_static(pb, s, f_ext, 100, 1e-8);
-      record(s_k, k, r.iterations, r.converged);
+    // Each load step walks from the last equilibrium in sub-steps: the free nodes are first
+    // carried along with the held ones (physics::predict_static), then Newton balances. A
+    // sub-step that fails is retried at half the size from the last equilibrium, and the
+    // load step keeps the smaller size; a load step that still fails at the smallest size
+    // ends the body's solve (a later step would start from an unbalanced state).
+    VecX equilibrium = s.x;
+    double reached = 0.0;
+    for (int k = 1; k <= steps && out.failure.empty(); ++k) {
+      const double end = k == steps ? 1.0 : static_cast<double>(k) / steps;
+      double size = 1.0 / steps;
+      int halvings = 0, iterations = 0;
+      physics::StaticResult r;
+      while (reached < end) {
+        const double s_k = std::min(end, reached + size);
+        auto fraction = [s_k](double) { return s_k; };
+        compile::assemble_loads(b, fraction, f_ext);
+        compile::place_prescribed(b, rest, fraction, s.x);
+        physics::predict_static(pb, s, equilibrium, f_ext);
+        r = physics::solve_static(pb, s, f_ext, settings.newton);
+        iterations += r.iterations;
+        if (r.converged && s.x.allFinite()) {
+          reached = s_k;
+          equilibrium = s.x;
+        } else if (halvings < settings.max_step_halvings) {
+          ++halvings;
+          size *= 0.5;
+          s.x = equilibrium;
+        } else {
+          out.failure = fmt::format(
+              "load step {}/{} (load fraction {:.6g}){}: {}", k, steps, s_k,
+              halvings > 0 ? fmt::format(", after {} halvings of the step", halvings) : std::string(),
+              r.inverted ? fmt::format("the balanced state has an element inside out (min volume ratio {:.3g}); "
+                                       "the law cannot follow this deformation (a finer mesh or neo_hookean may)",
+                                       pb.model->min_volume_ratio(s.x))
+                         : fmt::format("Newton stopped at an out-of-balance force of {:.3g} N ({:.3g} of the "
+                                       "loads and reactions) after {} iterations{}",
+                                       r.residual_force, r.residual, r.iterations,
+                                       r.stagnated ? " (line search stagnated)" : ""));
+          s.x = equilibrium;  // the row and the output mesh show the last equilibrium
+          const double last = reached;
+          compile::assemble_loads(b, [last](double) { return last; }, f_ext);
+          break;
+        }
+      }
+      out.step_halvings += halvings;
+      record(reached, k, iterations, out.failure.empty());
       progress.update(static_cast<std::size_t>(k));
     }
   } else {

@@ -27,7 +27,7 @@ struct SolveRow {
   std::vector<Vec3> probe_displacements;   ///< per column group, see SolveResult
   std::vector<Vec3> reactions;             ///< per fixed/prescribed region [N]
   int linear_iterations = 0;
-  bool converged = true;                   ///< static: Newton met its tolerance
+  bool converged = true;                   ///< static: Newton met its tolerance (every sub-step)
 };
 
 struct BodySolve {
@@ -36,6 +36,10 @@ struct BodySolve {
   std::vector<std::string> region_names;  ///< fixed regions then prescribed motions
   std::vector<SolveRow> rows;
   std::vector<Vec3> final_positions;      ///< simulation nodes
+  /// Static: why the solve stopped early (empty when every load step converged); the last
+  /// row is the failed step, at the last equilibrium reached.
+  std::string failure;
+  int step_halvings = 0;  ///< static: load steps halved to converge, summed
 };
 
 struct SolveResult {

@@ -79,14 +79,31 @@ inline constexpr double kStagnationTolerance = 1e-6;
 struct StaticResult {
   bool converged = false;
   bool stagnated = false;  ///< stopped at round-off before reaching the tolerance
+  /// Balanced, but with an element turned inside out (volume ratio J ≤ 0) that the rest state
+  /// does not have: an equilibrium of the wrong branch, never reported as converged.
+  bool inverted = false;
   int iterations = 0;
-  double residual = 0.0;  ///< final |f| over free dofs, relative to the load
+  double residual = 0.0;        ///< final |f| over free dofs, relative to the force scale
+  double residual_force = 0.0;  ///< final |f| over free dofs [N]
   int projected_iterations = 0;  ///< Newton steps on the projected tangent (the exact one not definite)
 };
-/// Newton with backtracking line search to static equilibrium f(x) + f_ext + m·g = 0 over the
-/// free dofs (the fixed dofs hold their current positions).
+/// Newton with a line search on the total potential energy to static equilibrium
+/// f(x) + f_ext + m·g = 0 over the free dofs (the fixed dofs hold their current positions).
 StaticResult solve_static(const Body& body, BodyState& state, const VecX& f_ext = {},
-                          int max_iterations = 50, double tolerance = 1e-8);
+                          const StaticSettings& settings = {});
+inline StaticResult solve_static(const Body& body, BodyState& state, const VecX& f_ext, int max_iterations,
+                                 double tolerance) {
+  return solve_static(body, state, f_ext, StaticSettings{max_iterations, tolerance});
+}
+
+/// The start of a load step whose held dofs moved: `previous` is the last equilibrium and
+/// `state.x` holds it with the held dofs already at their new positions. Moves the free dofs
+/// by the linearized response, K_ff·δ = f_free(previous, f_ext) − (K·Δ_held)_free, so that a
+/// large step of a prescribed node carries its neighbours along instead of turning their
+/// elements inside out (Newton started from such a state can end on an inverted
+/// equilibrium). Returns false, leaving the state as it was, where nothing held moved or the
+/// linear solve failed.
+bool predict_static(const Body& body, BodyState& state, const VecX& previous, const VecX& f_ext = {});
 
 /// Kinetic energy ½ vᵀMv (the model's mass matrix) and elastic energy; their sum minus the work of gravity is
 /// conserved by an undamped exact integrator.

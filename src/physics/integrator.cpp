@@ -737,39 +737,86 @@ void step(const Body& body, BodyState& s, double dt, const VecX& f_ext, std::spa
   step_halving(body, s, dt, f_ext, springs, 0);
 }
 
-StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int max_iterations,
-                          double tolerance) {
+namespace {
+
+/// The force scale of a static solve at s.x: the larger of the applied loads with the weight
+/// (on the free dofs) and the reactions of the held dofs. w.force must hold the total force at
+/// s.x, unmasked.
+double static_force_scale(const SolverScratch& w, const VecX& load) {
+  double held = 0.0;
+  for (Eigen::Index i = 0; i < w.force.size(); ++i)
+    if (w.free_mask[i] == 0.0) held += w.force[i] * w.force[i];
+  return std::max(load.norm(), std::sqrt(held));
+}
+
+}  // namespace
+
+bool predict_static(const Body& body, BodyState& s, const VecX& previous, const VecX& f_ext) {
+  prepare(body, s);
+  SolverScratch& w = *s.solver_scratch;
+  const ForceModel& model = *body.model;
+  // The held dofs' motion since the last equilibrium.
+  w.x_trial = (s.x - previous).cwiseProduct(VecX::Ones(s.x.size()) - w.free_mask);
+  if (w.x_trial.isZero(0.0)) return false;
+  s.v.setZero();
+  model.linearize(previous, s.v, s.q, *s.model_scratch);
+  total_force(body, previous, s.v, s.q, f_ext, s, w.force);
+  w.rhs.setZero();
+  model.add_stiffness_product(w.x_trial, w.rhs, *s.model_scratch);
+  w.force -= w.rhs;
+  w.delta.setZero();
+  try {
+    solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
+  } catch (const std::runtime_error&) {
+    return false;
+  }
+  if (!w.delta.allFinite()) return false;
+  s.x = previous + w.x_trial + w.delta.cwiseProduct(w.free_mask);
+  return true;
+}
+
+StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, const StaticSettings& settings) {
   prepare(body, s);
   SolverScratch& w = *s.solver_scratch;
   const ForceModel& model = *body.model;
   s.v.setZero();
-  // The load scale: external forces plus weight, or the internal force if there is no load
-  // (a prescribed displacement).
-  VecX load = VecX::Zero(s.x.size());
+  // The applied loads with the weight, on the free dofs: the total force at rest minus the
+  // internal one there.
   total_force(body, model.rest_positions(), s.v, s.q, f_ext, s, w.force);
-  load = w.force;
+  VecX load = w.force;
   model.forces(model.rest_positions(), s.v, s.q, w.rhs, *s.model_scratch);
-  load -= w.rhs;  // external + gravity only
-  total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
-  double scale = std::max(load.cwiseProduct(w.free_mask).norm(),
-                          w.force.cwiseProduct(w.free_mask).norm());
-  if (scale == 0.0) return {true, false, 0, 0.0};
+  load -= w.rhs;
+  load.array() *= w.free_mask.array();
 
   StaticResult result;
+  // Measures the out-of-balance force at s.x (left in w.force, masked) against the scale
+  // there; true when it meets the tolerance or the floor.
+  auto balanced = [&] {
+    total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
+    const double scale = static_force_scale(w, load);
+    w.force.array() *= w.free_mask.array();
+    result.residual_force = w.force.norm();
+    result.residual = scale > 0.0 ? result.residual_force / scale : 0.0;
+    return result.residual_force <= settings.force_tolerance || result.residual <= settings.tolerance;
+  };
+  // A balanced state with an element turned inside out is the wrong equilibrium.
+  auto finish = [&](bool converged) {
+    result.converged = converged;
+    if (converged && model.min_volume_ratio(s.x) <= 0.0) {
+      result.converged = false;
+      result.inverted = true;
+    }
+    return result;
+  };
+
   // Iterations until the exact tangent is tried again after its factorization failed: 1, 2,
   // 4, ... so a solve that stays indefinite wastes a logarithmic number of factorizations.
   const bool exact_possible = body.settings.solver == LinearSolver::cholesky;
   int exact_wait = 0, exact_backoff = 1;
-  for (int it = 0; it < max_iterations; ++it) {
-    total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
-    w.force.array() *= w.free_mask.array();
-    const double r = w.force.norm();
-    result.residual = r / scale;
+  for (int it = 0; it < settings.max_iterations; ++it) {
     result.iterations = it;
-    if (result.residual <= tolerance) {
-      result.converged = true;
-      return result;
-    }
+    if (balanced()) return finish(true);
+    const double r = result.residual_force;
     // The exact tangent where it is positive definite, which Cholesky detects: Newton then
     // converges quadratically, where the projected tangent (the fallback) converges linearly
     // once elements are compressed or stretched far.
@@ -829,26 +876,19 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, int
       // Internal forces of stiff, slender bodies are far larger than the load, so round-off
       // can sit above `tolerance`; accept up to kStagnationTolerance and say so.
       result.stagnated = true;
-      result.converged = result.residual <= kStagnationTolerance;
-      return result;
+      return finish(result.residual <= kStagnationTolerance);
     }
     const double moved = alpha * w.delta.norm();
     s.x = w.x_trial;
     if (moved <= 1e-14 * std::max(s.x.norm(), 1e-300)) {
       // The update is below double precision of the positions: nothing left to gain.
-      total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
-      result.residual = w.force.cwiseProduct(w.free_mask).norm() / scale;
       result.iterations = it + 1;
-      result.stagnated = true;
-      result.converged = result.residual <= kStagnationTolerance;
-      return result;
+      result.stagnated = !balanced();
+      return finish(!result.stagnated || result.residual <= kStagnationTolerance);
     }
   }
-  total_force(body, s.x, s.v, s.q, f_ext, s, w.force);
-  result.residual = w.force.cwiseProduct(w.free_mask).norm() / scale;
-  result.converged = result.residual <= tolerance;
-  result.iterations = max_iterations;
-  return result;
+  result.iterations = settings.max_iterations;
+  return finish(balanced());
 }
 
 double kinetic_energy(const Body& body, const BodyState& s) {

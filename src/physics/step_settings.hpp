@@ -1,6 +1,6 @@
 #pragma once
 // How a body is stepped: the integrator, the linear solver of implicit steps and their
-// tolerances. A small header of its own, so that the scene's model holds these settings
+// tolerances, and how static solves balance. A small header of its own, so that the scene's model holds these settings
 // without the bodies themselves.
 namespace tactus::physics {
 
@@ -14,6 +14,18 @@ struct StepSettings {
   int cg_max_iterations = 200;
   int newton_iterations = 1;   ///< 1 = the linearized (Baraff–Witkin) step
   double newton_tolerance = 1e-8;  ///< relative force residual, when newton_iterations > 1
+};
+
+/// Newton's stopping rule and effort for static solves (physics::solve_static).
+struct StaticSettings {
+  int max_iterations = 50;
+  /// Converged when the out-of-balance force on the free dofs is at most this fraction of
+  /// the force scale: the larger of the applied loads with the weight and the reactions of
+  /// the held dofs (what the supports and prescribed nodes push), both at the current state.
+  double tolerance = 1e-8;
+  /// [N] converged at or below this out-of-balance force whatever the scale (a body under no
+  /// load, or one whose loads are at round-off).
+  double force_tolerance = 1e-10;
 };
 
 }  // namespace tactus::physics

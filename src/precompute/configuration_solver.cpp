@@ -51,18 +51,6 @@ Vec3 ConfigurationSolver::reaction() {
   return f;
 }
 
-double ConfigurationSolver::free_residual() {
-  body_.model->forces(state_.x, state_.v, state_.q, force_, *state_.model_scratch);
-  const VecX& mass = body_.model->lumped_mass();
-  double sum = 0.0;
-  for (Eigen::Index i = 0; i < force_.size(); ++i) {
-    if (body_.fixed_dofs[static_cast<std::size_t>(i)]) continue;
-    const double f = force_[i] + mass[i] * body_.gravity[i % 3];
-    sum += f * f;
-  }
-  return std::sqrt(sum);
-}
-
 PointResult ConfigurationSolver::solve_start(std::size_t point, const Vec3& target) {
   return run(point, -1, nullptr, contact_rest_, target, 1);
 }
@@ -108,16 +96,20 @@ PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, con
       std::string failure;
       double step_residual = 0.0;
       try {
-        // The tolerance is relative to the step's initial out-of-balance force, which shrinks
-        // with the step: a refined step keeps about the absolute accuracy of a nominal one.
-        const double tolerance = std::min(1e-4, std::ldexp(settings_.tolerance, halvings));
-        const auto res = physics::solve_static(body_, state_, {}, settings_.max_iterations, tolerance);
+        // The free nodes follow the patch from the last equilibrium before Newton starts, so
+        // a long step does not begin with the patch's elements inside out.
+        physics::predict_static(body_, state_, converged);
+        const physics::StaticSettings newton{settings_.max_iterations, settings_.tolerance, kAbsoluteForceTolerance};
+        const auto res = physics::solve_static(body_, state_, {}, newton);
         r.iterations += res.iterations;
         step_residual = res.residual;
-        if (!res.converged && !(free_residual() <= kAbsoluteForceTolerance))
-          failure = fmt::format("{} at relative residual {:.3g} after {} Newton iterations",
+        if (res.inverted)
+          failure = fmt::format("the balanced state has an element inside out (min volume ratio {:.3g})",
+                                body_.model->min_volume_ratio(state_.x));
+        else if (!res.converged)
+          failure = fmt::format("{} at relative residual {:.3g} ({:.3g} N) after {} Newton iterations",
                                 res.stagnated ? "line search stagnated" : "no convergence", res.residual,
-                                res.iterations);
+                                res.residual_force, res.iterations);
         else if (!state_.x.allFinite())
           failure = "non-finite positions";
       } catch (const std::runtime_error& e) {

@@ -13,9 +13,9 @@
 namespace tactus::precompute {
 
 /// A load step that stops short of the relative tolerance still counts as converged when
-/// the out-of-balance force on the free nodes is below this [N]: steps far smaller than the
-/// grid spacing (round-off between grid positions) start from a residual so small that the
-/// relative criterion cannot be met.
+/// the out-of-balance force on the free nodes is below this [N] (physics::StaticSettings's
+/// floor): a patch barely pressed has reactions so small that the relative criterion sits
+/// at round-off.
 inline constexpr double kAbsoluteForceTolerance = 1e-9;
 
 class ConfigurationSolver {
@@ -47,8 +47,6 @@ class ConfigurationSolver {
                   int steps);
   void place_patch(const Vec3& contact);
   [[nodiscard]] Vec3 reaction();
-  /// |internal force + weight| over the free dofs at the current state [N].
-  [[nodiscard]] double free_residual();
 
   physics::Body body_;
   SpaceSettings settings_;

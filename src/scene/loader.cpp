@@ -52,6 +52,18 @@ RealtimeSettings read_realtime(Reader& root, const LoopRates& rates) {
   return rt;
 }
 
+StaticSolve read_static_solve(Reader& root) {
+  StaticSolve s;
+  auto r = root.table("solve");
+  if (!r) return s;
+  s.newton.tolerance = r->number("tolerance", s.newton.tolerance, Range::open_closed(0.0, 1e-2));
+  s.newton.force_tolerance = r->number("force_tolerance", s.newton.force_tolerance, Range::non_negative());
+  s.newton.max_iterations = r->integer("max_iterations", s.newton.max_iterations, 1, 10000);
+  s.max_step_halvings = r->integer("max_step_halvings", s.max_step_halvings, 0, 30);
+  r->finish();
+  return s;
+}
+
 Recording read_recording(Reader& root) {
   Recording rec;
   auto r = root.table("recording");
@@ -113,6 +125,7 @@ Model read_model(Reader& root, const std::string& source_name) {
     for (auto& [name, r] : t->named_tables()) m.algorithms.push_back(detail::read_algorithm(r, name, m));
   m.recording = read_recording(root);
   m.feedback = detail::read_feedback(root);
+  m.static_solve = read_static_solve(root);
   if (auto t = root.table("precompute")) m.precompute = detail::read_precompute(*t, m);
   root.finish();
   return m;

@@ -402,6 +402,17 @@ struct Algorithm {
 // ---------------------------------------------------------------------------------------
 // Recording
 
+// ---------------------------------------------------------------------------------------
+// Static solves
+
+/// [solve]: how `tactus solve --static` balances each load step.
+struct StaticSolve {
+  physics::StaticSettings newton{100, 1e-8, 1e-10};
+  /// A load step whose solve fails (no convergence, or an element inside out) is retried
+  /// from the last equilibrium at half the size, at most this many times in a row.
+  int max_step_halvings = 8;
+};
+
 struct Recording {
   std::string path;  ///< empty = no recording (a --record flag may still ask for one)
   bool poses = true;
@@ -432,6 +443,7 @@ struct Model {
   std::vector<Algorithm> algorithms;
   Recording recording;
   Feedback feedback;
+  StaticSolve static_solve;
   /// [precompute]: the configuration space `tactus precompute` builds (absent: none).
   std::optional<precompute::SpaceSettings> precompute;
 

@@ -269,6 +269,66 @@ TEST_F(Cli, SolveRejectsABadProbeFile) {
   EXPECT_NE(r.err.find("probes.csv:2: expected numbers"), std::string::npos) << r.err;
 }
 
+/// A 2 cm cube on its base, the node at the centre of its top pressed 1 cm down (two element
+/// heights) in one load step.
+std::string pressed_cube(const std::string& law, const std::string& extra) {
+  return R"([materials.gel]
+model = ")" + law + R"("
+young_modulus = 1e4
+poisson_ratio = 0.45
+density = 1000
+
+[bodies.cube]
+kind = "fem"
+material = "gel"
+solver = "cholesky"
+mesh = { generator = "box", size = [0.02, 0.02, 0.02], cells = [4, 4, 4] }
+
+[[bodies.cube.fixed]]
+name = "base"
+side = "z_min"
+
+[[bodies.cube.prescribed]]
+name = "finger"
+box = { min = [-0.001, -0.001, 0.009], max = [0.001, 0.001, 0.011] }
+displacement = [0, 0, -0.010]
+)" + extra;
+}
+
+TEST_F(Cli, StaticSolveHalvesALoadStepThatDoesNotConverge) {
+  // Four Newton iterations are too few for the whole press at once: the step is halved and
+  // the solve ends where eight load steps end.
+  std::ofstream(dir_ / "halved.toml") << pressed_cube("neo_hookean", "[solve]\nmax_iterations = 4\n");
+  const auto halved = run("solve --static " + (dir_ / "halved.toml").string());
+  ASSERT_EQ(halved.exit_code, 0) << halved.err;
+  EXPECT_NE(halved.err.find("load step halving(s) to converge"), std::string::npos) << halved.err;
+  std::string stepped_scene = pressed_cube("neo_hookean", "");
+  stepped_scene.insert(stepped_scene.find("mesh = {"), "load_steps = 8\n");
+  std::ofstream(dir_ / "stepped.toml") << stepped_scene;
+  const auto stepped = run("solve --static " + (dir_ / "stepped.toml").string());
+  ASSERT_EQ(stepped.exit_code, 0) << stepped.err;
+  const auto a = parse_csv(halved.out), b = parse_csv(stepped.out);
+  const double fz = column(b, "finger_fz", b.size() - 1);
+  EXPECT_LT(fz, -1.0);  // about 1.3 N to hold the finger down
+  EXPECT_NEAR(column(a, "finger_fz", a.size() - 1), fz, 1e-7 * std::abs(fz));
+  EXPECT_EQ(column(a, "converged", a.size() - 1), 1.0);
+}
+
+TEST_F(Cli, StaticSolveRefusesAnEquilibriumWithAnElementInsideOut) {
+  // St. Venant-Kirchhoff balances this press only with elements under the finger turned
+  // inside out: every halving ends there, and the solve stops with exit 1 and the reason.
+  std::ofstream(dir_ / "stvk.toml") << pressed_cube("stvk", "[solve]\nmax_step_halvings = 3\n");
+  const auto r = run("solve --static " + (dir_ / "stvk.toml").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("body 'cube' stopped at load step 1/1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("after 3 halvings"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("an element inside out"), std::string::npos) << r.err;
+  const auto rows = parse_csv(r.out);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(column(rows, "converged", 1), 0.0);
+  EXPECT_LT(column(rows, "load_fraction", 1), 1.0);  // the last equilibrium reached
+}
+
 // `tactus run --force-map` on the nodule trainer: a PNG, its legend and the trainee feedback.
 TEST_F(Cli, NoduleSceneWritesForceMapAndFeedback) {
   const fs::path scene = fs::path(TACTUS_SOURCE_DIR) / "scenes/nodule.toml";

@@ -85,16 +85,17 @@ TEST(Build, FailedSolvesAreRecordedWithTheirReason) {
 }
 
 TEST(Build, AFailedLoadStepIsRefinedByHalving) {
-  // Pressing 16 mm into the 20 mm block in one load step needs more Newton iterations than
-  // allowed (7-8 with the exact tangent, against 5); halving the step gets there, to the
-  // equilibrium of a finely stepped solve.
+  // Pressing 9 mm into the 20 mm block in one load step needs more Newton iterations than
+  // allowed (5, against 3); halving the step gets there, to the equilibrium of a finely
+  // stepped solve. (Deeper than its 10 mm elements, StVK's equilibrium turns the elements
+  // under the node inside out, which every solve refuses.)
   const physics::Body body = testing::block_body(5.0e3, 0.45);
   SpaceSettings s = testing::block_settings(body);
   s.load_steps = 1;
-  s.max_iterations = 5;
+  s.max_iterations = 3;
   s.max_step_halvings = 0;
   const Vec3 rest = ConfigurationSolver(body, s).contact_rest();
-  const Vec3 target = rest - Vec3(0, 0, 0.016);
+  const Vec3 target = rest - Vec3(0, 0, 0.009);
   const VecX zero = VecX::Zero(3 * static_cast<Eigen::Index>(body.model->node_count()));
 
   ConfigurationSolver unrefined(body, s);

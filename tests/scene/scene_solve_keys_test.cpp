@@ -92,6 +92,25 @@ TEST(SceneSolveKeys, Errors) {
   EXPECT_NE(ramp.find("ramp_time"), std::string::npos) << ramp;
 }
 
+TEST(SceneSolveKeys, StaticSolveSettingsAreReadAndChecked) {
+  const Model defaults = parse_scene(kBlock, "solve.toml");
+  EXPECT_EQ(defaults.static_solve.newton.max_iterations, 100);
+  EXPECT_EQ(defaults.static_solve.newton.tolerance, 1e-8);
+  EXPECT_EQ(defaults.static_solve.newton.force_tolerance, 1e-10);
+  EXPECT_EQ(defaults.static_solve.max_step_halvings, 8);
+  const Model m = parse_scene(kBlock + "[solve]\ntolerance = 1e-10\nforce_tolerance = 1e-12\n"
+                                      "max_iterations = 30\nmax_step_halvings = 3\n",
+                              "solve.toml");
+  EXPECT_EQ(m.static_solve.newton.tolerance, 1e-10);
+  EXPECT_EQ(m.static_solve.newton.force_tolerance, 1e-12);
+  EXPECT_EQ(m.static_solve.newton.max_iterations, 30);
+  EXPECT_EQ(m.static_solve.max_step_halvings, 3);
+  EXPECT_NE(error_of("[solve]\ntolerance = 0\n").find("solve.tolerance"), std::string::npos);
+  EXPECT_NE(error_of("[solve]\nmax_iterations = 0\n").find("solve.max_iterations"), std::string::npos);
+  EXPECT_NE(error_of("[solve]\nforce_tolerance = -1\n").find("solve.force_tolerance"), std::string::npos);
+  EXPECT_NE(error_of("[solve]\nmax_halvings = 2\n").find("max_halvings"), std::string::npos);
+}
+
 /// kBlock with `keys` added to the body's table.
 std::string pad_with(const std::string& keys) {
   std::string scene = kBlock;
