@@ -260,7 +260,7 @@ class VtuReader {
     if (!slot) return nullptr;
     if (slot->has_value()) fail_line(file_offset(), "a second <DataArray Name=\"" + quote(name) + "\"> in one piece");
     slot->emplace();
-    (*slot)->name = name;
+    (*slot)->name = name.empty() ? parent : name;  // VTK leaves the points array unnamed
     return &**slot;
   }
 
