@@ -202,7 +202,8 @@ class VtuReader {
       open_array_->content_end = at;  // a child element (InformationKey) ends the values
       open_array_->content_ended = true;
     }
-    const std::string_view parent = stack_.empty() ? std::string_view() : std::string_view(stack_.back());
+    // A copy: the stack may reallocate below.
+    const std::string parent = stack_.empty() ? std::string() : stack_.back();
     stack_.emplace_back(name);
     if (stack_.size() == 1) {
       if (name != "VTKFile") fail_line(at, "not a VTK XML file: the root element is <" + quote(name) + ">");

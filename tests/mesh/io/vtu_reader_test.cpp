@@ -368,6 +368,17 @@ TEST(VtuReader, BrokenAppendedData) {
   expect_read_error(write_bytes(dir / "none.vtu", none), "is appended but the file has no <AppendedData>", {13});
 }
 
+TEST(VtuReader, DeeplyNestedElements) {
+  // Elements nested deeper than the element stack's first allocation (once a read after
+  // free under ASan, found by the fuzzer).
+  const auto dir = scratch_dir();
+  std::string nested;
+  for (int i = 0; i < 40; ++i) nested += "<Extra>";
+  nested += "<DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">1</DataArray>";
+  for (int i = 0; i < 40; ++i) nested += "</Extra>";
+  expect_unit_tet(read_mesh(write_bytes(dir / "n.vtu", grid("", nested + ascii_points + ascii_cells))));
+}
+
 TEST(VtuReader, TruncationNeverCrashes) {
   // Every prefix of real files in three encodings: an InputError or a mesh, nothing else.
   for (const char* name : {"vtkdata_cells_tetra_zlib_base64.vtu", "vtkdata_triangle_raw_uint64.vtu",
