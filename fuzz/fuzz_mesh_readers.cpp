@@ -1,6 +1,8 @@
-// libFuzzer target for the mesh readers. The first byte picks the format ('v': legacy VTK;
-// otherwise its value modulo 6), the rest is the file's content, parsed from memory. For TetGen the content is split at NUL bytes
-// into .node, .ele and .face. InputError is the expected outcome for bad input; any
+// libFuzzer target for the mesh readers. Whole files starting with '<' go to the VTU reader
+// and whole files starting with '$' to the MSH reader (ASCII or binary), so that real files
+// are seeds as they are. Otherwise the first byte picks the format ('v': legacy VTK;
+// otherwise its value modulo 6) and the rest is the file's content, parsed from memory.
+// For TetGen the content is split at NUL bytes into .node, .ele and .face. InputError is the expected outcome for bad input; any
 // other exception, crash or sanitizer report is a bug.
 #include <cstddef>
 #include <cstdint>
@@ -12,8 +14,17 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace tactus::mesh::io;
   if (size == 0) return 0;
-  const std::string_view body(reinterpret_cast<const char*>(data) + 1, size - 1);
+  const std::string_view whole(reinterpret_cast<const char*>(data), size);
+  const std::string_view body = whole.substr(1);
   try {
+    if (data[0] == '<') {
+      (void)parse_vtu(whole, "fuzz.vtu");
+      return 0;
+    }
+    if (data[0] == '$') {
+      (void)parse_msh(whole, "fuzz.msh");
+      return 0;
+    }
     if (data[0] == 'v') {
       (void)parse_vtk(body, "fuzz.vtk");
       return 0;

@@ -43,6 +43,7 @@ bool LineReader::next(std::string_view& line) {
   if (pos_ >= data_.size()) return false;
   const auto end = data_.find('\n', pos_);
   const std::size_t stop = end == std::string_view::npos ? data_.size() : end;
+  current_start_ = pos_;
   line = data_.substr(pos_, stop - pos_);
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
   pos_ = end == std::string_view::npos ? data_.size() : end + 1;
@@ -61,7 +62,15 @@ bool LineReader::next_content(std::string_view& line, char comment) {
   return false;
 }
 
+void LineReader::seek(std::size_t pos) {
+  pos = std::min(pos, data_.size());
+  if (pos > pos_) line_no_ += static_cast<std::uint64_t>(std::count(data_.begin() + static_cast<std::ptrdiff_t>(pos_),
+                                                                      data_.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
+  pos_ = pos;
+}
+
 void LineReader::fail(const std::string& reason) const {
+  if (byte_offsets_) throw InputError(SourceLocation{file_, {}, {}, current_start_}, reason);
   throw InputError(SourceLocation{file_, line_no_ == 0 ? std::optional<std::uint64_t>{1} : line_no_, {}, {}},
                    reason);
 }
@@ -70,6 +79,8 @@ void LineReader::fail_at(std::string_view token, const std::string& reason) cons
   std::optional<std::uint64_t> column;
   if (token.data() >= current_.data() && token.data() <= current_.data() + current_.size())
     column = static_cast<std::uint64_t>(token.data() - current_.data()) + 1;
+  if (byte_offsets_)
+    throw InputError(SourceLocation{file_, {}, {}, current_start_ + (column ? *column - 1 : 0)}, reason);
   throw InputError(SourceLocation{file_, line_no_, column, {}}, reason);
 }
 
@@ -113,6 +124,30 @@ void put_int(std::string& out, std::int64_t value) {
   char buf[24];
   const auto r = std::to_chars(buf, buf + sizeof buf, value);
   out.append(buf, r.ptr);
+}
+
+const char* vtk_cell_name(std::int64_t type) {
+  switch (type) {
+    case 1: return "vertices";
+    case 2: return "poly-vertices";
+    case 3: return "lines";
+    case 4: return "polylines";
+    case 6: return "triangle strips";
+    case 7: return "polygons";
+    case 8: return "pixels";
+    case 9: return "quads";
+    case 11: return "voxels";
+    case 12: return "hexahedra";
+    case 13: return "wedges";
+    case 14: return "pyramids";
+    case 21: return "quadratic edges";
+    case 22: return "quadratic triangles";
+    case 23: return "quadratic quads";
+    case 24: return "quadratic tetrahedra";
+    case 25: return "quadratic hexahedra";
+    case 42: return "polyhedra";
+    default: return nullptr;
+  }
 }
 
 void orient_whole_file(TetMesh& mesh) {

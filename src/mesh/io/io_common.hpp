@@ -42,6 +42,11 @@ class LineReader {
   [[nodiscard]] std::size_t offset() const { return pos_; }
   [[nodiscard]] const std::string& file() const { return file_; }
 
+  /// Moves to byte `pos` (past a binary block), counting the lines skipped.
+  void seek(std::size_t pos);
+  /// From now on errors name byte offsets rather than lines (a binary file's text parts).
+  void report_byte_offsets() { byte_offsets_ = true; }
+
   [[noreturn]] void fail(const std::string& reason) const;
   /// Fails pointing at `token`, which must be a view into the current line.
   [[noreturn]] void fail_at(std::string_view token, const std::string& reason) const;
@@ -60,6 +65,8 @@ class LineReader {
   std::size_t pos_ = 0;
   std::uint64_t line_no_ = 0;
   std::string_view current_;
+  std::size_t current_start_ = 0;  ///< byte offset of the current line
+  bool byte_offsets_ = false;
 };
 
 /// A T from its bytes at `p`, stored in byte order `order`.
@@ -82,11 +89,13 @@ void append_bytes(std::string& out, T value, std::endian order) {
   out.append(reinterpret_cast<const char*>(bytes), sizeof(T));
 }
 
-/// Little-endian reads from a byte buffer; every failure names the byte offset.
+/// Reads from a byte buffer (little endian unless told otherwise); every failure names
+/// the byte offset.
 class ByteCursor {
  public:
-  ByteCursor(std::string_view data, std::string file, std::size_t pos = 0)
-      : data_(data), file_(std::move(file)), pos_(pos) {}
+  ByteCursor(std::string_view data, std::string file, std::size_t pos = 0,
+             std::endian order = std::endian::little)
+      : data_(data), file_(std::move(file)), pos_(pos), order_(order) {}
 
   [[nodiscard]] std::size_t pos() const { return pos_; }
   [[nodiscard]] std::size_t remaining() const { return data_.size() - pos_; }
@@ -105,7 +114,7 @@ class ByteCursor {
   template <class T>
   T read(const std::string& context) {
     need(sizeof(T), context);
-    const T value = load_bytes<T>(data_.data() + pos_, std::endian::little);
+    const T value = load_bytes<T>(data_.data() + pos_, order_);
     pos_ += sizeof(T);
     return value;
   }
@@ -118,6 +127,7 @@ class ByteCursor {
   std::string_view data_;
   std::string file_;
   std::size_t pos_;
+  std::endian order_;
 };
 
 /// Appends `value` little endian.
@@ -144,6 +154,10 @@ void reserve_bounded(std::vector<T>& v, std::uint64_t count, std::size_t bytes_l
 /// left as it is so that validate() can report the inverted ones.
 void orient_whole_file(TetMesh& mesh);
 
+/// What VTK's cell type `type` is called in plural ("quads"), or null for one without a
+/// name here; for the `skipped` summary of the VTK readers.
+const char* vtk_cell_name(std::int64_t type);
+
 /// Internal entry points working on memory; `file` names the source in errors.
 MeshFile parse_obj(std::string_view data, const std::string& file);
 MeshFile parse_stl(std::string_view data, const std::string& file);
@@ -151,6 +165,7 @@ MeshFile parse_off(std::string_view data, const std::string& file);
 MeshFile parse_ply(std::string_view data, const std::string& file);
 MeshFile parse_msh(std::string_view data, const std::string& file);
 MeshFile parse_vtk(std::string_view data, const std::string& file);
+MeshFile parse_vtu(std::string_view data, const std::string& file);
 /// TetGen: `ele` or `face` may be absent (nullptr). Without .ele the result is a surface
 /// from .face.
 MeshFile parse_tetgen(std::string_view node, const std::string& node_file, const std::string_view* ele,

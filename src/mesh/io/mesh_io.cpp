@@ -107,12 +107,9 @@ MeshFile read_mesh(const std::filesystem::path& path) {
     case MeshFormat::msh: return io::parse_msh(io::read_file(path), name);
     case MeshFormat::tetgen: return read_tetgen(path);
     case MeshFormat::vtk: return io::parse_vtk(io::read_file(path), name);
-    case MeshFormat::vtu: break;
+    case MeshFormat::vtu: return io::parse_vtu(io::read_file(path), name);
   }
-  throw InputError(SourceLocation{name, {}, {}, {}},
-                   std::string(format_name(format)) +
-                       " files are written for viewing only and cannot be read yet; readable: .obj .stl .off "
-                       ".ply .msh .node .ele .face .vtk");
+  throw std::logic_error("read_mesh: unhandled mesh format");
 }
 
 void write_mesh(const std::filesystem::path& path, const TriMesh& mesh, const WriteOptions& options) {

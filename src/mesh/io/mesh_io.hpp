@@ -1,11 +1,14 @@
 #pragma once
 // Reading and writing meshes. The format comes from the file extension:
 //   .obj .stl .off .ply            surface (read + write)
-//   .msh (Gmsh 2.2 / 4.1 ASCII)    surface or volume (read + write 2.2 and 4.1)
+//   .msh (Gmsh)                    surface or volume: read 1.0, ASCII 2.x / 4.0 / 4.1 and
+//                                  binary 2.2 / 4.1; write ASCII 2.2 and 4.1
 //   .node/.ele/.face (TetGen)      volume (read + write); name any of the three
 //   .vtk (legacy, ASCII or binary)  volume and/or surface (read + write); tetrahedra and
 //                                  triangles are read, other cells counted in `skipped`
-//   .vtu                           volume or surface (write only, for ParaView)
+//   .vtu (VTK XML)                 volume and/or surface (read + write): ascii, base64 and
+//                                  appended arrays, zlib, UInt32/UInt64 headers, either byte
+//                                  order; tetrahedra and triangles read as for .vtk
 // Every reader throws tactus::InputError naming the file, the line (byte offset for
 // binary files) and what is wrong; indices are checked before a mesh is returned.
 #include <filesystem>

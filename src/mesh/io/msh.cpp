@@ -1,11 +1,14 @@
-// Gmsh MSH, ASCII versions 2.x and 4.1. Nodes are kept in file order; element node tags
-// are mapped through the node tags (which need not be contiguous). Triangles (type 2)
-// and tetrahedra (type 4) are read with their physical tag (2.x: the first element tag;
-// 4.1: the first physical tag of the element's entity in $Entities); other element
-// types and unknown sections are skipped. Gmsh's reference tetrahedron is positively
-// oriented, so tets are kept as written; orient_whole_file() still corrects a file that
-// is inverted throughout.
+// Gmsh MSH: reading 1.0 ($NOD/$ELM), 2.x and 4.0/4.1 ASCII, and binary 2.2 and 4.1 (either
+// byte order, told by the marker after $MeshFormat); writing 2.2 and 4.1 ASCII. Nodes are
+// kept in file order; element node tags are mapped through the node tags (which need not
+// be contiguous). Triangles (type 2) and tetrahedra (type 4) are read with their physical
+// tag (1.0: the reg-phys column; 2.x: the first element tag; 4.x: the first physical tag of
+// the element's entity in $Entities); other element types and unknown sections are
+// skipped. Gmsh's reference tetrahedron is positively oriented, so tets are kept as
+// written; orient_whole_file() still corrects a file that is inverted throughout.
 #include <algorithm>
+#include <bit>
+#include <iterator>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -33,6 +36,17 @@ std::string element_name(std::int64_t type) {
   }
 }
 
+/// How many nodes an element of Gmsh type `type` has (msh's element type table), or 0 for
+/// a type not listed. Binary files need it to step over elements of types not read.
+int element_nodes(std::int64_t type) {
+  static constexpr int nodes[] = {0, 2, 3, 4, 4, 8, 6, 5, 3, 6, 9, 10, 27, 18, 14, 1, 8, 20, 15, 13,
+                                  9, 10, 12, 15, 15, 21, 4, 5, 6, 20, 35, 56};
+  if (type >= 0 && type < static_cast<std::int64_t>(std::size(nodes))) return nodes[type];
+  if (type == 92) return 64;
+  if (type == 93) return 125;
+  return 0;
+}
+
 struct Element {
   std::array<Index, 4> nodes{};
   int physical = 0;
@@ -40,7 +54,7 @@ struct Element {
 
 class MshReader {
  public:
-  MshReader(std::string_view data, const std::string& file) : in_(data, file) {}
+  MshReader(std::string_view data, const std::string& file) : data_(data), in_(data, file) {}
 
   MeshFile read() {
     std::string_view line;
@@ -49,18 +63,26 @@ class MshReader {
       const auto name = tok[0];
       if (name.size() < 2 || name[0] != '$')
         in_.fail_at(name, "expected a section such as '$MeshFormat', got '" + quote(name) + "'");
-      if (name == "$NOD" || name == "$NOE")
-        in_.fail_at(name, "MSH version 1 is not supported (supported: 2.2, 4.1)");
+      // MSH 1.0 has no $MeshFormat: its first section is $NOD (or $NOE).
+      if ((name == "$NOD" || name == "$NOE") && (version_ == 0 || version_ == 1)) {
+        version_ = 1;
+        read_nodes1(name);
+        continue;
+      }
       if (name != "$MeshFormat" && version_ == 0)
         in_.fail_at(name, "'" + quote(name) + "' before '$MeshFormat'");
       if (name == "$MeshFormat") read_format();
-      else if (name == "$Entities" && version_ == 4) read_entities();
-      else if (name == "$Nodes") version_ == 2 ? read_nodes2() : read_nodes4();
-      else if (name == "$Elements") version_ == 2 ? read_elements2() : read_elements4();
+      else if (name == "$ELM" && version_ == 1) read_elements1();
+      else if (name == "$Entities" && version_ == 4) binary_ ? read_entities4_binary() : read_entities();
+      else if (name == "$Nodes" && version_ == 2) binary_ ? read_nodes2_binary() : read_nodes2();
+      else if (name == "$Nodes" && version_ == 4) binary_ ? read_nodes41_binary() : minor40_ ? read_nodes40() : read_nodes41();
+      else if (name == "$Elements" && version_ == 2) binary_ ? read_elements2_binary() : read_elements2();
+      else if (name == "$Elements" && version_ == 4)
+        binary_ ? read_elements41_binary() : minor40_ ? read_elements40() : read_elements41();
       else skip_section(name);
     }
     if (version_ == 0) in_.fail("no '$MeshFormat' section: not a Gmsh MSH file");
-    if (!have_nodes_) in_.fail("no '$Nodes' section");
+    if (!have_nodes_) in_.fail(version_ == 1 ? "no '$NOD' section" : "no '$Nodes' section");
     return result();
   }
 
@@ -71,10 +93,12 @@ class MshReader {
     return text::split(line);
   }
 
-  void end_section(std::string_view name) {
-    const std::string want = "$End" + std::string(name.substr(1));
-    const auto tok = content(std::string(name) + " (missing '" + want + "')");
+  void expect_line(const std::string& want, const std::string& context) {
+    const auto tok = content(context + " (missing '" + want + "')");
     if (tok[0] != want) in_.fail_at(tok[0], "expected '" + want + "', got '" + quote(tok[0]) + "'");
+  }
+  void end_section(std::string_view name) {
+    expect_line("$End" + std::string(name.substr(1)), std::string(name));
   }
 
   void skip_section(std::string_view name) {
@@ -91,38 +115,32 @@ class MshReader {
     const auto tok = content("$MeshFormat");
     if (tok.size() != 3) in_.fail("expected 'version file-type data-size' in $MeshFormat");
     if (tok[0] == "4.1") version_ = 4;
+    else if (tok[0] == "4" || tok[0] == "4.0") version_ = 4, minor40_ = true;
     else if (tok[0] == "2.2" || tok[0] == "2.1" || tok[0] == "2.0" || tok[0] == "2") version_ = 2;
-    else in_.fail_at(tok[0], "unsupported MSH version '" + quote(tok[0]) + "' (supported: 2.2, 4.1)");
+    else in_.fail_at(tok[0], "unsupported MSH version '" + quote(tok[0]) + "' (supported: 1.0, 2.x, 4.0, 4.1)");
     const std::int64_t type = in_.to_int(tok[1], "a file type");
-    if (type == 1) in_.fail_at(tok[1], "binary MSH is not supported; save the mesh as ASCII (Mesh.Binary = 0)");
-    if (type != 0) in_.fail_at(tok[1], "unknown MSH file type " + std::to_string(type));
-    if (text::to_int(tok[2]) != 8) in_.fail_at(tok[2], "unsupported data size '" + quote(tok[2]) + "'");
+    if (type != 0 && type != 1) in_.fail_at(tok[1], "unknown MSH file type " + std::to_string(type));
+    binary_ = type == 1;
+    if (binary_ && minor40_) in_.fail_at(tok[1], "binary MSH 4.0 is not supported; save as 4.1 or as ASCII");
+    // The data size is sizeof(double) in 2.x and sizeof(size_t) in 4.x, which a 32-bit
+    // Gmsh writes as 4.
+    data_size_ = static_cast<int>(text::to_int(tok[2]).value_or(0));
+    if (data_size_ != 8 && !(binary_ && version_ == 4 && data_size_ == 4))
+      in_.fail_at(tok[2], "unsupported data size '" + quote(tok[2]) + "'");
+    if (binary_) {
+      in_.report_byte_offsets();
+      // An int 1 follows the line: it tells the byte order the file was written in.
+      ByteCursor bytes(data_, in_.file(), in_.offset());
+      const auto one = bytes.read<std::uint32_t>("the endianness marker after the $MeshFormat line");
+      if (one == 1) order_ = std::endian::little;
+      else if (one == 0x01000000u) order_ = std::endian::big;
+      else bytes.fail_at(in_.offset(), "endianness marker must be the integer 1, got " + std::to_string(one));
+      in_.seek(bytes.pos());
+    }
     end_section("$MeshFormat");
   }
 
-  void read_entities() {
-    const auto head = content("$Entities");
-    if (head.size() != 4) in_.fail("expected 'numPoints numCurves numSurfaces numVolumes'");
-    std::int64_t counts[4];
-    for (int d = 0; d < 4; ++d) counts[d] = in_.count(head[static_cast<std::size_t>(d)], "entity count");
-    for (int dim = 0; dim < 4; ++dim) {
-      for (std::int64_t i = 0; i < counts[dim]; ++i) {
-        const auto tok = content("$Entities: " + std::to_string(counts[dim]) + " entities of dimension " +
-                                 std::to_string(dim) + ": got " + std::to_string(i));
-        const std::size_t phys_at = dim == 0 ? 4 : 7;  // points have X Y Z, others a box
-        if (tok.size() <= phys_at) in_.fail("entity line too short");
-        const std::int64_t tag = in_.to_int(tok[0], "an entity tag");
-        const std::int64_t n_phys = in_.count(tok[phys_at], "physical tag count");
-        if (static_cast<std::int64_t>(tok.size()) < static_cast<std::int64_t>(phys_at) + 1 + n_phys)
-          in_.fail("entity line lists fewer physical tags than its count " + std::to_string(n_phys));
-        int phys = 0;
-        if (n_phys > 0) phys = physical_of(tok[phys_at + 1]);
-        for (std::int64_t k = 1; k < n_phys; ++k) (void)in_.to_int(tok[phys_at + 1 + static_cast<std::size_t>(k)]);
-        entity_physical_[{dim, tag}] = phys;
-      }
-    }
-    end_section("$Entities");
-  }
+  // ---- shared by all versions ----
 
   int physical_of(std::string_view tok) const {
     const std::int64_t v = in_.to_int(tok, "a physical tag");
@@ -130,17 +148,97 @@ class MshReader {
     return static_cast<int>(v);
   }
 
+  /// Adds a node; false if its tag is taken.
+  bool new_node(std::int64_t tag, const Vec3& p) {
+    if (!node_index_.try_emplace(tag, static_cast<Index>(nodes_.size())).second) return false;
+    nodes_.push_back(p);
+    return true;
+  }
+
   void add_node(std::string_view tag_text, std::string_view x, std::string_view y, std::string_view z) {
     const std::int64_t tag = in_.to_int(tag_text, "a node tag");
-    if (!node_index_.try_emplace(tag, static_cast<Index>(nodes_.size())).second)
+    if (!new_node(tag, Vec3(in_.coordinate(x), in_.coordinate(y), in_.coordinate(z))))
       in_.fail_at(tag_text, "node tag " + std::to_string(tag) + " defined twice");
-    nodes_.emplace_back(in_.coordinate(x), in_.coordinate(y), in_.coordinate(z));
   }
 
   void begin_nodes() {
     if (have_nodes_) in_.fail("second '$Nodes' section");
     have_nodes_ = true;
   }
+
+  const Index* find_node(std::int64_t tag) const {
+    const auto it = node_index_.find(tag);
+    return it == node_index_.end() ? nullptr : &it->second;
+  }
+
+  Index node(std::string_view tok, const std::string& element) const {
+    const std::int64_t tag = in_.to_int(tok, "a node tag");
+    const Index* i = find_node(tag);
+    if (!i) in_.fail_at(tok, element + " refers to node tag " + std::to_string(tag) + ", which is not defined");
+    return *i;
+  }
+
+  void add_element(std::int64_t type, const std::vector<std::string_view>& tok, std::size_t first, int physical,
+                   std::string_view id) {
+    const std::size_t n = type == 2 ? 3 : 4;
+    const std::string what = std::string(type == 2 ? "triangle " : "tetrahedron ") + std::string(id);
+    if (tok.size() != first + n)
+      in_.fail(what + ": expected " + std::to_string(n) + " nodes, got " + std::to_string(tok.size() > first ? tok.size() - first : 0));
+    Element e;
+    e.physical = physical;
+    for (std::size_t k = 0; k < n; ++k) e.nodes[k] = node(tok[first + k], what);
+    (type == 2 ? tris_ : tets_).push_back(e);
+  }
+
+  void begin_elements() {
+    if (!have_nodes_) in_.fail("'$Elements' before '$Nodes'");
+    if (have_elements_) in_.fail("second '$Elements' section");
+    have_elements_ = true;
+  }
+
+  int entity_physical(std::int64_t dim, std::int64_t entity) const {
+    const auto it = entity_physical_.find({static_cast<int>(std::clamp<std::int64_t>(dim, -1, 4)), entity});
+    return it == entity_physical_.end() ? 0 : it->second;
+  }
+
+  // ---- MSH 1.0 ----
+
+  void read_nodes1(std::string_view name) {
+    const std::string end = name == "$NOD" ? "$ENDNOD" : "$ENDNOE";
+    begin_nodes();
+    const auto head = content(std::string(name));
+    const std::int64_t n = in_.count(head[0], "node count");
+    reserve_bounded(nodes_, static_cast<std::uint64_t>(n), in_.remaining(), 8);
+    for (std::int64_t i = 0; i < n; ++i) {
+      const auto tok = content(std::to_string(n) + " nodes: got " + std::to_string(i));
+      if (tok.size() != 4) in_.fail("expected 'tag x y z' for node " + std::to_string(i) + ", got " + std::to_string(tok.size()) + " values");
+      add_node(tok[0], tok[1], tok[2], tok[3]);
+    }
+    expect_line(end, std::string(name));
+  }
+
+  void read_elements1() {
+    begin_elements();
+    const auto head = content("$ELM");
+    const std::int64_t n = in_.count(head[0], "element count");
+    for (std::int64_t i = 0; i < n; ++i) {
+      const auto tok = content(std::to_string(n) + " elements: got " + std::to_string(i));
+      if (tok.size() < 5) in_.fail("expected 'number type physical elementary node-count nodes...'");
+      (void)in_.to_int(tok[0], "an element number");
+      const std::int64_t type = in_.to_int(tok[1], "an element type");
+      const int phys = physical_of(tok[2]);
+      (void)in_.to_int(tok[3], "an elementary tag");
+      const std::int64_t count = in_.count(tok[4], "node count");
+      if (static_cast<std::int64_t>(tok.size()) != 5 + count)
+        in_.fail("element " + std::string(tok[0]) + " lists " + std::to_string(tok.size() - 5) + " nodes, its count says " +
+                 std::to_string(count));
+      if (type == 2 || type == 4) add_element(type, tok, 5, phys, tok[0]);
+      else ++skipped_[type];
+    }
+    expect_line("$ENDELM", "$ELM");
+  }
+
+  // ---- MSH 2.x ----
 
   void read_nodes2() {
     begin_nodes();
@@ -155,7 +253,55 @@ class MshReader {
     end_section("$Nodes");
   }
 
-  void read_nodes4() {
+  void read_elements2() {
+    begin_elements();
+    const auto head = content("$Elements");
+    const std::int64_t n = in_.count(head[0], "element count");
+    for (std::int64_t i = 0; i < n; ++i) {
+      const auto tok = content(std::to_string(n) + " elements: got " + std::to_string(i));
+      if (tok.size() < 3) in_.fail("expected 'number type number-of-tags tags... nodes...'");
+      (void)in_.to_int(tok[0], "an element number");
+      const std::int64_t type = in_.to_int(tok[1], "an element type");
+      const std::int64_t ntags = in_.count(tok[2], "tag count");
+      if (static_cast<std::int64_t>(tok.size()) < 3 + ntags) in_.fail("element has fewer tags than its count");
+      if (type != 2 && type != 4) {
+        ++skipped_[type];
+        continue;
+      }
+      const int phys = ntags > 0 ? physical_of(tok[3]) : 0;
+      add_element(type, tok, 3 + static_cast<std::size_t>(ntags), phys, tok[0]);
+    }
+    end_section("$Elements");
+  }
+
+  // ---- MSH 4.x ASCII ----
+
+  void read_entities() {
+    const auto head = content("$Entities");
+    if (head.size() != 4) in_.fail("expected 'numPoints numCurves numSurfaces numVolumes'");
+    std::int64_t counts[4];
+    for (int d = 0; d < 4; ++d) counts[d] = in_.count(head[static_cast<std::size_t>(d)], "entity count");
+    for (int dim = 0; dim < 4; ++dim) {
+      for (std::int64_t i = 0; i < counts[dim]; ++i) {
+        const auto tok = content("$Entities: " + std::to_string(counts[dim]) + " entities of dimension " +
+                                 std::to_string(dim) + ": got " + std::to_string(i));
+        // 4.1 points have X Y Z; 4.0 points and every other entity a bounding box.
+        const std::size_t phys_at = dim == 0 && !minor40_ ? 4 : 7;
+        if (tok.size() <= phys_at) in_.fail("entity line too short");
+        const std::int64_t tag = in_.to_int(tok[0], "an entity tag");
+        const std::int64_t n_phys = in_.count(tok[phys_at], "physical tag count");
+        if (static_cast<std::int64_t>(tok.size()) < static_cast<std::int64_t>(phys_at) + 1 + n_phys)
+          in_.fail("entity line lists fewer physical tags than its count " + std::to_string(n_phys));
+        int phys = 0;
+        if (n_phys > 0) phys = physical_of(tok[phys_at + 1]);
+        for (std::int64_t k = 1; k < n_phys; ++k) (void)in_.to_int(tok[phys_at + 1 + static_cast<std::size_t>(k)]);
+        entity_physical_[{dim, tag}] = phys;
+      }
+    }
+    end_section("$Entities");
+  }
+
+  void read_nodes41() {
     begin_nodes();
     const auto head = content("$Nodes");
     if (head.size() != 4) in_.fail("expected 'numEntityBlocks numNodes minNodeTag maxNodeTag'");
@@ -186,9 +332,8 @@ class MshReader {
         if (tok.size() != values)
           in_.fail("expected " + std::to_string(values) + " coordinates, got " + std::to_string(tok.size()));
         const std::int64_t tag = tags[static_cast<std::size_t>(i)];
-        if (!node_index_.try_emplace(tag, static_cast<Index>(nodes_.size())).second)
+        if (!new_node(tag, Vec3(in_.coordinate(tok[0]), in_.coordinate(tok[1]), in_.coordinate(tok[2]))))
           in_.fail("node tag " + std::to_string(tag) + " defined twice");
-        nodes_.emplace_back(in_.coordinate(tok[0]), in_.coordinate(tok[1]), in_.coordinate(tok[2]));
       }
     }
     if (static_cast<std::int64_t>(nodes_.size()) != n)
@@ -196,70 +341,60 @@ class MshReader {
     end_section("$Nodes");
   }
 
-  Index node(std::string_view tok, const std::string& element) const {
-    const std::int64_t tag = in_.to_int(tok, "a node tag");
-    const auto it = node_index_.find(tag);
-    if (it == node_index_.end()) in_.fail_at(tok, element + " refers to node tag " + std::to_string(tag) + ", which is not defined");
-    return it->second;
-  }
-
-  void add_element(std::int64_t type, const std::vector<std::string_view>& tok, std::size_t first, int physical,
-                   std::string_view id) {
-    const std::size_t n = type == 2 ? 3 : 4;
-    const std::string what = std::string(type == 2 ? "triangle " : "tetrahedron ") + std::string(id);
-    if (tok.size() != first + n)
-      in_.fail(what + ": expected " + std::to_string(n) + " nodes, got " + std::to_string(tok.size() > first ? tok.size() - first : 0));
-    Element e;
-    e.physical = physical;
-    for (std::size_t k = 0; k < n; ++k) e.nodes[k] = node(tok[first + k], what);
-    (type == 2 ? tris_ : tets_).push_back(e);
-  }
-
-  void begin_elements() {
-    if (!have_nodes_) in_.fail("'$Elements' before '$Nodes'");
-    if (have_elements_) in_.fail("second '$Elements' section");
-    have_elements_ = true;
-  }
-
-  void read_elements2() {
-    begin_elements();
-    const auto head = content("$Elements");
-    const std::int64_t n = in_.count(head[0], "element count");
-    for (std::int64_t i = 0; i < n; ++i) {
-      const auto tok = content(std::to_string(n) + " elements: got " + std::to_string(i));
-      if (tok.size() < 3) in_.fail("expected 'number type number-of-tags tags... nodes...'");
-      (void)in_.to_int(tok[0], "an element number");
-      const std::int64_t type = in_.to_int(tok[1], "an element type");
-      const std::int64_t ntags = in_.count(tok[2], "tag count");
-      if (static_cast<std::int64_t>(tok.size()) < 3 + ntags) in_.fail("element has fewer tags than its count");
-      if (type != 2 && type != 4) {
-        ++skipped_[type];
-        continue;
+  /// 4.0: "numEntityBlocks numNodes", blocks headed "entityTag entityDim parametric
+  /// numNodes", each node on one line as "tag x y z [u v w]".
+  void read_nodes40() {
+    begin_nodes();
+    const auto head = content("$Nodes");
+    if (head.size() != 2) in_.fail("expected 'numEntityBlocks numNodes' (MSH 4.0)");
+    const std::int64_t blocks = in_.count(head[0], "block count");
+    const std::int64_t n = in_.count(head[1], "node count");
+    reserve_bounded(nodes_, static_cast<std::uint64_t>(n), in_.remaining(), 8);
+    for (std::int64_t b = 0; b < blocks; ++b) {
+      const auto bh = content(std::to_string(blocks) + " node blocks: got " + std::to_string(b));
+      if (bh.size() != 4) in_.fail("expected 'entityTag entityDim parametric numNodes'");
+      const std::int64_t dim = in_.to_int(bh[1], "an entity dimension");
+      if (dim < 0 || dim > 3) in_.fail_at(bh[1], "entity dimension must be 0..3, got " + std::to_string(dim));
+      const std::int64_t parametric = in_.to_int(bh[2], "0 or 1");
+      if (parametric != 0 && parametric != 1) in_.fail_at(bh[2], "parametric flag must be 0 or 1");
+      const std::int64_t m = in_.count(bh[3], "block node count");
+      if (static_cast<std::int64_t>(nodes_.size()) + m > n)
+        in_.fail_at(bh[3], "node blocks hold more nodes than the " + std::to_string(n) + " declared");
+      const std::size_t values = 4 + (parametric ? static_cast<std::size_t>(dim) : 0);
+      for (std::int64_t i = 0; i < m; ++i) {
+        const auto tok = content(std::to_string(m) + " nodes of a block: got " + std::to_string(i));
+        if (tok.size() != values)
+          in_.fail("expected " + std::to_string(values) + " values (tag and coordinates), got " + std::to_string(tok.size()));
+        add_node(tok[0], tok[1], tok[2], tok[3]);
       }
-      const int phys = ntags > 0 ? physical_of(tok[3]) : 0;
-      add_element(type, tok, 3 + static_cast<std::size_t>(ntags), phys, tok[0]);
     }
-    end_section("$Elements");
+    if (static_cast<std::int64_t>(nodes_.size()) != n)
+      in_.fail("$Nodes declares " + std::to_string(n) + " nodes but its blocks hold " + std::to_string(nodes_.size()));
+    end_section("$Nodes");
   }
 
-  void read_elements4() {
+  void read_elements4(bool v40) {
     begin_elements();
     const auto head = content("$Elements");
-    if (head.size() != 4) in_.fail("expected 'numEntityBlocks numElements minElementTag maxElementTag'");
+    if (head.size() != (v40 ? 2u : 4u))
+      in_.fail(v40 ? "expected 'numEntityBlocks numElements' (MSH 4.0)"
+                   : "expected 'numEntityBlocks numElements minElementTag maxElementTag'");
     const std::int64_t blocks = in_.count(head[0], "block count");
     const std::int64_t n = in_.count(head[1], "element count");
     std::int64_t seen = 0;
     for (std::int64_t b = 0; b < blocks; ++b) {
       const auto bh = content(std::to_string(blocks) + " element blocks: got " + std::to_string(b));
-      if (bh.size() != 4) in_.fail("expected 'entityDim entityTag elementType numElementsInBlock'");
-      const std::int64_t dim = in_.to_int(bh[0], "an entity dimension");
-      const std::int64_t entity = in_.to_int(bh[1], "an entity tag");
+      if (bh.size() != 4)
+        in_.fail(v40 ? "expected 'entityTag entityDim elementType numElements'"
+                     : "expected 'entityDim entityTag elementType numElementsInBlock'");
+      // 4.0 names the entity before its dimension, 4.1 after.
+      const std::int64_t dim = in_.to_int(bh[v40 ? 1 : 0], "an entity dimension");
+      const std::int64_t entity = in_.to_int(bh[v40 ? 0 : 1], "an entity tag");
       const std::int64_t type = in_.to_int(bh[2], "an element type");
       const std::int64_t m = in_.count(bh[3], "block element count");
       if (seen + m > n) in_.fail_at(bh[3], "element blocks hold more elements than the " + std::to_string(n) + " declared");
       seen += m;
-      const auto it = entity_physical_.find({static_cast<int>(std::clamp<std::int64_t>(dim, -1, 4)), entity});
-      const int phys = it == entity_physical_.end() ? 0 : it->second;
+      const int phys = entity_physical(dim, entity);
       for (std::int64_t i = 0; i < m; ++i) {
         const auto tok = content(std::to_string(m) + " elements of a block: got " + std::to_string(i));
         if (type == 2 || type == 4) add_element(type, tok, 1, phys, tok[0]);
@@ -267,6 +402,201 @@ class MshReader {
       }
     }
     if (seen != n) in_.fail("$Elements declares " + std::to_string(n) + " elements but its blocks hold " + std::to_string(seen));
+    end_section("$Elements");
+  }
+  void read_elements41() { read_elements4(false); }
+  void read_elements40() { read_elements4(true); }
+
+  // ---- binary (2.2 and 4.1): the section headers and ends are text, the data between
+  // them binary in the byte order of the marker; errors name byte offsets ----
+
+  ByteCursor binary_cursor() const { return ByteCursor(data_, in_.file(), in_.offset(), order_); }
+
+  /// A count written as an int (2.2) or a size_t of data_size_ bytes (4.1), at most
+  /// 2^31 - 1 like the text counts.
+  std::int64_t binary_count(ByteCursor& bytes, const char* what, bool size_t_field = true) const {
+    const std::size_t at = bytes.pos();
+    std::uint64_t v = 0;
+    if (size_t_field && data_size_ == 8) v = bytes.read<std::uint64_t>(what);
+    else v = bytes.read<std::uint32_t>(what);
+    if (v > static_cast<std::uint64_t>(INT32_MAX)) bytes.fail_at(at, std::string(what) + " too large: " + std::to_string(v));
+    return static_cast<std::int64_t>(v);
+  }
+
+  Vec3 binary_point(ByteCursor& bytes) const {
+    const std::size_t at = bytes.pos();
+    Vec3 p;
+    for (int k = 0; k < 3; ++k) p[k] = bytes.read<double>("a node coordinate");
+    if (!p.allFinite()) bytes.fail_at(at, "node coordinate is NaN or infinite");
+    return p;
+  }
+
+  Index binary_node(ByteCursor& bytes, std::int64_t tag, std::size_t at, std::int64_t type, std::int64_t id) const {
+    const Index* i = find_node(tag);
+    if (!i)
+      bytes.fail_at(at, std::string(type == 2 ? "triangle " : "tetrahedron ") + std::to_string(id) + " refers to node tag " +
+                            std::to_string(tag) + ", which is not defined");
+    return *i;
+  }
+
+  void read_nodes2_binary() {
+    begin_nodes();
+    const auto head = content("$Nodes");
+    const std::int64_t n = in_.count(head[0], "node count");
+    ByteCursor bytes = binary_cursor();
+    reserve_bounded(nodes_, static_cast<std::uint64_t>(n), bytes.remaining(), 28);
+    for (std::int64_t i = 0; i < n; ++i) {
+      const std::size_t at = bytes.pos();
+      const std::int64_t tag = bytes.read<std::int32_t>("a node tag");
+      if (!new_node(tag, binary_point(bytes))) bytes.fail_at(at, "node tag " + std::to_string(tag) + " defined twice");
+    }
+    in_.seek(bytes.pos());
+    end_section("$Nodes");
+  }
+
+  void read_elements2_binary() {
+    begin_elements();
+    const auto head = content("$Elements");
+    const std::int64_t n = in_.count(head[0], "element count");
+    ByteCursor bytes = binary_cursor();
+    // Blocks of one type: "type count tags", then per element "number tags... nodes...".
+    for (std::int64_t seen = 0; seen < n;) {
+      const std::size_t block_at = bytes.pos();
+      const std::int64_t type = bytes.read<std::int32_t>("an element type");
+      const std::int64_t m = binary_count(bytes, "block element count", false);
+      const std::int64_t ntags = binary_count(bytes, "tag count", false);
+      if (m == 0 || seen + m > n)
+        bytes.fail_at(block_at, "element block of " + std::to_string(m) + " elements; " + std::to_string(n - seen) +
+                                    " of the " + std::to_string(n) + " declared are left");
+      const int nodes = element_nodes(type);
+      if (nodes == 0) bytes.fail_at(block_at, "element type " + std::to_string(type) + " is unknown: its node count is needed to read on");
+      seen += m;
+      for (std::int64_t i = 0; i < m; ++i) {
+        const std::int64_t id = bytes.read<std::int32_t>("an element number");
+        int phys = 0;
+        for (std::int64_t t = 0; t < ntags; ++t) {
+          const std::int32_t tag = bytes.read<std::int32_t>("an element tag");
+          if (t == 0) phys = tag;
+        }
+        if (type != 2 && type != 4) {
+          bytes.skip(static_cast<std::size_t>(nodes) * 4, "element nodes");
+          ++skipped_[type];
+          continue;
+        }
+        Element e;
+        e.physical = phys;
+        for (int k = 0; k < nodes; ++k) {
+          const std::size_t at = bytes.pos();
+          e.nodes[static_cast<std::size_t>(k)] = binary_node(bytes, bytes.read<std::int32_t>("a node tag"), at, type, id);
+        }
+        (type == 2 ? tris_ : tets_).push_back(e);
+      }
+    }
+    in_.seek(bytes.pos());
+    end_section("$Elements");
+  }
+
+  void read_entities4_binary() {
+    ByteCursor bytes = binary_cursor();
+    std::int64_t counts[4];
+    for (auto& c : counts) c = binary_count(bytes, "entity count");
+    for (int dim = 0; dim < 4; ++dim) {
+      for (std::int64_t i = 0; i < counts[dim]; ++i) {
+        const std::int64_t tag = bytes.read<std::int32_t>("an entity tag");
+        bytes.skip(dim == 0 ? 24 : 48, "an entity's coordinates");  // a point, or a bounding box
+        const std::int64_t n_phys = binary_count(bytes, "physical tag count");
+        int phys = 0;
+        for (std::int64_t k = 0; k < n_phys; ++k) {
+          const std::int32_t p = bytes.read<std::int32_t>("a physical tag");
+          if (k == 0) phys = p;
+        }
+        if (dim > 0) {
+          const std::int64_t n_bound = binary_count(bytes, "bounding entity count");
+          bytes.skip(static_cast<std::size_t>(n_bound) * 4, "bounding entity tags");
+        }
+        entity_physical_[{dim, tag}] = phys;
+      }
+    }
+    in_.seek(bytes.pos());
+    end_section("$Entities");
+  }
+
+  void read_nodes41_binary() {
+    begin_nodes();
+    ByteCursor bytes = binary_cursor();
+    const std::int64_t blocks = binary_count(bytes, "block count");
+    const std::int64_t n = binary_count(bytes, "node count");
+    bytes.skip(2 * static_cast<std::size_t>(data_size_), "the smallest and largest node tags");
+    reserve_bounded(nodes_, static_cast<std::uint64_t>(n), bytes.remaining(), 24);
+    std::vector<std::int64_t> tags;
+    for (std::int64_t b = 0; b < blocks; ++b) {
+      const std::size_t block_at = bytes.pos();
+      const std::int64_t dim = bytes.read<std::int32_t>("an entity dimension");
+      (void)bytes.read<std::int32_t>("an entity tag");
+      const std::int64_t parametric = bytes.read<std::int32_t>("the parametric flag");
+      const std::int64_t m = binary_count(bytes, "block node count");
+      if (dim < 0 || dim > 3) bytes.fail_at(block_at, "entity dimension must be 0..3, got " + std::to_string(dim));
+      if (parametric != 0 && parametric != 1) bytes.fail_at(block_at + 8, "parametric flag must be 0 or 1");
+      if (static_cast<std::int64_t>(nodes_.size()) + m > n)
+        bytes.fail_at(block_at, "node blocks hold more nodes than the " + std::to_string(n) + " declared");
+      tags.clear();
+      reserve_bounded(tags, static_cast<std::uint64_t>(m), bytes.remaining(), static_cast<std::size_t>(data_size_));
+      for (std::int64_t i = 0; i < m; ++i)
+        tags.push_back(data_size_ == 8 ? static_cast<std::int64_t>(bytes.read<std::uint64_t>("a node tag"))
+                                       : bytes.read<std::uint32_t>("a node tag"));
+      for (std::int64_t i = 0; i < m; ++i) {
+        const std::size_t at = bytes.pos();
+        const std::int64_t tag = tags[static_cast<std::size_t>(i)];
+        if (!new_node(tag, binary_point(bytes))) bytes.fail_at(at, "node tag " + std::to_string(tag) + " defined twice");
+        if (parametric) bytes.skip(static_cast<std::size_t>(dim) * 8, "parametric coordinates");
+      }
+    }
+    if (static_cast<std::int64_t>(nodes_.size()) != n)
+      bytes.fail("$Nodes declares " + std::to_string(n) + " nodes but its blocks hold " + std::to_string(nodes_.size()));
+    in_.seek(bytes.pos());
+    end_section("$Nodes");
+  }
+
+  void read_elements41_binary() {
+    begin_elements();
+    ByteCursor bytes = binary_cursor();
+    const std::int64_t blocks = binary_count(bytes, "block count");
+    const std::int64_t n = binary_count(bytes, "element count");
+    bytes.skip(2 * static_cast<std::size_t>(data_size_), "the smallest and largest element tags");
+    const auto tag_value = [&](const char* what) {
+      return data_size_ == 8 ? static_cast<std::int64_t>(bytes.read<std::uint64_t>(what)) : bytes.read<std::uint32_t>(what);
+    };
+    std::int64_t seen = 0;
+    for (std::int64_t b = 0; b < blocks; ++b) {
+      const std::size_t block_at = bytes.pos();
+      const std::int64_t dim = bytes.read<std::int32_t>("an entity dimension");
+      const std::int64_t entity = bytes.read<std::int32_t>("an entity tag");
+      const std::int64_t type = bytes.read<std::int32_t>("an element type");
+      const std::int64_t m = binary_count(bytes, "block element count");
+      if (seen + m > n) bytes.fail_at(block_at, "element blocks hold more elements than the " + std::to_string(n) + " declared");
+      const int nodes = element_nodes(type);
+      if (nodes == 0 && m > 0)
+        bytes.fail_at(block_at, "element type " + std::to_string(type) + " is unknown: its node count is needed to read on");
+      seen += m;
+      const int phys = entity_physical(dim, entity);
+      for (std::int64_t i = 0; i < m; ++i) {
+        const std::int64_t id = tag_value("an element tag");
+        if (type != 2 && type != 4) {
+          bytes.skip(static_cast<std::size_t>(nodes) * static_cast<std::size_t>(data_size_), "element nodes");
+          ++skipped_[type];
+          continue;
+        }
+        Element e;
+        e.physical = phys;
+        for (int k = 0; k < nodes; ++k) {
+          const std::size_t at = bytes.pos();
+          e.nodes[static_cast<std::size_t>(k)] = binary_node(bytes, tag_value("a node tag"), at, type, id);
+        }
+        (type == 2 ? tris_ : tets_).push_back(e);
+      }
+    }
+    if (seen != n) bytes.fail("$Elements declares " + std::to_string(n) + " elements but its blocks hold " + std::to_string(seen));
+    in_.seek(bytes.pos());
     end_section("$Elements");
   }
 
@@ -311,8 +641,13 @@ class MshReader {
     return out;
   }
 
+  std::string_view data_;
   LineReader in_;
-  int version_ = 0;
+  int version_ = 0;     ///< 1, 2 or 4
+  bool minor40_ = false;  ///< 4.0, whose layout differs from 4.1
+  bool binary_ = false;
+  int data_size_ = 8;
+  std::endian order_ = std::endian::little;
   bool have_nodes_ = false;
   bool have_elements_ = false;
   std::vector<Vec3> nodes_;

@@ -250,24 +250,6 @@ std::vector<std::int64_t> read_cell_regions(VtkCursor& in, const std::vector<std
   return regions;
 }
 
-const char* cell_name(std::int64_t type) {
-  switch (type) {
-    case 1: return "vertices";
-    case 2: return "poly-vertices";
-    case 3: return "lines";
-    case 4: return "polylines";
-    case 6: return "triangle strips";
-    case 7: return "polygons";
-    case 8: return "pixels";
-    case 9: return "quads";
-    case 11: return "voxels";
-    case 12: return "hexahedra";
-    case 13: return "wedges";
-    case 14: return "pyramids";
-    default: return nullptr;
-  }
-}
-
 }  // namespace
 
 MeshFile parse_vtk(std::string_view data, const std::string& file) {
@@ -361,7 +343,7 @@ MeshFile parse_vtk(std::string_view data, const std::string& file) {
         in.fail("cell " + std::to_string(c) + " of type " + std::to_string(types[c]) + " has " +
                 std::to_string(cell.size()) + " points");
       } else {
-        const char* name = cell_name(types[c]);
+        const char* name = vtk_cell_name(types[c]);
         ++skipped[name ? std::string(name) : "cells of type " + std::to_string(types[c])];
       }
     }
