@@ -22,6 +22,7 @@ struct Subcommand {
 int main(int argc, char** argv) {
   // The same numbers on every machine: a recording replays bit for bit elsewhere.
   tactus::fix_dense_blocking();
+  tactus::fix_blas_threads();
   CLI::App cli{"Tactus: real-time haptic interaction with deformable objects", "tactus"};
   cli.require_subcommand(1);
   bool verbose = false;

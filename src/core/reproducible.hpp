@@ -11,4 +11,13 @@ namespace tactus {
 /// `tactus` command and run_session do).
 void fix_dense_blocking();
 
+/// BLAS (OpenBLAS, under CHOLMOD's factorizations) on the calling thread alone, unless
+/// OPENBLAS_NUM_THREADS says otherwise. The engine already runs a thread per loop: BLAS's own
+/// threads fought them for the cores (the liver scene's worst simulation step took 9–17 s
+/// instead of 0.5 s on two cores), and a factorization sums in another order with another
+/// thread count, so a recording would not replay bit for bit. Returns the BLAS threads now
+/// in effect, or 0 where the loaded BLAS is not OpenBLAS (left as it is). Call before any
+/// computation (the `tactus` command and run_session do).
+int fix_blas_threads();
+
 }  // namespace tactus

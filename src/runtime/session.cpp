@@ -10,6 +10,7 @@ namespace tactus::runtime {
 
 SessionReport run_session(const scene::Model& model, const SessionOptions& options) {
   fix_dense_blocking();  // lockstep runs sum alike on every machine
+  fix_blas_threads();
   if (model.devices.empty())
     throw InputError(SourceLocation{model.source, {}, {}, {}}, "the scene has no device: nothing drives the haptic loop");
   for (const auto& [name, motion] : options.replay)

@@ -4,7 +4,10 @@
 // block alike; tests/scenarios/replay_regression_test.cpp checks the forces end to end.
 #include "core/reproducible.hpp"
 
+#include <dlfcn.h>
 #include <gtest/gtest.h>
+
+#include <cstdlib>
 
 #include <Eigen/Core>
 
@@ -17,6 +20,19 @@ TEST(Reproducible, EveryMachineBlocksForTheSameCacheSizes) {
   EXPECT_EQ(Eigen::l1CacheSize(), 32 * 1024);
   EXPECT_EQ(Eigen::l2CacheSize(), 1024 * 1024);
   EXPECT_EQ(Eigen::l3CacheSize(), 32 * 1024 * 1024);
+}
+
+TEST(Reproducible, BlasRunsOnTheCallingThreadUnlessTheUserChoseOtherwise) {
+  // The engine loads OpenBLAS through CHOLMOD; this test loads it itself.
+  if (!dlopen("libopenblas.so.0", RTLD_NOW | RTLD_GLOBAL)) GTEST_SKIP() << "OpenBLAS is not installed";
+  const auto set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  ASSERT_NE(set, nullptr);
+  set(4);
+  unsetenv("OPENBLAS_NUM_THREADS");
+  EXPECT_EQ(fix_blas_threads(), 1);
+  set(2);  // what OpenBLAS does at load time with OPENBLAS_NUM_THREADS=2
+  setenv("OPENBLAS_NUM_THREADS", "2", 1);
+  EXPECT_EQ(fix_blas_threads(), 2);
 }
 
 }  // namespace

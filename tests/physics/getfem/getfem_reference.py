@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Static hyperelastic reference solutions with GetFEM.
 
-    getfem_reference.py CASE OUT
+    getfem_reference.py CASE OUT [STATS]
 
 CASE is a whitespace-separated text file:
 
@@ -9,17 +9,21 @@ CASE is a whitespace-separated text file:
     params lambda mu                 (stvk, neo_hookean)
     params c10 c01 kappa             (mooney_rivlin)
     steps S                          load steps (the loads grow linearly to their full value)
+    tolerance T                      optional: Newton's max_res [N] (default: 1e-12 of the
+                                     residual at rest)
     nodes N      then N lines: x y z
     tets M       then M lines: four node indices (0-based)
     fixed K      then K lines: node component displacement
     forces K     then K lines: node component force
 
-OUT receives one line per node: the displacement ux uy uz. The problem is solved with P1
+OUT receives one line per node: the displacement ux uy uz. STATS, where given, receives
+"newton_iterations N" and "solve_seconds S" (GetFEM's Newton solves over every load step). The problem is solved with P1
 elements, a one-point rule (exact: F is constant per element), GetFEM's own finite-strain
 potentials and its Newton solver; fixed dofs are held by Lagrange multipliers and nodal
 forces enter as an explicit right-hand side, so both act on exactly the given dofs.
 """
 import sys
+import time
 
 import numpy as np
 import getfem as gf
@@ -69,6 +73,8 @@ def read_case(path):
             case["params"] = [float(t) for t in take(n)]
         elif key == "steps":
             case["steps"] = int(take()[0])
+        elif key == "tolerance":
+            case["tolerance"] = float(take()[0])
         elif key == "nodes":
             n = int(take()[0])
             case["nodes"] = np.array([float(t) for t in take(3 * n)]).reshape(n, 3)
@@ -129,14 +135,18 @@ def solve(case):
     # full load at rest (the load in N or, for prescribed displacements, the constraint rows).
     md.set_variable("u", np.zeros(ndof))
     md.assembly("build_rhs")
-    tolerance = 1e-12 * np.linalg.norm(md.rhs())
+    tolerance = case.get("tolerance", 1e-12 * np.linalg.norm(md.rhs()))
     steps = case["steps"]
+    stats = {"newton_iterations": 0, "solve_seconds": 0.0}
     for k in range(1, steps + 1):
         s = k / steps
         if fixed:
             md.set_private_rhs(ib, s * values)
         md.set_private_rhs(ir, s * force)
+        start = time.perf_counter()
         nit, _ = md.solve("max_res", tolerance, "max_iter", 100, "lsearch", "simplest")
+        stats["solve_seconds"] += time.perf_counter() - start
+        stats["newton_iterations"] += nit
         if nit >= 100:
             raise SystemExit(f"getfem_reference: Newton did not converge at load step {k}")
     U = md.variable("u")
@@ -151,7 +161,7 @@ def solve(case):
         return np.einsum("ij,ij->i", np.cross(a, b), c)
 
     if (volumes(x) / volumes(nodes)).min() <= 0.0:
-        return U[dof[:, None] + np.arange(3)]
+        return U[dof[:, None] + np.arange(3)], stats
     for name, expr in MACROS.items():
         md.add_macro(name, expr)
     e_getfem = gf.asm("generic", mim, 0, f"{potential}(Grad_u, p)", -1, md)
@@ -159,15 +169,19 @@ def solve(case):
     if abs(e_getfem - e_written) > 1e-12 * abs(e_written):
         raise SystemExit(f"getfem_reference: GetFEM's {potential} ({e_getfem!r}) differs from the "
                          f"density written here ({e_written!r})")
-    return U[dof[:, None] + np.arange(3)]
+    return U[dof[:, None] + np.arange(3)], stats
 
 
 def main():
-    if len(sys.argv) != 3:
-        raise SystemExit("usage: getfem_reference.py CASE OUT")
+    if len(sys.argv) not in (3, 4):
+        raise SystemExit("usage: getfem_reference.py CASE OUT [STATS]")
     gf.util_trace_level(0)
-    u = solve(read_case(sys.argv[1]))
+    u, stats = solve(read_case(sys.argv[1]))
     np.savetxt(sys.argv[2], u, fmt="%.17g")
+    if len(sys.argv) == 4:
+        with open(sys.argv[3], "w") as f:
+            for key, value in stats.items():
+                f.write(f"{key} {value}\n")
 
 
 if __name__ == "__main__":

@@ -1,0 +1,72 @@
+// Static nonlinear solves side by side with GetFEM (python3-getfem): seed 001's experiment,
+// a tool node pushed into a liver-sized organ held along its underside, on meshes of about
+// 500 and 2,000 nodes, for StVK and neo-Hookean. Both codes stop each load step at the same
+// out-of-balance force; the table gives their Newton iterations, the time of their solves
+// (Tactus: median of 5 runs; GetFEM: its Newton solves, without Python's start), and the
+// largest nodal difference relative to the largest displacement.
+//
+//   build/release/bench/static_vs_getfem [--quick]     (--quick: the 500-node mesh only)
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "physics/getfem/getfem_harness.hpp"
+
+using namespace tactus;
+using namespace tactus::physics;
+using namespace tactus::physics::getfem;
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  if (!getfem_available()) {
+    std::fprintf(stderr, "static_vs_getfem: GetFEM is not installed for %s (apt-get install python3-getfem)\n",
+                 python().c_str());
+    return 1;
+  }
+  struct Run {
+    FemLaw law;
+    double push;
+    int steps;
+  };
+  const std::vector<Run> runs = {{FemLaw::stvk, 0.01, 4}, {FemLaw::neo_hookean, 0.02, 8},
+                                 {FemLaw::neo_hookean, 0.03, 12}};
+  std::vector<std::size_t> sizes = {500};
+  if (!quick) sizes.push_back(2000);
+  const fs::path dir = fs::temp_directory_path() / ("tactus_static_vs_getfem_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::printf("| case | nodes | tets | Newton its Tactus / GetFEM | solve time Tactus / GetFEM [ms] | speed-up | max rel diff |\n");
+  std::printf("|---|---|---|---|---|---|---|\n");
+  int failures = 0;
+  for (std::size_t nodes : sizes)
+    for (const Run& run : runs) {
+      Case c = liver(run.law, run.push, run.steps, nodes);
+      c.force_tolerance = 1e-10;
+      std::vector<double> times;
+      Solution t;
+      for (int k = 0; k < 5; ++k) {
+        t = solve_tactus(c);
+        times.push_back(t.seconds);
+      }
+      std::sort(times.begin(), times.end());
+      const GetFemSolution g = solve_getfem(c, dir);
+      if (!g.error.empty() || !t.result.converged) {
+        std::fprintf(stderr, "%s: %s\n", c.name.c_str(), g.error.empty() ? "Tactus did not converge" : g.error.c_str());
+        ++failures;
+        continue;
+      }
+      double max_u = 0.0, max_diff = 0.0;
+      for (Eigen::Index i = 0; i < g.u.size(); i += 3) {
+        max_u = std::max(max_u, g.u.segment<3>(i).norm());
+        max_diff = std::max(max_diff, (t.u.segment<3>(i) - g.u.segment<3>(i)).norm());
+      }
+      const double median = times[times.size() / 2];
+      std::printf("| %s, %.0f mm in %d steps | %zu | %zu | %d / %d | %.1f / %.1f | %.1f× | %.1e |\n",
+                  to_string(run.law).data(), 1e3 * run.push, run.steps, c.mesh.vertices.size(), c.mesh.tets.size(),
+                  t.newton_iterations, g.newton_iterations, 1e3 * median, 1e3 * g.seconds, g.seconds / median,
+                  max_diff / max_u);
+      std::fflush(stdout);
+    }
+  fs::remove_all(dir);
+  return failures == 0 ? 0 : 1;
+}
