@@ -670,13 +670,20 @@ void TetFem::element_matrix(std::size_t e, double a, double b, const Cache& c, M
     Mat3 dF = Mat3::Zero();
     dF.row(dir) = el.grad.col(node).transpose();
     Mat3 S = Mat3::Zero();
-    const Mat3 rest = R * hooke_of_gradient(law_.lambda, law_.mu, R.transpose() * dF);
+    // The linear (rest) stiffness only where it contributes: a hyperelastic tangent without
+    // stiffness-proportional damping (static solves) never reads it.
+    auto rest = [&] { return Mat3(R * hooke_of_gradient(law_.lambda, law_.mu, R.transpose() * dF)); };
     if (hyper) {
-      const Vec9 dP = c.tangent[e] * vec9(dF);
+      // dF has one nonzero row, so dP = tangent · vec(dF) takes three of the tangent's
+      // columns (vec is column-major: entry (dir, m) is dir + 3m).
+      const Mat9& A = c.tangent[e];
+      Vec9 dP = A.col(dir) * el.grad(0, node);
+      dP += A.col(dir + 3) * el.grad(1, node);
+      dP += A.col(dir + 6) * el.grad(2, node);
       S += a * Eigen::Map<const Mat3>(dP.data());
-      S += (b * beta) * rest;
+      if (b * beta != 0.0) S += (b * beta) * rest();
     } else {
-      S += (a + b * beta) * rest;
+      S += (a + b * beta) * rest();
     }
     S *= el.volume;
     for (int n = 0; n < 4; ++n) k.block<3, 1>(3 * n, col) = S * el.grad.col(n);
