@@ -352,9 +352,11 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
     if (a != 0.0) model.add_mass_triplets(a, w.triplets);
     const auto n = static_cast<Eigen::Index>(m.size());
     // Fixed dofs: drop their rows and columns and put 1 on the diagonal, so x = 0 there.
+    // Only the lower triangle: the factorization reads no other (Eigen's Cholmod classes
+    // take the Lower half by default), and half the entries are half the assembly.
     std::size_t keep = 0;
     for (const auto& t : w.triplets)
-      if (w.free_mask[t.row()] != 0.0 && w.free_mask[t.col()] != 0.0) w.triplets[keep++] = t;
+      if (t.row() >= t.col() && w.free_mask[t.row()] != 0.0 && w.free_mask[t.col()] != 0.0) w.triplets[keep++] = t;
     w.triplets.resize(keep);
     for (Eigen::Index i = 0; i < n; ++i) w.triplets.emplace_back(i, i, w.free_mask[i] != 0.0 ? 0.0 : 1.0);
     assemble_matrix(w, n);
