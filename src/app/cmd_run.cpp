@@ -20,6 +20,7 @@
 #include "core/input_file.hpp"
 #include "app/curves.hpp"
 #include "core/error.hpp"
+#include "offline/fem_bench.hpp"
 #include "core/log.hpp"
 #include "haptics/trajectory.hpp"
 #include "runtime/devices.hpp"
@@ -285,7 +286,30 @@ Action add_bench(CLI::App& app) {
   auto f = std::make_shared<RunFlags>();
   add_run_flags(app, *f, true);
   app.add_option("--trace", f->trace, "Write the force magnitudes and needle ruptures as CSV (and a PNG plot) here");
-  return [f] { return run_with(*f, true); };
+  // --fem: the FEM bodies' implicit step alone (offline/fem_bench.hpp).
+  auto fem = std::make_shared<bool>(false);
+  auto o = std::make_shared<offline::FemBenchOptions>();
+  auto law = std::make_shared<std::string>();
+  auto solver = std::make_shared<std::string>();
+  app.add_flag("--fem", *fem,
+               "Time the scene's FEM bodies' implicit step alone (no devices, gravity only): ns per tet, "
+               "linear iterations, and the shares of forces, assembly and solve");
+  app.add_option("--steps", o->steps, "--fem: timed steps per body (default 200)")->check(CLI::Range(1, 1000000));
+  app.add_option("--threads", o->threads, "--fem: element-loop threads (default: every core)")->check(CLI::Range(1u, 256u));
+  app.add_option("--law", *law, "--fem: replace the FEM law (linear, corotational, stvk, neo_hookean, mooney_rivlin)");
+  app.add_option("--solver", *solver, "--fem: replace the linear solver (cg, cholesky)")
+      ->check(CLI::IsMember({"cg", "cholesky"}));
+  app.add_option("--cg-tolerance", o->cg_tolerance, "--fem: replace CG's relative tolerance")
+      ->check(CLI::Range(1e-16, 1.0));
+  return [f, fem, o, law, solver] {
+    if (!*fem) return run_with(*f, true);
+    if (!law->empty()) o->law = physics::parse_fem_law(*law);
+    if (!solver->empty())
+      o->solver = *solver == "cholesky" ? physics::LinearSolver::cholesky : physics::LinearSolver::conjugate_gradient;
+    const LoadedScene scene = load(f->scene);
+    std::fputs(offline::format_fem_bench(offline::bench_fem(scene.model, *o)).c_str(), stdout);
+    return 0;
+  };
 }
 
 Action add_replay(CLI::App& app) {

@@ -29,6 +29,14 @@ struct Body {
 
 struct SolverScratch;  // integrator buffers (defined in integrator.cpp)
 
+/// Where the time of implicit steps and static iterations goes, summed over the steps [s]
+/// (for `tactus bench --fem`): element forces and their linearization, the system's
+/// assembly (Cholesky's matrix or the assembled CG's blocks), and the linear solve
+/// (factorization and substitution, or the CG iterations).
+struct StepProfile {
+  double forces = 0.0, assembly = 0.0, solve = 0.0;
+};
+
 struct BodyState {
   VecX x, v, q;  ///< positions, velocities (3N), internal variables
   double time = 0.0;
@@ -38,6 +46,8 @@ struct BodyState {
   /// Statistics of the last step.
   int last_linear_iterations = 0;
   int last_newton_iterations = 0;
+  /// When set, steps add their parts' times here (two clock reads a part); null: none.
+  StepProfile* profile = nullptr;
 };
 
 /// The rest state: x = rest positions, v = 0, q = 0.

@@ -2,10 +2,12 @@
 #include <omp.h>
 
 #include <Eigen/CholmodSupport>
-#include <array>
 #include <algorithm>
+#include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -94,6 +96,24 @@ struct SolverScratch {
 };
 
 namespace {
+
+/// Adds the time of a scope to one part of the state's StepProfile, where it has one.
+class ProfileScope {
+ public:
+  ProfileScope(const BodyState& s, double StepProfile::*part) : profile_(s.profile), part_(part) {
+    if (profile_) start_ = std::chrono::steady_clock::now();
+  }
+  ~ProfileScope() {
+    if (profile_) profile_->*part_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  ProfileScope(const ProfileScope&) = delete;
+  ProfileScope& operator=(const ProfileScope&) = delete;
+
+ private:
+  StepProfile* profile_;
+  double StepProfile::*part_;
+  std::chrono::steady_clock::time_point start_{};
+};
 
 void zero_fixed(const Body& body, VecX& v) {
   if (body.fixed_dofs.empty()) return;
@@ -347,6 +367,7 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
 
   if (body.settings.solver == LinearSolver::cholesky) {
     cholmod_without_openmp_teams();
+    std::optional<ProfileScope> timed(std::in_place, s, &StepProfile::assembly);
     w.triplets.clear();
     model.add_triplets(c, b, w.triplets, ms);
     if (a != 0.0) model.add_mass_triplets(a, w.triplets);
@@ -360,6 +381,7 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
     w.triplets.resize(keep);
     for (Eigen::Index i = 0; i < n; ++i) w.triplets.emplace_back(i, i, w.free_mask[i] != 0.0 ? 0.0 : 1.0);
     assemble_matrix(w, n);
+    timed.emplace(s, &StepProfile::solve);
     if (!w.pattern_analyzed) {
       // An indefinite matrix is reported through info() below (the static solve expects it
       // of an exact tangent), not printed by CHOLMOD.
@@ -378,7 +400,13 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
 
   w.path_known = true;
   w.matrix_free = false;
-  if (const BlockMatrix* assembled = model.assemble_system(a, b, c, *s.model_scratch)) {
+  const BlockMatrix* assembled = nullptr;
+  {
+    const ProfileScope timed(s, &StepProfile::assembly);
+    assembled = model.assemble_system(a, b, c, *s.model_scratch);
+  }
+  if (assembled) {
+    const ProfileScope timed(s, &StepProfile::solve);
     const int it = solve_assembled(body, w, *assembled, rhs, x);
     if (it >= 0) return it;
   }
@@ -393,6 +421,7 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
       if (w.folded_weight[j] > 0.0) out += (w.folded_weight[j] * w.spring_push[j].dot(in)) * w.spring_push[j];
     out.array() *= w.free_mask.array();
   };
+  const ProfileScope timed(s, &StepProfile::solve);
   w.diag = a * m;
   model.add_diagonal(c, b, w.diag, ms);
   for (std::size_t j = 0; j < w.folded; ++j) w.diag += w.folded_weight[j] * w.spring_push[j].cwiseAbs2();
@@ -620,7 +649,10 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
   // First iteration, linearized at (x_n, v_n) (Baraff & Witkin 1998):
   //   (M + hD + h²K) Δv = h (f_n − h K v_n)
   w.z = -h * s.v;
-  model.linearized_forces(s.x, s.v, s.q, w.z, w.rhs, *s.model_scratch);  // rhs = f − h K v
+  {
+    const ProfileScope timed(s, &StepProfile::forces);
+    model.linearized_forces(s.x, s.v, s.q, w.z, w.rhs, *s.model_scratch);  // rhs = f − h K v
+  }
   add_loads(body, f_ext, w.rhs);
   w.rhs *= h;
   // CG starts from the last three velocity changes extrapolated by a parabola: between 1 ms

@@ -329,6 +329,39 @@ TEST_F(Cli, StaticSolveRefusesAnEquilibriumWithAnElementInsideOut) {
   EXPECT_LT(column(rows, "load_fraction", 1), 1.0);  // the last equilibrium reached
 }
 
+TEST_F(Cli, BenchFemTimesTheSceneFemBodies) {
+  const auto r = run("bench --fem " + std::string(TACTUS_SOURCE_DIR) + "/scenes/cantilever.toml --steps 5 --threads 1 "
+                     "--solver cholesky --law stvk");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("ns/tet"), std::string::npos) << r.out;
+  const auto row = r.out.find("\nbeam ");
+  ASSERT_NE(row, std::string::npos) << r.out;
+  std::istringstream cells(r.out.substr(row + 1));
+  std::string body, law, solver;
+  double nodes = 0, tets = 0, dt = 0, threads = 0, median = 0, p99 = 0, ns = 0, its = 0;
+  cells >> body >> law >> solver >> nodes >> tets >> dt >> threads >> median >> p99 >> ns >> its;
+  EXPECT_EQ(law, "stvk");
+  EXPECT_EQ(solver, "cholesky");
+  EXPECT_EQ(threads, 1);
+  EXPECT_GT(tets, 0);
+  EXPECT_GT(median, 0.0);
+  EXPECT_LE(median, p99);
+  EXPECT_NEAR(ns, 1e6 * median / tets, 0.01 * ns + 1.0);  // the table's own arithmetic
+  double share_sum = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    std::string share;
+    cells >> share;
+    ASSERT_FALSE(share.empty());
+    EXPECT_EQ(share.back(), '%');
+    share_sum += std::stod(share.substr(0, share.size() - 1));
+  }
+  EXPECT_NEAR(share_sum, 100.0, 2.5);  // four rounded shares of one total
+
+  const auto none = run("bench --fem " + std::string(TACTUS_SOURCE_DIR) + "/scenes/nodule.toml --steps 1");
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_NE(none.err.find("no FEM body"), std::string::npos) << none.err;
+}
+
 // `tactus run --force-map` on the nodule trainer: a PNG, its legend and the trainee feedback.
 TEST_F(Cli, NoduleSceneWritesForceMapAndFeedback) {
   const fs::path scene = fs::path(TACTUS_SOURCE_DIR) / "scenes/nodule.toml";
