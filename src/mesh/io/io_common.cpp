@@ -161,4 +161,30 @@ void orient_whole_file(TetMesh& mesh) {
   for (auto& tet : mesh.tets) std::swap(tet[2], tet[3]);
 }
 
+std::string skipped_summary(const std::map<std::string, std::size_t>& skipped) {
+  std::string out;
+  for (const auto& [name, count] : skipped) {
+    if (!out.empty()) out.append(", ");
+    out.append(std::to_string(count)).append(" ").append(name);
+  }
+  return out;
+}
+
+MeshFile cell_mesh_file(MeshFormat format, std::vector<Vec3> points, TetMesh volume, TriMesh surface,
+                        std::string skipped) {
+  MeshFile out;
+  out.format = format;
+  out.skipped = std::move(skipped);
+  if (!volume.tets.empty()) {
+    volume.vertices = points;
+    orient_whole_file(volume);
+    out.volume = std::move(volume);
+  }
+  if (!surface.triangles.empty()) {
+    surface.vertices = std::move(points);
+    out.surface = std::move(surface);
+  }
+  return out;
+}
+
 }  // namespace tactus::mesh::io

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -157,6 +158,14 @@ void orient_whole_file(TetMesh& mesh);
 /// What VTK's cell type `type` is called in plural ("quads"), or null for one without a
 /// name here; for the `skipped` summary of the VTK readers.
 const char* vtk_cell_name(std::int64_t type);
+
+/// "1942 lines, 12 quads": what a VTK reader left out, by kind.
+std::string skipped_summary(const std::map<std::string, std::size_t>& skipped);
+
+/// A VTK file's cells as a MeshFile: its tetrahedra as the volume (oriented as a whole) and
+/// its triangles as the surface, both on `points`; `skipped` from skipped_summary.
+MeshFile cell_mesh_file(MeshFormat format, std::vector<Vec3> points, TetMesh volume, TriMesh surface,
+                        std::string skipped);
 
 /// Internal entry points working on memory; `file` names the source in errors.
 MeshFile parse_obj(std::string_view data, const std::string& file);

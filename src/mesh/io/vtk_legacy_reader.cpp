@@ -366,25 +366,10 @@ MeshFile parse_vtk(std::string_view data, const std::string& file) {
         else surface.triangles.push_back({b, a, c});
       }
   }
-  if (volume.tets.empty() && surface.triangles.empty()) {
-    std::string held;
-    for (const auto& [name, count] : skipped) held += (held.empty() ? "" : ", ") + std::to_string(count) + " " + name;
+  const std::string held = skipped_summary(skipped);
+  if (volume.tets.empty() && surface.triangles.empty())
     in.fail("no tetrahedra or triangles to read" + (held.empty() ? std::string() : " (the file holds " + held + ")"));
-  }
-  MeshFile out;
-  out.format = MeshFormat::vtk;
-  for (const auto& [name, count] : skipped)
-    out.skipped += (out.skipped.empty() ? "" : ", ") + std::to_string(count) + " " + name;
-  if (!volume.tets.empty()) {
-    volume.vertices = points;
-    orient_whole_file(volume);
-    out.volume = std::move(volume);
-  }
-  if (!surface.triangles.empty()) {
-    surface.vertices = std::move(points);
-    out.surface = std::move(surface);
-  }
-  return out;
+  return cell_mesh_file(MeshFormat::vtk, std::move(points), std::move(volume), std::move(surface), held);
 }
 
 }  // namespace tactus::mesh::io

@@ -551,25 +551,11 @@ class VtuReader {
     // Regions from some pieces only cannot be lined up with the tets: none are kept.
     if (!any_regions || tets_without_regions > 0) volume.tet_regions.clear();
 
-    MeshFile out;
-    out.format = MeshFormat::vtu;
-    for (const auto& [name, count] : skipped) {
-      if (!out.skipped.empty()) out.skipped.append(", ");
-      out.skipped.append(std::to_string(count)).append(" ").append(name);
-    }
+    const std::string held = skipped_summary(skipped);
     if (volume.tets.empty() && surface.triangles.empty())
-      fail_line(pieces_.front().tag, "no tetrahedra or triangles to read" +
-                                         (out.skipped.empty() ? std::string() : " (the file holds " + out.skipped + ")"));
-    if (!volume.tets.empty()) {
-      volume.vertices = points;
-      orient_whole_file(volume);
-      out.volume = std::move(volume);
-    }
-    if (!surface.triangles.empty()) {
-      surface.vertices = std::move(points);
-      out.surface = std::move(surface);
-    }
-    return out;
+      fail_line(pieces_.front().tag,
+                "no tetrahedra or triangles to read" + (held.empty() ? std::string() : " (the file holds " + held + ")"));
+    return cell_mesh_file(MeshFormat::vtu, std::move(points), std::move(volume), std::move(surface), held);
   }
 
   std::string_view data_;
