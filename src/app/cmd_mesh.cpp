@@ -1,6 +1,8 @@
 // `tactus mesh`: convert between formats, generate shapes, tetrahedralize closed surfaces.
 #include <cstdio>
 #include <optional>
+
+#include <fmt/format.h>
 #include <string>
 
 #include "app/commands.hpp"
@@ -42,6 +44,34 @@ mesh::TriMesh generate(const MeshOptions& o) {
 }
 
 bool wants_tets(const MeshOptions& o) { return o.max_volume || o.quality || o.min_dihedral || o.nodes; }
+
+/// Says on stderr what happened to tetrahedra that were inside out in the file: flipped as
+/// a whole (a file in the mirrored convention), or, in a file with a mix, written as they
+/// are for the user to look at.
+void report_orientation(const std::string& source, const mesh::MeshFile& in) {
+  const mesh::TetMesh& m = *in.volume;
+  if (in.flipped_tets > 0) {
+    std::fprintf(stderr, "tactus: %s: flipped all %zu tetrahedra (the file orders their corners the mirrored way)\n",
+                 source.c_str(), in.flipped_tets);
+    return;
+  }
+  std::size_t inverted = 0;
+  std::string listed;
+  constexpr std::size_t kListed = 10;
+  for (std::size_t t = 0; t < m.tets.size(); ++t) {
+    if (m.tet_volume(t) >= 0.0) continue;
+    if (inverted++ < kListed) {
+      const auto& numbers = in.volume_numbering.element_number;
+      listed.append(fmt::format("{}{}", listed.empty() ? "" : ", ",
+                                t < numbers.size() ? numbers[t] : static_cast<std::int64_t>(t)));
+    }
+  }
+  if (inverted == 0) return;
+  std::fprintf(stderr, "tactus: %s: warning: %zu inverted tetrahedra written as they are: %s%s (%s); "
+               "'tactus inspect' lists them\n",
+               source.c_str(), inverted, listed.c_str(), inverted > kListed ? ", ..." : "",
+               in.volume_numbering.element_number.empty() ? "counted from 0" : "file numbering");
+}
 
 }  // namespace
 
@@ -90,10 +120,13 @@ Action add_mesh(CLI::App& app) {
     if (wants_tets(*o)) {
       if (!in.surface || in.volume)
         throw InputError(SourceLocation{source, {}, {}, {}}, "tetrahedralization needs a surface mesh");
-      const auto report = mesh::validate(*in.surface, mesh::SurfaceChecks{true});
+      const auto report = mesh::validate(*in.surface, mesh::SurfaceChecks{true}, &in.surface_numbering);
+      const std::size_t errors = report.count(mesh::Severity::error);
       for (const auto& p : report.problems)
         if (p.severity == mesh::Severity::error)
-          throw InputError(SourceLocation{source, {}, {}, {}}, "cannot tetrahedralize: " + p.what);
+          throw InputError(SourceLocation{source, {}, {}, {}},
+                           "cannot tetrahedralize: " + p.what +
+                               (errors > 1 ? fmt::format(" ({} errors; 'tactus inspect' lists them)", errors) : ""));
       mesh::TetMesh tets;
       if (o->nodes) {
         if (o->max_volume) throw InputError("--nodes and --max-volume exclude each other");
@@ -111,6 +144,7 @@ Action add_mesh(CLI::App& app) {
       return 0;
     }
 
+    if (in.volume) report_orientation(source, in);
     if (in.volume && o->boundary) {
       const auto b = mesh::extract_boundary(*in.volume);
       mesh::write_mesh(o->output, b.surface, wo);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh/tri_mesh.hpp"
@@ -12,6 +13,10 @@
 namespace tactus::mesh {
 
 struct FileNumbering {
+  FileNumbering() = default;
+  FileNumbering(std::string word, std::int64_t base, std::vector<std::int64_t> tags = {})
+      : element_word(std::move(word)), vertex_base(base), vertex_tags(std::move(tags)) {}
+
   /// What the file calls an element ("face" in OBJ and OFF, "element" in Gmsh).
   std::string element_word;
   /// The file's number of vertex 0 when vertices are numbered in order (OBJ 1, OFF 0,

@@ -130,32 +130,18 @@ bool overlap_beyond_shared(const TriMesh& m, const Triangle& ta, const Triangle&
   return false;  // the same three vertices: a duplicate triangle, reported as such
 }
 
-/// Each vertex's lowest-numbered vertex at exactly the same place, so that an unwelded
-/// (triangle soup) surface's neighbours count as sharing corners.
-std::vector<Index> weld_exact(const std::vector<Vec3>& vertices) {
-  std::vector<Index> order(vertices.size());
-  std::iota(order.begin(), order.end(), 0);
-  const auto less = [&](Index a, Index b) {
-    const Vec3 &p = vertices[a], &q = vertices[b];
-    if (p.x() != q.x()) return p.x() < q.x();
-    if (p.y() != q.y()) return p.y() < q.y();
-    if (p.z() != q.z()) return p.z() < q.z();
-    return a < b;
-  };
-  std::sort(order.begin(), order.end(), less);
-  std::vector<Index> id(vertices.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    id[order[i]] = (i > 0 && vertices[order[i]] == vertices[order[i - 1]]) ? id[order[i - 1]] : order[i];
-  return id;
-}
-
 }  // namespace
 
-SelfIntersections find_self_intersections(const TriMesh& mesh, const std::vector<char>& skip, std::size_t keep) {
+SelfIntersections find_self_intersections(const TriMesh& mesh, const std::vector<char>& skip, double weld_tolerance,
+                                          std::size_t keep) {
   SelfIntersections result;
   TriMesh welded;
   welded.vertices = mesh.vertices;
-  const auto id = weld_exact(mesh.vertices);
+  // Corners within the tolerance count as one, so that an unwelded (triangle soup) surface's
+  // neighbours share them.
+  std::vector<Index> id(mesh.vertices.size());
+  std::iota(id.begin(), id.end(), 0);
+  for (const auto& [v, first] : find_duplicate_vertices(mesh.vertices, weld_tolerance)) id[v] = id[first];
   std::vector<std::uint32_t> tris;  // the triangles taking part
   Aabb all;
   double extent_sum = 0.0;

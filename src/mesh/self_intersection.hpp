@@ -16,11 +16,13 @@ struct SelfIntersections {
 
 /// Pairs of triangles that meet beyond what they share: triangles with a common edge or
 /// vertex count only when they overlap past it (a fold onto itself, a crossing).
-/// Triangles flagged in `skip` (bad indices, not finite) take no part. A uniform grid of
-/// triangle boxes finds the candidates; orientation tests in double decide, with
-/// results within rounding of zero taken as zero (touching counts as meeting).
+/// Vertices within `weld_tolerance` of each other count as one corner (duplicates are
+/// reported on their own). Triangles flagged in `skip` (bad indices, not finite, flat)
+/// take no part. A uniform grid of triangle boxes finds the candidates; orientation tests
+/// in double decide, with results within rounding of zero taken as zero (touching counts
+/// as meeting).
 SelfIntersections find_self_intersections(const TriMesh& mesh, const std::vector<char>& skip,
-                                          std::size_t keep = 10);
+                                          double weld_tolerance = 0.0, std::size_t keep = 10);
 
 /// Coincident vertices: every vertex within `tolerance` (Euclidean) of a lower-numbered
 /// one, paired with the lowest such vertex; sorted by the later vertex.

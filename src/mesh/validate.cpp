@@ -240,15 +240,10 @@ void check_edges(const TriMesh& mesh, const std::vector<char>& usable, const Sur
             [&] { return fmt::format("surface is open: {} boundary edges", boundary); });
 }
 
-void check_self_intersections(const TriMesh& mesh, const std::vector<char>& usable, const Names& names,
-                              Collector& out) {
-  std::vector<char> skip(usable.size());
-  for (std::size_t t = 0; t < usable.size(); ++t) {
-    const auto& f = mesh.triangles[t];
-    skip[t] = !usable[t] || !finite(mesh.vertices[f[0]]) || !finite(mesh.vertices[f[1]]) ||
-              !finite(mesh.vertices[f[2]]);
-  }
-  const auto found = find_self_intersections(mesh, skip, kSelfIntersectionsShown);
+/// `skip`: triangles already reported as unusable, not finite or flat (a flat one has no plane to test against).
+void check_self_intersections(const TriMesh& mesh, const std::vector<char>& skip, double diagonal,
+                              const Names& names, Collector& out) {
+  const auto found = find_self_intersections(mesh, skip, kCoincidentVertices * diagonal, kSelfIntersectionsShown);
   if (found.count == 0) return;
   out.add("self-intersection", Severity::error, [&] {
     return fmt::format("surface intersects itself: {} {} of triangles cross or overlap", found.count,
@@ -271,6 +266,7 @@ ValidationReport validate(const TriMesh& mesh, const SurfaceChecks& checks, cons
   const double diagonal = finite_diagonal(mesh.vertices);
 
   std::vector<char> usable(mesh.triangles.size(), 0);
+  std::vector<char> skip_intersections(mesh.triangles.size(), 1);
   std::vector<char> used(nv, 0);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& f = mesh.triangles[t];
@@ -281,7 +277,9 @@ ValidationReport validate(const TriMesh& mesh, const SurfaceChecks& checks, cons
     if (!finite(a) || !finite(b) || !finite(c)) continue;
     const double area = 0.5 * (b - a).cross(c - a).norm();
     const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    if (area <= kFlat * longest * longest || area <= kFlat * diagonal * diagonal)
+    const bool flat = area <= kFlat * longest * longest || area <= kFlat * diagonal * diagonal;
+    skip_intersections[t] = flat;
+    if (flat)
       out.add("degenerate triangles", Severity::error, [&] {
         return fmt::format("{}: degenerate, area {:.3g} m² (longest edge {:.3g} m)", names.element(t, f), area,
                            longest);
@@ -289,7 +287,7 @@ ValidationReport validate(const TriMesh& mesh, const SurfaceChecks& checks, cons
   }
   check_edges(mesh, usable, checks, names, out);
   check_duplicates(names, mesh.triangles, usable, out);
-  check_self_intersections(mesh, usable, names, out);
+  check_self_intersections(mesh, skip_intersections, diagonal, names, out);
   check_coincident(mesh.vertices, diagonal, names, out);
   check_unused(nv, used, names, out);
   return out.finish();

@@ -10,7 +10,7 @@
 namespace tactus::mesh {
 namespace {
 
-SelfIntersections find(const TriMesh& m) { return find_self_intersections(m, {}, 10); }
+SelfIntersections find(const TriMesh& m) { return find_self_intersections(m, {}, 0.0, 10); }
 
 TriMesh merged(const TriMesh& a, const TriMesh& b) {
   TriMesh m = a;

@@ -377,7 +377,7 @@ MeshFile parse_vtk(std::string_view data, const std::string& file) {
     out.skipped += (out.skipped.empty() ? "" : ", ") + std::to_string(count) + " " + name;
   if (!volume.tets.empty()) {
     volume.vertices = points;
-    orient_whole_file(volume);
+    out.flipped_tets = orient_whole_file(volume);
     out.volume = std::move(volume);
   }
   if (!surface.triangles.empty()) {

@@ -562,7 +562,7 @@ class VtuReader {
                                          (out.skipped.empty() ? std::string() : " (the file holds " + out.skipped + ")"));
     if (!volume.tets.empty()) {
       volume.vertices = points;
-      orient_whole_file(volume);
+      out.flipped_tets = orient_whole_file(volume);
       out.volume = std::move(volume);
     }
     if (!surface.triangles.empty()) {
