@@ -28,7 +28,16 @@ struct MeshOptions {
   bool binary = false;
   int msh_version = 41;
   bool boundary = false;
+  double timeout = 300.0;
+  double max_memory_gib = 0.0;
 };
+
+mesh::TetGenBudget budget(const MeshOptions& o) {
+  mesh::TetGenBudget b;
+  b.seconds = o.timeout;
+  b.memory_bytes = static_cast<std::size_t>(o.max_memory_gib * 1024.0 * 1024.0 * 1024.0);
+  return b;
+}
 
 mesh::TriMesh generate(const MeshOptions& o) {
   const double s = o.size;
@@ -95,11 +104,19 @@ Action add_mesh(CLI::App& app) {
       ->check(CLI::Range(0.0, 30.0));
   app.add_option("--nodes", o->nodes, "Tetrahedralize to about this many nodes (within 10%)")
       ->check(CLI::Range(std::size_t{4}, std::size_t{10'000'000}));
+  app.add_option("--timeout", o->timeout,
+                 "Tetrahedralize: give up after this many seconds (default 300; 0 = no limit). TetGen runs in a "
+                 "child process that is stopped then")
+      ->check(CLI::Range(0.0, 1e6));
+  app.add_option("--max-memory", o->max_memory_gib, "Tetrahedralize: cap TetGen's memory [GiB] (default: no cap)")
+      ->check(CLI::Range(0.0, 1e6));
   app.add_flag("--binary", o->binary, "STL and PLY: write binary (little endian)");
   app.add_option("--msh-version", o->msh_version, "Gmsh output version: 22 or 41")->check(CLI::IsMember({22, 41}));
   app.add_flag("--boundary", o->boundary, "Write the boundary surface of a volume mesh");
   app.footer(
       "Without tetrahedralization options the input is converted (a volume stays a volume).\n"
+      "Tetrahedralization stops at --timeout (and --max-memory) with an error naming the option.\n"
+      "Errors and warnings go to stderr; exit status 1 for a refused input.\n"
       "Examples:\n"
       "  tactus mesh --generate organ --size 0.22 -o organ.stl\n"
       "  tactus mesh organ.stl -o organ.msh --max-volume 2e-7 --quality 1.4\n"
@@ -130,12 +147,14 @@ Action add_mesh(CLI::App& app) {
       mesh::TetMesh tets;
       if (o->nodes) {
         if (o->max_volume) throw InputError("--nodes and --max-volume exclude each other");
-        tets = mesh::tetrahedralize_to_node_count(*in.surface, *o->nodes, o->quality.value_or(1.414));
+        tets = mesh::tetrahedralize_to_node_count(*in.surface, *o->nodes, o->quality.value_or(1.414), 0.1, true,
+                                                  budget(*o));
       } else {
         mesh::TetrahedralizeOptions to;
         to.max_volume = o->max_volume;
         if (o->quality) to.radius_edge_ratio = *o->quality;
         if (o->min_dihedral) to.min_dihedral_deg = *o->min_dihedral;
+        to.budget = budget(*o);
         tets = mesh::tetrahedralize(*in.surface, to);
       }
       mesh::write_mesh(o->output, tets, wo);

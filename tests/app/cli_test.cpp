@@ -242,6 +242,19 @@ TEST_F(Cli, TetrahedralizingAnOpenSurfaceIsAUserError) {
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
 }
 
+TEST_F(Cli, TetrahedralizationStopsAtTheTimeout) {
+  const fs::path surface = dir_ / "sphere.stl";
+  ASSERT_EQ(run("mesh --generate sphere --size 0.05 --resolution 3 -o " + surface.string()).exit_code, 0);
+  const auto r = run("mesh " + surface.string() + " -o " + (dir_ / "s.msh").string() +
+                     " --max-volume 1e-11 --timeout 0.2");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("did not finish within 0.2 s"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--timeout"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_FALSE(fs::exists(dir_ / "s.msh"));
+}
+
 TEST_F(Cli, RunsTheDefaultScene) {
   const auto r = run("run --duration 1 --json " + (dir_ / "t.json").string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
