@@ -123,8 +123,11 @@ Action add_mesh(CLI::App& app) {
       "  tactus mesh organ.msh -o organ.vtu");
 
   return [o] {
-    if (o->input.empty() == o->generate.empty())
-      throw InputError("give either an input mesh or --generate SHAPE (not both)");
+    if (o->input.empty() && o->generate.empty()) throw InputError("give an input mesh or --generate SHAPE");
+    if (!o->input.empty() && !o->generate.empty())
+      throw InputError("give either an input mesh or --generate SHAPE, not both");
+    if (o->nodes && o->max_volume) throw InputError("--nodes and --max-volume exclude each other");
+    (void)mesh::format_from_path(o->output);  // an unknown output extension is refused before any work
     mesh::MeshFile in;
     if (!o->generate.empty()) {
       in.surface = generate(*o);
@@ -146,7 +149,6 @@ Action add_mesh(CLI::App& app) {
                                (errors > 1 ? fmt::format(" ({} errors; 'tactus inspect' lists them)", errors) : ""));
       mesh::TetMesh tets;
       if (o->nodes) {
-        if (o->max_volume) throw InputError("--nodes and --max-volume exclude each other");
         tets = mesh::tetrahedralize_to_node_count(*in.surface, *o->nodes, o->quality.value_or(1.414), 0.1, true,
                                                   budget(*o));
       } else {
@@ -163,7 +165,6 @@ Action add_mesh(CLI::App& app) {
       return 0;
     }
 
-    if (in.volume) report_orientation(source, in);
     if (in.volume && o->boundary) {
       const auto b = mesh::extract_boundary(*in.volume);
       mesh::write_mesh(o->output, b.surface, wo);
@@ -171,6 +172,7 @@ Action add_mesh(CLI::App& app) {
                   b.surface.triangles.size());
     } else if (in.volume) {
       mesh::write_mesh(o->output, *in.volume, wo);
+      report_orientation(source, in);
       std::printf("%s: %zu nodes, %zu tetrahedra\n", o->output.c_str(), in.volume->vertices.size(),
                   in.volume->tets.size());
     } else {

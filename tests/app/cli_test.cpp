@@ -255,6 +255,40 @@ TEST_F(Cli, TetrahedralizationStopsAtTheTimeout) {
   EXPECT_FALSE(fs::exists(dir_ / "s.msh"));
 }
 
+TEST_F(Cli, MeshAndInspectRefuseBadInputOnStderrOnly) {
+  std::ofstream(dir_ / "empty.obj") << "";
+  std::ofstream(dir_ / "open.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(dir_ / "tet.node") << "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n";
+  std::ofstream(dir_ / "tet.ele") << "1 4 0\n0 0 1 2 3\n";
+  fs::create_directories(dir_ / "folder.obj");
+  const std::string d = dir_.string() + "/";
+  const std::vector<std::string> refused = {
+      "inspect " + d + "nope.obj",
+      "inspect " + d + "folder.obj",
+      "inspect " + d + "empty.obj",
+      "inspect " + d + "open.xyz",
+      "mesh -o " + d + "a.obj",
+      "mesh " + d + "open.obj --generate box -o " + d + "a.obj",
+      "mesh --generate blob -o " + d + "a.obj",
+      "mesh " + d + "tet.node -o " + d + "a.msh --max-volume 1",
+      "mesh " + d + "open.obj -o " + d + "a.msh --max-volume 1",
+      "mesh " + d + "tet.node -o " + d + "a.obj",
+      "mesh " + d + "open.obj -o " + d + "no/such/folder/a.obj",
+      "mesh " + d + "open.obj -o " + d + "a.msh --nodes 100 --max-volume 1",
+      "mesh " + d + "open.obj -o " + d + "a.xyz",
+      "mesh " + d + "empty.obj -o " + d + "a.stl",
+  };
+  for (const auto& args : refused) {
+    const auto r = run(args);
+    EXPECT_EQ(r.exit_code, 1) << args;
+    EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("tactus: ", 0), 0u) << args << ": " << r.err;
+    EXPECT_EQ(r.out, "") << args;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "a.obj"));
+  EXPECT_FALSE(fs::exists(dir_ / "a.msh"));
+}
+
 TEST_F(Cli, RunsTheDefaultScene) {
   const auto r = run("run --duration 1 --json " + (dir_ / "t.json").string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
