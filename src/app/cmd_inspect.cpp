@@ -27,22 +27,32 @@ void print_bounds(const Aabb& box) {
               vec(box.size()).c_str());
 }
 
-/// Prints the report's problems; returns true when there are errors.
-bool print_problems(const mesh::ValidationReport& report) {
+/// What inspect found: errors in all and the first one, for the line on stderr.
+struct Verdict {
+  std::size_t errors = 0;
+  std::string first;
+  void add(const mesh::ValidationReport& report) {
+    for (const auto& p : report.problems)
+      if (p.severity == mesh::Severity::error && first.empty()) first = p.what;
+    errors += report.count(mesh::Severity::error);
+  }
+};
+
+/// Prints the report's problems.
+void print_problems(const mesh::ValidationReport& report) {
   if (report.problems.empty()) {
     std::printf("  no problems found\n");
-    return false;
+    return;
   }
   std::printf("  problems: %zu error(s), %zu warning(s)\n", report.count(mesh::Severity::error),
               report.count(mesh::Severity::warning));
   for (const auto& p : report.problems)
     std::printf("    %s: %s\n", p.severity == mesh::Severity::error ? "error" : "warning", p.what.c_str());
-  return !report.ok();
 }
 
-bool inspect_surface(const mesh::TriMesh& m) {
+mesh::ValidationReport inspect_surface(const mesh::TriMesh& m, const mesh::FileNumbering& numbering) {
   std::printf("surface: %zu vertices, %zu triangles\n", m.vertices.size(), m.triangles.size());
-  const auto report = mesh::validate(m);
+  const auto report = mesh::validate(m, {}, &numbering);
   const bool indices_ok = report.ok();
   if (indices_ok) {
     print_bounds(m.bounds());
@@ -54,12 +64,16 @@ bool inspect_surface(const mesh::TriMesh& m) {
     std::printf("  aspect ratio: %s\n", stats(q.aspect_ratio).c_str());
     std::printf("  edge length: %s m\n", stats(q.edge_length).c_str());
   }
-  return print_problems(report);
+  print_problems(report);
+  return report;
 }
 
-bool inspect_volume(const mesh::TetMesh& m) {
+mesh::ValidationReport inspect_volume(const mesh::TetMesh& m, const mesh::FileNumbering& numbering,
+                                      std::size_t flipped) {
   std::printf("volume: %zu vertices, %zu tetrahedra\n", m.vertices.size(), m.tets.size());
-  const auto report = mesh::validate(m);
+  if (flipped > 0)
+    std::printf("  all %zu tetrahedra flipped on reading: the file orders corners the mirrored way\n", flipped);
+  const auto report = mesh::validate(m, &numbering);
   bool indices_ok = true;
   for (const auto& p : report.problems)
     if (p.what.find("out of range") != std::string::npos) indices_ok = false;
@@ -76,7 +90,8 @@ bool inspect_volume(const mesh::TetMesh& m) {
     std::printf("  inverted: %zu, slivers (radius ratio < %.2g): %zu\n", q.inverted, mesh::kSliverRadiusRatio,
                 q.slivers);
   }
-  return print_problems(report);
+  print_problems(report);
+  return report;
 }
 
 }  // namespace
@@ -84,7 +99,13 @@ bool inspect_volume(const mesh::TetMesh& m) {
 Action add_inspect(CLI::App& app) {
   auto path = std::make_shared<std::string>();
   app.add_option("file", *path, "Mesh (obj stl off ply msh node/ele) or scene (toml)")->required();
-  app.footer("Exit status 1 when the file cannot be read or has errors (warnings are fine).");
+  app.footer(
+      "Checks: indices, repeated and duplicate elements, flat or inverted elements, open, non-manifold and\n"
+      "misoriented edges, self-intersections (the first pairs and their count), vertices within 1e-9 of the\n"
+      "bounding-box diagonal of each other, unused vertices. Elements and vertices are numbered as the file\n"
+      "numbers them (OBJ from 1, OFF from 0, Gmsh tags, TetGen's first index), with the line each was read on.\n"
+      "The report goes to stdout. Exit status 1 when the file cannot be read or has errors (warnings are\n"
+      "fine), with a line on stderr naming the first error.");
   return [path] {
     const std::filesystem::path p(*path);
     if (!std::filesystem::exists(p)) throw InputError(SourceLocation{*path, {}, {}, {}}, "no such file");
@@ -96,16 +117,20 @@ Action add_inspect(CLI::App& app) {
     const auto file = mesh::read_mesh(p);
     std::printf("%s (%s)\n", path->c_str(), mesh::format_name(file.format));
     if (!file.skipped.empty()) std::printf("left out: %s (tetrahedra and triangles are read)\n", file.skipped.c_str());
-    bool errors = false;
-    if (file.volume) errors |= inspect_volume(*file.volume);
+    Verdict verdict;
+    if (file.volume) verdict.add(inspect_volume(*file.volume, file.volume_numbering, file.flipped_tets));
     if (file.volume && file.surface) {
       // Gmsh, VTK: triangles beside tetrahedra are labelled boundary patches on the volume's nodes.
       std::printf("labelled surface patches: %zu triangles on the volume's nodes\n",
                   file.surface->triangles.size());
     } else if (file.surface) {
-      errors |= inspect_surface(*file.surface);
+      verdict.add(inspect_surface(*file.surface, file.surface_numbering));
     }
-    return errors ? 1 : 0;
+    if (verdict.errors == 0) return 0;
+    std::fflush(stdout);
+    std::fprintf(stderr, "tactus: %s: %zu error%s; the first: %s (the report above lists them)\n", path->c_str(),
+                 verdict.errors, verdict.errors == 1 ? "" : "s", verdict.first.c_str());
+    return 1;
   };
 }
 

@@ -1,6 +1,8 @@
 // `tactus mesh`: convert between formats, generate shapes, tetrahedralize closed surfaces.
 #include <cstdio>
 #include <optional>
+
+#include <fmt/format.h>
 #include <string>
 
 #include "app/commands.hpp"
@@ -26,7 +28,16 @@ struct MeshOptions {
   bool binary = false;
   int msh_version = 41;
   bool boundary = false;
+  double timeout = 300.0;
+  double max_memory_gib = 0.0;
 };
+
+mesh::TetGenBudget budget(const MeshOptions& o) {
+  mesh::TetGenBudget b;
+  b.seconds = o.timeout;
+  b.memory_bytes = static_cast<std::size_t>(o.max_memory_gib * 1024.0 * 1024.0 * 1024.0);
+  return b;
+}
 
 mesh::TriMesh generate(const MeshOptions& o) {
   const double s = o.size;
@@ -42,6 +53,34 @@ mesh::TriMesh generate(const MeshOptions& o) {
 }
 
 bool wants_tets(const MeshOptions& o) { return o.max_volume || o.quality || o.min_dihedral || o.nodes; }
+
+/// Says on stderr what happened to tetrahedra that were inside out in the file: flipped as
+/// a whole (a file in the mirrored convention), or, in a file with a mix, written as they
+/// are for the user to look at.
+void report_orientation(const std::string& source, const mesh::MeshFile& in) {
+  const mesh::TetMesh& m = *in.volume;
+  if (in.flipped_tets > 0) {
+    std::fprintf(stderr, "tactus: %s: flipped all %zu tetrahedra (the file orders their corners the mirrored way)\n",
+                 source.c_str(), in.flipped_tets);
+    return;
+  }
+  std::size_t inverted = 0;
+  std::string listed;
+  constexpr std::size_t kListed = 10;
+  for (std::size_t t = 0; t < m.tets.size(); ++t) {
+    if (m.tet_volume(t) >= 0.0) continue;
+    if (inverted++ < kListed) {
+      const auto& numbers = in.volume_numbering.element_number;
+      listed.append(fmt::format("{}{}", listed.empty() ? "" : ", ",
+                                t < numbers.size() ? numbers[t] : static_cast<std::int64_t>(t)));
+    }
+  }
+  if (inverted == 0) return;
+  std::fprintf(stderr, "tactus: %s: warning: %zu inverted tetrahedra written as they are: %s%s (%s); "
+               "'tactus inspect' lists them\n",
+               source.c_str(), inverted, listed.c_str(), inverted > kListed ? ", ..." : "",
+               in.volume_numbering.element_number.empty() ? "counted from 0" : "file numbering");
+}
 
 }  // namespace
 
@@ -65,19 +104,30 @@ Action add_mesh(CLI::App& app) {
       ->check(CLI::Range(0.0, 30.0));
   app.add_option("--nodes", o->nodes, "Tetrahedralize to about this many nodes (within 10%)")
       ->check(CLI::Range(std::size_t{4}, std::size_t{10'000'000}));
+  app.add_option("--timeout", o->timeout,
+                 "Tetrahedralize: give up after this many seconds (default 300; 0 = no limit). TetGen runs in a "
+                 "child process that is stopped then")
+      ->check(CLI::Range(0.0, 1e6));
+  app.add_option("--max-memory", o->max_memory_gib, "Tetrahedralize: cap TetGen's memory [GiB] (default: no cap)")
+      ->check(CLI::Range(0.0, 1e6));
   app.add_flag("--binary", o->binary, "STL and PLY: write binary (little endian)");
   app.add_option("--msh-version", o->msh_version, "Gmsh output version: 22 or 41")->check(CLI::IsMember({22, 41}));
   app.add_flag("--boundary", o->boundary, "Write the boundary surface of a volume mesh");
   app.footer(
       "Without tetrahedralization options the input is converted (a volume stays a volume).\n"
+      "Tetrahedralization stops at --timeout (and --max-memory) with an error naming the option.\n"
+      "Errors and warnings go to stderr; exit status 1 for a refused input.\n"
       "Examples:\n"
       "  tactus mesh --generate organ --size 0.22 -o organ.stl\n"
       "  tactus mesh organ.stl -o organ.msh --max-volume 2e-7 --quality 1.4\n"
       "  tactus mesh organ.msh -o organ.vtu");
 
   return [o] {
-    if (o->input.empty() == o->generate.empty())
-      throw InputError("give either an input mesh or --generate SHAPE (not both)");
+    if (o->input.empty() && o->generate.empty()) throw InputError("give an input mesh or --generate SHAPE");
+    if (!o->input.empty() && !o->generate.empty())
+      throw InputError("give either an input mesh or --generate SHAPE, not both");
+    if (o->nodes && o->max_volume) throw InputError("--nodes and --max-volume exclude each other");
+    (void)mesh::format_from_path(o->output);  // an unknown output extension is refused before any work
     mesh::MeshFile in;
     if (!o->generate.empty()) {
       in.surface = generate(*o);
@@ -90,19 +140,23 @@ Action add_mesh(CLI::App& app) {
     if (wants_tets(*o)) {
       if (!in.surface || in.volume)
         throw InputError(SourceLocation{source, {}, {}, {}}, "tetrahedralization needs a surface mesh");
-      const auto report = mesh::validate(*in.surface, mesh::SurfaceChecks{true});
+      const auto report = mesh::validate(*in.surface, mesh::SurfaceChecks{true}, &in.surface_numbering);
+      const std::size_t errors = report.count(mesh::Severity::error);
       for (const auto& p : report.problems)
         if (p.severity == mesh::Severity::error)
-          throw InputError(SourceLocation{source, {}, {}, {}}, "cannot tetrahedralize: " + p.what);
+          throw InputError(SourceLocation{source, {}, {}, {}},
+                           "cannot tetrahedralize: " + p.what +
+                               (errors > 1 ? fmt::format(" ({} errors; 'tactus inspect' lists them)", errors) : ""));
       mesh::TetMesh tets;
       if (o->nodes) {
-        if (o->max_volume) throw InputError("--nodes and --max-volume exclude each other");
-        tets = mesh::tetrahedralize_to_node_count(*in.surface, *o->nodes, o->quality.value_or(1.414));
+        tets = mesh::tetrahedralize_to_node_count(*in.surface, *o->nodes, o->quality.value_or(1.414), 0.1, true,
+                                                  budget(*o));
       } else {
         mesh::TetrahedralizeOptions to;
         to.max_volume = o->max_volume;
         if (o->quality) to.radius_edge_ratio = *o->quality;
         if (o->min_dihedral) to.min_dihedral_deg = *o->min_dihedral;
+        to.budget = budget(*o);
         tets = mesh::tetrahedralize(*in.surface, to);
       }
       mesh::write_mesh(o->output, tets, wo);
@@ -118,6 +172,7 @@ Action add_mesh(CLI::App& app) {
                   b.surface.triangles.size());
     } else if (in.volume) {
       mesh::write_mesh(o->output, *in.volume, wo);
+      report_orientation(source, in);
       std::printf("%s: %zu nodes, %zu tetrahedra\n", o->output.c_str(), in.volume->vertices.size(),
                   in.volume->tets.size());
     } else {

@@ -1,12 +1,17 @@
 #include "mesh/tetrahedralize.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstring>
+#include <functional>
+#include <new>
 #include <vector>
 
 #include <fmt/format.h>
 #include <tetgen.h>
 
+#include "core/child_process.hpp"
 #include "core/error.hpp"
 #include "core/progress.hpp"
 #include "mesh/validate.hpp"
@@ -84,6 +89,126 @@ void fill_input(const TriMesh& surface, tetgenio& in) {
   }
 }
 
+// ---- running TetGen within a budget: the child sends back a status byte, then the mesh
+// (vertex count, coordinates, tet count, corners) or the reason it failed.
+
+enum class JobStatus : char { ok, input_error, out_of_memory };
+
+template <class T>
+void put(std::string& out, const T& value) {
+  out.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+std::string encode(const TetMesh& mesh) {
+  std::string out(1, static_cast<char>(JobStatus::ok));
+  put(out, static_cast<std::uint64_t>(mesh.vertices.size()));
+  for (const auto& v : mesh.vertices) out.append(reinterpret_cast<const char*>(v.data()), 3 * sizeof(double));
+  put(out, static_cast<std::uint64_t>(mesh.tets.size()));
+  for (const auto& t : mesh.tets) out.append(reinterpret_cast<const char*>(t.data()), 4 * sizeof(Index));
+  return out;
+}
+
+class Decoder {
+ public:
+  explicit Decoder(const std::string& data) : data_(data) {}
+  void read(void* to, std::size_t n) {
+    if (data_.size() - pos_ < n) throw std::runtime_error("tetrahedralize: truncated result from the TetGen process");
+    std::memcpy(to, data_.data() + pos_, n);
+    pos_ += n;
+  }
+  std::uint64_t count(std::size_t each) {
+    std::uint64_t n = 0;
+    read(&n, sizeof n);
+    if (n > (data_.size() - pos_) / each) throw std::runtime_error("tetrahedralize: bad result from the TetGen process");
+    return n;
+  }
+  [[nodiscard]] std::string rest() const { return data_.substr(pos_); }
+
+ private:
+  const std::string& data_;
+  std::size_t pos_ = 0;
+};
+
+TetMesh decode(const std::string& data) {
+  Decoder in(data);
+  char status = 0;
+  in.read(&status, 1);
+  if (status == static_cast<char>(JobStatus::input_error)) throw InputError(in.rest());
+  if (status == static_cast<char>(JobStatus::out_of_memory))
+    throw InputError("TetGen ran out of memory within the allowed " + in.rest() +
+                     " (tactus mesh --max-memory raises it)");
+  TetMesh mesh;
+  mesh.vertices.resize(in.count(3 * sizeof(double)));
+  for (auto& v : mesh.vertices) in.read(v.data(), 3 * sizeof(double));
+  mesh.tets.resize(in.count(4 * sizeof(Index)));
+  for (auto& t : mesh.tets) in.read(t.data(), 4 * sizeof(Index));
+  return mesh;
+}
+
+/// The budget's deadline, fixed when a call starts, so that a search of several TetGen
+/// runs shares one limit.
+struct Deadline {
+  TetGenBudget budget;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+
+  [[nodiscard]] double seconds_left() const {
+    return budget.seconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+};
+
+std::string mib(std::size_t bytes) { return fmt::format("{:.0f} MiB", static_cast<double>(bytes) / (1 << 20)); }
+
+/// Runs `job` (which calls TetGen) in-process when unbounded, else in a child process
+/// that is killed at the deadline.
+TetMesh run_within(const Deadline& deadline, const std::function<TetMesh()>& job) {
+  if (!deadline.budget.bounded()) return job();
+  const auto limit_text = [&] { return fmt::format("{:g} s", deadline.budget.seconds); };
+  ChildLimits limits;
+  limits.memory_bytes = deadline.budget.memory_bytes;
+  if (deadline.budget.seconds > 0.0) {
+    limits.seconds = deadline.seconds_left();
+    if (limits.seconds <= 0.0)
+      throw InputError(fmt::format("tetrahedralization did not finish within {} (tactus mesh --timeout raises the "
+                                   "limit; a looser --quality or --min-dihedral, or a coarser surface, needs less)",
+                                   limit_text()));
+  }
+  limits.progress_label = "TetGen";
+  const std::size_t memory = deadline.budget.memory_bytes;
+  const ChildResult r = run_in_child(
+      [&job, memory]() -> std::string {
+        try {
+          return encode(job());
+        } catch (const InputError& e) {
+          return std::string(1, static_cast<char>(JobStatus::input_error)) + e.reason();
+        } catch (const std::bad_alloc&) {
+          return std::string(1, static_cast<char>(JobStatus::out_of_memory)) + mib(memory);
+        }
+      },
+      limits);
+  switch (r.outcome) {
+    case ChildOutcome::finished:
+      try {
+        return decode(r.output);
+      } catch (const InputError& e) {
+        // TetGen reports a failed allocation as its own error code.
+        if (memory == 0 || e.reason().find("out of memory") == std::string::npos) throw;
+        throw InputError(e.reason() + fmt::format(" (its memory capped at {}; tactus mesh --max-memory raises the cap)",
+                                                  mib(memory)));
+      }
+    case ChildOutcome::timed_out:
+      throw InputError(fmt::format("tetrahedralization did not finish within {} (tactus mesh --timeout raises the "
+                                   "limit; a looser --quality or --min-dihedral, or a coarser surface, needs less)",
+                                   limit_text()));
+    case ChildOutcome::failed: break;
+  }
+  if (memory > 0)
+    throw InputError(fmt::format("TetGen stopped ({}) with its memory capped at {} (tactus mesh --max-memory "
+                                 "raises the cap)",
+                                 r.signal ? fmt::format("signal {}", r.signal) : std::string("an error"), mib(memory)));
+  throw InputError(fmt::format("TetGen crashed ({})",
+                               r.signal ? fmt::format("signal {}", r.signal) : std::string("an internal error")));
+}
+
 void run_tetgen(std::string switches, tetgenio& in, tetgenio& out) {
   try {
     ::tetrahedralize(switches.data(), &in, &out);
@@ -94,7 +219,7 @@ void run_tetgen(std::string switches, tetgenio& in, tetgenio& out) {
 
 // TetGen 1.5 crashes while cleaning up after it finds a self-intersection during meshing,
 // so intersections are looked for first with its detection-only mode (d).
-void check_self_intersections(const TriMesh& surface) {
+void tetgen_self_intersections(const TriMesh& surface) {
   tetgenio in, out;
   fill_input(surface, in);
   run_tetgen("pzdQ", in, out);
@@ -104,6 +229,13 @@ void check_self_intersections(const TriMesh& surface) {
                                  "e.g. the one with vertices {} {} {})",
                                  out.numberoftrifaces, f[0], f[1], f[2]));
   }
+}
+
+void check_self_intersections(const TriMesh& surface, const Deadline& deadline) {
+  run_within(deadline, [&] {
+    tetgen_self_intersections(surface);
+    return TetMesh{};
+  });
 }
 
 TetMesh tetrahedralize_checked(const TriMesh& surface, const TetrahedralizeOptions& options) {
@@ -133,13 +265,15 @@ TetMesh tetrahedralize_checked(const TriMesh& surface, const TetrahedralizeOptio
 TetMesh tetrahedralize(const TriMesh& closed_surface, const TetrahedralizeOptions& options) {
   check_options(options);
   require_closed_manifold(closed_surface);
-  check_self_intersections(closed_surface);
-  return tetrahedralize_checked(closed_surface, options);
+  const Deadline deadline{options.budget};
+  check_self_intersections(closed_surface, deadline);
+  return run_within(deadline, [&] { return tetrahedralize_checked(closed_surface, options); });
 }
 
 NodeCountResult tetrahedralize_to_node_count_detailed(const TriMesh& closed_surface, std::size_t target_nodes,
                                                       double radius_edge_ratio, double tolerance,
-                                                      bool preserve_surface) {
+                                                      bool preserve_surface, const TetGenBudget& budget) {
+  const Deadline deadline{budget};
   if (target_nodes < 4) throw InputError(fmt::format("tetrahedralize: target node count {} is below 4", target_nodes));
   const double volume = closed_surface.signed_volume();
   const auto target = static_cast<double>(target_nodes);
@@ -149,13 +283,13 @@ NodeCountResult tetrahedralize_to_node_count_detailed(const TriMesh& closed_surf
     options.max_volume = max_volume;
     options.radius_edge_ratio = radius_edge_ratio;
     options.preserve_surface = preserve_surface;
-    return tetrahedralize_checked(closed_surface, options);
+    return run_within(deadline, [&] { return tetrahedralize_checked(closed_surface, options); });
   };
   TetrahedralizeOptions checked;
   checked.radius_edge_ratio = radius_edge_ratio;
   check_options(checked);
   require_closed_manifold(closed_surface);
-  check_self_intersections(closed_surface);
+  check_self_intersections(closed_surface, deadline);
 
   // The coarsest mesh the surface and the quality bound allow.
   TetMesh coarse = run(std::nullopt);
@@ -194,9 +328,10 @@ NodeCountResult tetrahedralize_to_node_count_detailed(const TriMesh& closed_surf
 }
 
 TetMesh tetrahedralize_to_node_count(const TriMesh& closed_surface, std::size_t target_nodes,
-                                     double radius_edge_ratio, double tolerance, bool preserve_surface) {
+                                     double radius_edge_ratio, double tolerance, bool preserve_surface,
+                                     const TetGenBudget& budget) {
   return tetrahedralize_to_node_count_detailed(closed_surface, target_nodes, radius_edge_ratio, tolerance,
-                                               preserve_surface)
+                                               preserve_surface, budget)
       .mesh;
 }
 

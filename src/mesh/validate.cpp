@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "mesh/self_intersection.hpp"
+
 namespace tactus::mesh {
 
 bool ValidationReport::ok() const { return count(Severity::error) == 0; }
@@ -28,10 +30,10 @@ constexpr double kFlat = 1e-12;
 class Collector {
  public:
   template <class Fn>
-  void add(const std::string& kind, Severity severity, Fn&& message) {
+  void add(const std::string& kind, Severity severity, Fn&& message, std::size_t limit = kMaxMessagesPerKind) {
     auto it = std::find_if(kinds_.begin(), kinds_.end(), [&](const Kind& k) { return k.name == kind; });
     if (it == kinds_.end()) it = kinds_.insert(kinds_.end(), Kind{kind, severity, {}, 0});
-    if (it->messages.size() < kMaxMessagesPerKind)
+    if (it->messages.size() < limit)
       it->messages.push_back(message());
     else
       ++it->omitted;
@@ -59,12 +61,60 @@ class Collector {
 
 bool finite(const Vec3& p) { return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()); }
 
-void check_vertices(const std::vector<Vec3>& vertices, Collector& out) {
+/// Names vertices and elements in messages: by the file's numbers and lines when known,
+/// else by their 0-based positions.
+class Names {
+ public:
+  Names(const char* element, const FileNumbering* numbering) : element_(element), numbering_(numbering) {}
+
+  [[nodiscard]] std::int64_t vertex(Index v) const { return numbering_ ? numbering_->vertex(v) : v; }
+
+  template <std::size_t N>
+  [[nodiscard]] std::string vertices(const std::array<Index, N>& e) const {
+    std::string s;
+    for (std::size_t i = 0; i < N; ++i) s.append(fmt::format("{}{}", i ? " " : "", vertex(e[i])));
+    return s;
+  }
+
+  /// "triangle 4", or "face 5 (line 12)" as the file numbers it.
+  [[nodiscard]] std::string element(std::size_t i) const {
+    if (!numbered(i)) return fmt::format("{} {}", element_, i);
+    std::string s = fmt::format("{} {}", word(), numbering_->element_number[i]);
+    if (line(i) > 0) s.append(fmt::format(" (line {})", line(i)));
+    return s;
+  }
+
+  /// "triangle 4 (vertices 1 2 3)", or "face 5 (line 12, vertices 2 3 4)".
+  template <std::size_t N>
+  [[nodiscard]] std::string element(std::size_t i, const std::array<Index, N>& e) const {
+    if (!numbered(i)) return fmt::format("{} {} (vertices {})", element_, i, vertices(e));
+    if (line(i) == 0) return fmt::format("{} {} (vertices {})", word(), numbering_->element_number[i], vertices(e));
+    return fmt::format("{} {} (line {}, vertices {})", word(), numbering_->element_number[i], line(i), vertices(e));
+  }
+
+  [[nodiscard]] const char* plural() const { return element_ == std::string("triangle") ? "triangles" : "tetrahedra"; }
+
+ private:
+  [[nodiscard]] bool numbered(std::size_t i) const {
+    return numbering_ && i < numbering_->element_number.size();
+  }
+  [[nodiscard]] std::uint32_t line(std::size_t i) const {
+    return i < numbering_->element_line.size() ? numbering_->element_line[i] : 0;
+  }
+  [[nodiscard]] std::string word() const {
+    return numbering_->element_word.empty() ? std::string(element_) : numbering_->element_word;
+  }
+
+  const char* element_;
+  const FileNumbering* numbering_;
+};
+
+void check_vertices(const std::vector<Vec3>& vertices, const Names& names, Collector& out) {
   for (std::size_t v = 0; v < vertices.size(); ++v)
     if (!finite(vertices[v]))
       out.add("non-finite vertex coordinates", Severity::error, [&] {
-        return fmt::format("vertex {}: coordinate is not finite ({} {} {})", v, vertices[v].x(), vertices[v].y(),
-                           vertices[v].z());
+        return fmt::format("vertex {}: coordinate is not finite ({} {} {})", names.vertex(static_cast<Index>(v)),
+                           vertices[v].x(), vertices[v].y(), vertices[v].z());
       });
 }
 
@@ -75,22 +125,15 @@ double finite_diagonal(const std::vector<Vec3>& vertices) {
   return box.size().norm();
 }
 
-template <std::size_t N>
-std::string list(const std::array<Index, N>& e) {
-  std::string s;
-  for (std::size_t i = 0; i < N; ++i) s += fmt::format("{}{}", i ? " " : "", e[i]);
-  return s;
-}
-
 /// Index range and repeated-vertex checks; false when the element must be skipped.
 template <std::size_t N>
-bool check_indices(const char* name, std::size_t i, const std::array<Index, N>& e, std::size_t nv,
+bool check_indices(const Names& names, std::size_t i, const std::array<Index, N>& e, std::size_t nv,
                    Collector& out) {
   for (Index v : e)
     if (v < 0 || static_cast<std::size_t>(v) >= nv) {
       out.add("vertex indices out of range", Severity::error, [&] {
-        return fmt::format("{} {} (vertices {}): vertex index {} out of range (mesh has {} vertices)", name, i,
-                           list(e), v, nv);
+        return fmt::format("{}: vertex index {} out of range (mesh has {} vertices)", names.element(i, e),
+                           names.vertex(v), nv);
       });
       return false;
     }
@@ -98,7 +141,7 @@ bool check_indices(const char* name, std::size_t i, const std::array<Index, N>& 
     for (std::size_t b = a + 1; b < N; ++b)
       if (e[a] == e[b]) {
         out.add("elements with a repeated vertex", Severity::error, [&] {
-          return fmt::format("{} {} (vertices {}): vertex {} repeated", name, i, list(e), e[a]);
+          return fmt::format("{}: vertex {} repeated", names.element(i, e), names.vertex(e[a]));
         });
         return false;
       }
@@ -106,7 +149,7 @@ bool check_indices(const char* name, std::size_t i, const std::array<Index, N>& 
 }
 
 template <std::size_t N>
-void check_duplicates(const char* name, const std::vector<std::array<Index, N>>& elements,
+void check_duplicates(const Names& names, const std::vector<std::array<Index, N>>& elements,
                       const std::vector<char>& usable, Collector& out) {
   std::vector<std::pair<std::array<Index, N>, std::size_t>> sorted;
   for (std::size_t i = 0; i < elements.size(); ++i) {
@@ -120,18 +163,30 @@ void check_duplicates(const char* name, const std::vector<std::array<Index, N>>&
     if (sorted[i].first == sorted[i - 1].first) {
       std::size_t first = i - 1;
       while (first > 0 && sorted[first - 1].first == sorted[i].first) --first;
-      out.add(fmt::format("duplicate {}s", name), Severity::error, [&] {
-        return fmt::format("{} {} (vertices {}): duplicate of {} {}", name, sorted[i].second,
-                           list(elements[sorted[i].second]), name, sorted[first].second);
+      out.add(fmt::format("duplicate {}", names.plural()), Severity::error, [&] {
+        return fmt::format("{}: duplicate of {} (the same vertices)",
+                           names.element(sorted[i].second, elements[sorted[i].second]),
+                           names.element(sorted[first].second));
       });
     }
 }
 
-void check_unused(std::size_t nv, const std::vector<char>& used, Collector& out) {
+void check_unused(std::size_t nv, const std::vector<char>& used, const Names& names, Collector& out) {
   for (std::size_t v = 0; v < nv; ++v)
     if (!used[v])
-      out.add("unused vertices", Severity::warning,
-              [&] { return fmt::format("vertex {}: unused (no element references it)", v); });
+      out.add("unused vertices", Severity::warning, [&] {
+        return fmt::format("vertex {}: unused (no element references it)", names.vertex(static_cast<Index>(v)));
+      });
+}
+
+void check_coincident(const std::vector<Vec3>& vertices, double diagonal, const Names& names, Collector& out) {
+  const double tolerance = kCoincidentVertices * diagonal;
+  for (const auto& [v, first] : find_duplicate_vertices(vertices, tolerance))
+    out.add("duplicate vertices", Severity::warning, [&] {
+      return fmt::format("vertex {}: coincides with vertex {} (within {:.3g} m, {:g} of the bounding-box diagonal)",
+                         names.vertex(static_cast<Index>(v)), names.vertex(static_cast<Index>(first)), tolerance,
+                         kCoincidentVertices);
+    });
 }
 
 std::uint64_t edge_key(Index a, Index b) {
@@ -139,7 +194,7 @@ std::uint64_t edge_key(Index a, Index b) {
 }
 
 void check_edges(const TriMesh& mesh, const std::vector<char>& usable, const SurfaceChecks& checks,
-                 Collector& out) {
+                 const Names& names, Collector& out) {
   struct Use {
     std::uint64_t key;
     Index from, to;
@@ -158,22 +213,24 @@ void check_edges(const TriMesh& mesh, const std::vector<char>& usable, const Sur
     std::size_t j = i;
     while (j < uses.size() && uses[j].key == uses[i].key) ++j;
     const Index lo = std::min(uses[i].from, uses[i].to), hi = std::max(uses[i].from, uses[i].to);
+    const auto edge = [&] { return fmt::format("edge ({}, {})", names.vertex(lo), names.vertex(hi)); };
     if (j - i > 2) {
       out.add("non-manifold edges", Severity::error, [&] {
         std::string tris;
-        for (std::size_t k = i; k < j; ++k) tris += fmt::format("{}{}", k > i ? " " : "", uses[k].tri);
-        return fmt::format("edge ({}, {}): non-manifold, shared by {} triangles ({})", lo, hi, j - i, tris);
+        for (std::size_t k = i; k < j; ++k) tris.append(fmt::format("{}{}", k > i ? ", " : "", names.element(uses[k].tri)));
+        return fmt::format("{}: non-manifold, shared by {} triangles ({})", edge(), j - i, tris);
       });
     } else if (j - i == 2 && uses[i].from == uses[i + 1].from) {
       out.add("edges with inconsistent orientation", Severity::error, [&] {
-        return fmt::format("edge ({}, {}): inconsistent orientation, triangles {} and {} both traverse it {}->{}",
-                           lo, hi, uses[i].tri, uses[i + 1].tri, uses[i].from, uses[i].to);
+        return fmt::format("{}: inconsistent orientation, {} and {} both traverse it {}->{}", edge(),
+                           names.element(uses[i].tri), names.element(uses[i + 1].tri), names.vertex(uses[i].from),
+                           names.vertex(uses[i].to));
       });
     } else if (j - i == 1) {
       ++boundary;
       if (checks.require_closed)
         out.add("open boundary edges", Severity::error, [&] {
-          return fmt::format("edge ({}, {}): open boundary, used only by triangle {}", lo, hi, uses[i].tri);
+          return fmt::format("{}: open boundary, used only by {}", edge(), names.element(uses[i].tri));
         });
     }
     i = j;
@@ -183,48 +240,71 @@ void check_edges(const TriMesh& mesh, const std::vector<char>& usable, const Sur
             [&] { return fmt::format("surface is open: {} boundary edges", boundary); });
 }
 
+/// `skip`: triangles already reported as unusable, not finite or flat (a flat one has no plane to test against).
+void check_self_intersections(const TriMesh& mesh, const std::vector<char>& skip, double diagonal,
+                              const Names& names, Collector& out) {
+  const auto found = find_self_intersections(mesh, skip, kCoincidentVertices * diagonal, kSelfIntersectionsShown);
+  if (found.count == 0) return;
+  out.add("self-intersection", Severity::error, [&] {
+    return fmt::format("surface intersects itself: {} {} of triangles cross or overlap", found.count,
+                       found.count == 1 ? "pair" : "pairs");
+  });
+  for (const auto& [a, b] : found.first)
+    out.add("intersecting triangle pairs", Severity::error, [&] {
+      return fmt::format("{} and {} intersect", names.element(a, mesh.triangles[a]),
+                         names.element(b, mesh.triangles[b]));
+    }, kSelfIntersectionsShown);
+}
+
 }  // namespace
 
-ValidationReport validate(const TriMesh& mesh, const SurfaceChecks& checks) {
+ValidationReport validate(const TriMesh& mesh, const SurfaceChecks& checks, const FileNumbering* numbering) {
   Collector out;
+  const Names names("triangle", numbering);
   const std::size_t nv = mesh.vertices.size();
-  check_vertices(mesh.vertices, out);
+  check_vertices(mesh.vertices, names, out);
   const double diagonal = finite_diagonal(mesh.vertices);
 
   std::vector<char> usable(mesh.triangles.size(), 0);
+  std::vector<char> skip_intersections(mesh.triangles.size(), 1);
   std::vector<char> used(nv, 0);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& f = mesh.triangles[t];
-    if (!check_indices("triangle", t, f, nv, out)) continue;
+    if (!check_indices(names, t, f, nv, out)) continue;
     for (Index v : f) used[v] = 1;
     usable[t] = 1;
     const Vec3 &a = mesh.vertices[f[0]], &b = mesh.vertices[f[1]], &c = mesh.vertices[f[2]];
     if (!finite(a) || !finite(b) || !finite(c)) continue;
     const double area = 0.5 * (b - a).cross(c - a).norm();
     const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    if (area <= kFlat * longest * longest || area <= kFlat * diagonal * diagonal)
+    const bool flat = area <= kFlat * longest * longest || area <= kFlat * diagonal * diagonal;
+    skip_intersections[t] = flat;
+    if (flat)
       out.add("degenerate triangles", Severity::error, [&] {
-        return fmt::format("triangle {} (vertices {}): degenerate, area {:.3g} m² (longest edge {:.3g} m)", t,
-                           list(f), area, longest);
+        return fmt::format("{}: degenerate, area {:.3g} m² (longest edge {:.3g} m)", names.element(t, f), area,
+                           longest);
       });
   }
-  check_edges(mesh, usable, checks, out);
-  check_duplicates("triangle", mesh.triangles, usable, out);
-  check_unused(nv, used, out);
+  check_edges(mesh, usable, checks, names, out);
+  check_duplicates(names, mesh.triangles, usable, out);
+  check_self_intersections(mesh, skip_intersections, diagonal, names, out);
+  check_coincident(mesh.vertices, diagonal, names, out);
+  check_unused(nv, used, names, out);
   return out.finish();
 }
 
-ValidationReport validate(const TetMesh& mesh) {
+ValidationReport validate(const TetMesh& mesh, const FileNumbering* numbering) {
   Collector out;
+  const Names names("tetrahedron", numbering);
   const std::size_t nv = mesh.vertices.size();
-  check_vertices(mesh.vertices, out);
+  check_vertices(mesh.vertices, names, out);
   const double diagonal = finite_diagonal(mesh.vertices);
 
   std::vector<char> usable(mesh.tets.size(), 0);
   std::vector<char> used(nv, 0);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
     const Tet& e = mesh.tets[t];
-    if (!check_indices("tetrahedron", t, e, nv, out)) continue;
+    if (!check_indices(names, t, e, nv, out)) continue;
     for (Index v : e) used[v] = 1;
     usable[t] = 1;
     const Vec3 &a = mesh.vertices[e[0]], &b = mesh.vertices[e[1]], &c = mesh.vertices[e[2]],
@@ -236,15 +316,15 @@ ValidationReport validate(const TetMesh& mesh) {
     const double flat = std::max(kFlat * longest * longest * longest, kFlat * diagonal * diagonal * diagonal);
     if (std::abs(volume) <= flat)
       out.add("zero-volume tetrahedra", Severity::error, [&] {
-        return fmt::format("tetrahedron {} (vertices {}): zero volume ({:.3g} m³, longest edge {:.3g} m)", t,
-                           list(e), volume, longest);
+        return fmt::format("{}: zero volume ({:.3g} m³, longest edge {:.3g} m)", names.element(t, e), volume,
+                           longest);
       });
     else if (volume < 0.0)
       out.add("inverted tetrahedra", Severity::error, [&] {
-        return fmt::format("tetrahedron {} (vertices {}): inverted, volume {:.3g} m³", t, list(e), volume);
+        return fmt::format("{}: inverted, volume {:.3g} m³", names.element(t, e), volume);
       });
   }
-  check_duplicates("tetrahedron", mesh.tets, usable, out);
+  check_duplicates(names, mesh.tets, usable, out);
 
   // A face may bound at most two tets.
   std::vector<std::pair<std::array<Index, 3>, std::size_t>> faces;
@@ -265,16 +345,16 @@ ValidationReport validate(const TetMesh& mesh) {
     if (j - i > 2)
       out.add("non-manifold faces", Severity::error, [&] {
         std::string tets;
-        for (std::size_t k = i; k < j; ++k) tets += fmt::format("{}{}", k > i ? " " : "", faces[k].second);
-        return fmt::format("face ({}): non-manifold, shared by {} tetrahedra ({})", list(faces[i].first), j - i,
-                           tets);
+        for (std::size_t k = i; k < j; ++k) tets.append(fmt::format("{}{}", k > i ? ", " : "", names.element(faces[k].second)));
+        return fmt::format("face ({}): non-manifold, shared by {} tetrahedra ({})", names.vertices(faces[i].first),
+                           j - i, tets);
       });
     i = j;
   }
 
   // Optional labelled faces and regions that came with a file.
   for (std::size_t f = 0; f < mesh.faces.size(); ++f)
-    check_indices("face", f, mesh.faces[f], nv, out);
+    check_indices(Names("face", nullptr), f, mesh.faces[f], nv, out);
   if (!mesh.tet_regions.empty() && mesh.tet_regions.size() != mesh.tets.size())
     out.add("region labels", Severity::error, [&] {
       return fmt::format("tet_regions has {} entries for {} tetrahedra", mesh.tet_regions.size(), mesh.tets.size());
@@ -283,7 +363,8 @@ ValidationReport validate(const TetMesh& mesh) {
     out.add("face markers", Severity::error, [&] {
       return fmt::format("face_markers has {} entries for {} faces", mesh.face_markers.size(), mesh.faces.size());
     });
-  check_unused(nv, used, out);
+  check_coincident(mesh.vertices, diagonal, names, out);
+  check_unused(nv, used, names, out);
   return out.finish();
 }
 

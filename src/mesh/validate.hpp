@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/file_numbering.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "mesh/tri_mesh.hpp"
 
@@ -31,7 +32,16 @@ struct SurfaceChecks {
   bool require_closed = false;  ///< open boundary edges become errors, not warnings
 };
 
-ValidationReport validate(const TriMesh& mesh, const SurfaceChecks& checks = {});
-ValidationReport validate(const TetMesh& mesh);
+/// Intersecting triangle pairs listed before the rest are only counted.
+inline constexpr std::size_t kSelfIntersectionsShown = 5;
+/// Vertices closer than this fraction of the bounding-box diagonal are reported as
+/// duplicates (a warning: a seam that should have been welded).
+inline constexpr double kCoincidentVertices = 1e-9;
+
+/// Every problem found. With `numbering` (what the reader recorded) messages name
+/// vertices and elements as the file numbers them, with the line each was read on.
+ValidationReport validate(const TriMesh& mesh, const SurfaceChecks& checks = {},
+                          const FileNumbering* numbering = nullptr);
+ValidationReport validate(const TetMesh& mesh, const FileNumbering* numbering = nullptr);
 
 }  // namespace tactus::mesh

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/generators.hpp"
 #include "mesh/io/mesh_io.hpp"
 
 namespace fs = std::filesystem;
@@ -117,6 +118,92 @@ TEST_F(Cli, InspectFlagsAnOpenSurfaceAndMalformedFile) {
   EXPECT_NE(r.err.find("broken.obj:4"), std::string::npos) << r.err;
 }
 
+TEST_F(Cli, InspectNamesElementsAsTheFileNumbersThem) {
+  // OBJ counts from 1: the flat face is the third 'f', on line 9.
+  std::ofstream(dir_ / "flat.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0.5 0.5 0\n# faces\n"
+                                      "f 1 3 2\nf 1 2 4\nf 2 5 3\nf 1 4 3\nf 2 3 4\n";
+  auto r = run("inspect " + (dir_ / "flat.obj").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("face 3 (line 9, vertices 2 5 3): degenerate"), std::string::npos) << r.out;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("flat.obj: 2 errors; the first: face 3 (line 9"), std::string::npos) << r.err;
+
+  // OFF counts from 0.
+  std::ofstream(dir_ / "flat.off") << "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0.5 0.5 0\n3 0 1 2\n3 1 3 2\n";
+  r = run("inspect " + (dir_ / "flat.off").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("face 1 (line 8, vertices 1 3 2): degenerate"), std::string::npos) << r.out;
+
+  // Gmsh: element and node tags as written.
+  std::ofstream(dir_ / "mix.msh") << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n10 0 0 0\n20 1 0 0\n"
+                                     "30 0 1 0\n40 0 0 1\n50 0 0 -1\n$EndNodes\n$Elements\n2\n"
+                                     "7 4 2 0 1 10 20 30 40\n9 4 2 0 1 10 20 30 50\n$EndElements\n";
+  r = run("inspect " + (dir_ / "mix.msh").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("element 9 (line 15, vertices 10 20 30 50): inverted"), std::string::npos) << r.out;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+
+  // TetGen: from its first index (1 here).
+  std::ofstream(dir_ / "one.node") << "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0 0 -1\n";
+  std::ofstream(dir_ / "one.ele") << "2 4 0\n1 1 2 3 4\n2 1 2 3 5\n";
+  r = run("inspect " + (dir_ / "one.node").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("tetrahedron 2 (line 3, vertices 1 2 3 5): inverted"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, InspectFindsSelfIntersectionsAndCoincidentVertices) {
+  using tactus::mesh::TriMesh;
+  TriMesh two = tactus::mesh::sphere(1.0, 2);
+  TriMesh other = tactus::mesh::sphere(1.0, 2);
+  const auto offset = static_cast<tactus::mesh::Index>(two.vertices.size());
+  for (const auto& v : other.vertices) two.vertices.push_back(v + tactus::Vec3(0.8, 0.1, 0.0));
+  for (const auto& t : other.triangles) two.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  const fs::path obj = dir_ / "crossing.obj";
+  tactus::mesh::write_mesh(obj, two);
+  auto r = run("inspect " + obj.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("surface intersects itself:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(") intersect"), std::string::npos) << r.out;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("crossing.obj"), std::string::npos) << r.err;
+  // Tetrahedralization refuses it the same way, before TetGen runs.
+  r = run("mesh " + obj.string() + " -o " + (dir_ / "t.msh").string() + " --max-volume 0.01");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("intersects itself"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+
+  // A vertex repeated a hair away and one no face uses: warnings, exit 0.
+  std::ofstream(dir_ / "seam.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1e-12 0 0\nv 5 5 5\n"
+                                      "f 1 3 2\nf 5 2 4\nf 1 4 3\nf 2 3 4\n";
+  r = run("inspect " + (dir_ / "seam.obj").string());
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("vertex 5: coincides with vertex 1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("vertex 6: unused"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err, "");
+}
+
+TEST_F(Cli, ConvertingSaysWhatHappenedToInvertedTetrahedra) {
+  // All negative: the mirrored convention, flipped as a whole, said on stderr.
+  std::ofstream(dir_ / "neg.node") << "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n";
+  std::ofstream(dir_ / "neg.ele") << "1 4 0\n1 1 3 2 4\n";
+  auto r = run("mesh " + (dir_ / "neg.node").string() + " -o " + (dir_ / "neg.vtu").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("flipped all 1 tetrahedra"), std::string::npos) << r.err;
+  // A mix: written as they are, with a warning naming them as the file numbers them.
+  std::ofstream(dir_ / "mix.node") << "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0 0 -1\n";
+  std::ofstream(dir_ / "mix.ele") << "3 4 0\n1 1 2 3 4\n2 1 2 3 5\n3 1 3 2 5\n";
+  r = run("mesh " + (dir_ / "mix.node").string() + " -o " + (dir_ / "mix.vtk").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("1 inverted tetrahedra written as they are: 2 (file numbering)"), std::string::npos) << r.err;
+  // A clean file: nothing on stderr.
+  std::ofstream(dir_ / "ok.node") << "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n";
+  std::ofstream(dir_ / "ok.ele") << "1 4 0\n1 1 2 3 4\n";
+  r = run("mesh " + (dir_ / "ok.node").string() + " -o " + (dir_ / "ok.msh").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+}
+
 TEST_F(Cli, GeneratesAndConvertsMeshes) {
   const fs::path stl = dir_ / "sphere.stl";
   auto r = run("mesh --generate sphere --size 0.05 --resolution 3 -o " + stl.string());
@@ -153,6 +240,53 @@ TEST_F(Cli, TetrahedralizingAnOpenSurfaceIsAUserError) {
                      " --max-volume 0.01");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
+}
+
+TEST_F(Cli, TetrahedralizationStopsAtTheTimeout) {
+  const fs::path surface = dir_ / "sphere.stl";
+  ASSERT_EQ(run("mesh --generate sphere --size 0.05 --resolution 3 -o " + surface.string()).exit_code, 0);
+  const auto r = run("mesh " + surface.string() + " -o " + (dir_ / "s.msh").string() +
+                     " --max-volume 1e-11 --timeout 0.2");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("did not finish within 0.2 s"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--timeout"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_FALSE(fs::exists(dir_ / "s.msh"));
+}
+
+TEST_F(Cli, MeshAndInspectRefuseBadInputOnStderrOnly) {
+  std::ofstream(dir_ / "empty.obj") << "";
+  std::ofstream(dir_ / "open.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(dir_ / "tet.node") << "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n";
+  std::ofstream(dir_ / "tet.ele") << "1 4 0\n0 0 1 2 3\n";
+  fs::create_directories(dir_ / "folder.obj");
+  const std::string d = dir_.string() + "/";
+  const std::vector<std::string> refused = {
+      "inspect " + d + "nope.obj",
+      "inspect " + d + "folder.obj",
+      "inspect " + d + "empty.obj",
+      "inspect " + d + "open.xyz",
+      "mesh -o " + d + "a.obj",
+      "mesh " + d + "open.obj --generate box -o " + d + "a.obj",
+      "mesh --generate blob -o " + d + "a.obj",
+      "mesh " + d + "tet.node -o " + d + "a.msh --max-volume 1",
+      "mesh " + d + "open.obj -o " + d + "a.msh --max-volume 1",
+      "mesh " + d + "tet.node -o " + d + "a.obj",
+      "mesh " + d + "open.obj -o " + d + "no/such/folder/a.obj",
+      "mesh " + d + "open.obj -o " + d + "a.msh --nodes 100 --max-volume 1",
+      "mesh " + d + "open.obj -o " + d + "a.xyz",
+      "mesh " + d + "empty.obj -o " + d + "a.stl",
+  };
+  for (const auto& args : refused) {
+    const auto r = run(args);
+    EXPECT_EQ(r.exit_code, 1) << args;
+    EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("tactus: ", 0), 0u) << args << ": " << r.err;
+    EXPECT_EQ(r.out, "") << args;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "a.obj"));
+  EXPECT_FALSE(fs::exists(dir_ / "a.msh"));
 }
 
 TEST_F(Cli, RunsTheDefaultScene) {

@@ -1,8 +1,11 @@
 #include "mesh/tetrahedralize.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -144,6 +147,60 @@ TEST(Tetrahedralize, NodeCountTargetBelowSurfaceIsRejected) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("use a coarser surface"), std::string::npos) << e.what();
   }
+}
+
+/// No child process left behind, exited or not.
+void expect_no_children() {
+  errno = 0;
+  EXPECT_EQ(::waitpid(-1, nullptr, WNOHANG), -1);
+  EXPECT_EQ(errno, ECHILD);
+}
+
+TEST(TetrahedralizeBudget, ABoundedRunGivesTheSameMesh) {
+  const TriMesh s = sphere(0.05, 3);
+  TetrahedralizeOptions o;
+  o.max_volume = 1e-7;
+  const TetMesh in_process = tetrahedralize(s, o);
+  o.budget.seconds = 60.0;
+  o.budget.memory_bytes = std::size_t{8} << 30;
+  const TetMesh bounded = tetrahedralize(s, o);
+  EXPECT_EQ(bounded.vertices, in_process.vertices);
+  EXPECT_EQ(bounded.tets, in_process.tets);
+  const TetMesh counted = tetrahedralize_to_node_count(s, 1500, 1.414, 0.1, true, o.budget);
+  EXPECT_EQ(counted.tets, tetrahedralize_to_node_count(s, 1500).tets);
+  expect_no_children();
+}
+
+TEST(TetrahedralizeBudget, AJobPastTheDeadlineIsStoppedAndRefused) {
+  // Millions of tetrahedra: many seconds of work, stopped after 0.2 s.
+  TetrahedralizeOptions o;
+  o.max_volume = 1e-11;
+  o.budget.seconds = 0.2;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    (void)tetrahedralize(sphere(0.05, 3), o);
+    ADD_FAILURE() << "expected a timeout";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("did not finish within 0.2 s"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--timeout"), std::string::npos) << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 3.0);
+  // The node-count search shares one deadline across its runs.
+  EXPECT_THROW((void)tetrahedralize_to_node_count(organ(0.22, 12), 200000, 1.414, 0.1, true, {0.2, 0}), InputError);
+  expect_no_children();
+}
+
+TEST(TetrahedralizeBudget, AMemoryCapIsRefusedNamingIt) {
+  TetrahedralizeOptions o;
+  o.max_volume = 1e-11;
+  o.budget.memory_bytes = std::size_t{64} << 20;  // below what the process already maps
+  try {
+    (void)tetrahedralize(sphere(0.05, 3), o);
+    ADD_FAILURE() << "expected running out of memory";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("64 MiB"), std::string::npos) << e.what();
+  }
+  expect_no_children();
 }
 
 }  // namespace

@@ -73,14 +73,14 @@ TEST(ValidateSurface, NonManifoldEdge) {
   TriMesh m = tetrahedron_surface();
   m.vertices.push_back({1, 1, 1});
   m.triangles.push_back({0, 1, 4});
-  EXPECT_TRUE(has(validate(m), Severity::error, "edge (0, 1): non-manifold, shared by 3 triangles (0 1 4)"));
+  EXPECT_TRUE(has(validate(m), Severity::error, "edge (0, 1): non-manifold, shared by 3 triangles (triangle 0, triangle 1, triangle 4)"));
 }
 
 TEST(ValidateSurface, InconsistentOrientation) {
   TriMesh m = tetrahedron_surface();
   m.triangles[3] = {1, 3, 2};
   const auto r = validate(m);
-  EXPECT_TRUE(has(r, Severity::error, "edge (1, 2): inconsistent orientation, triangles 0 and 3 both traverse it"));
+  EXPECT_TRUE(has(r, Severity::error, "edge (1, 2): inconsistent orientation, triangle 0 and triangle 3 both traverse it"));
 }
 
 TEST(ValidateSurface, OpenBoundary) {
@@ -168,7 +168,7 @@ TEST(ValidateTets, NonManifoldFace) {
   TetMesh m = two_tets();
   m.vertices.push_back({0.2, 0.2, 2.0});
   m.tets.push_back({0, 1, 2, 5});
-  EXPECT_TRUE(has(validate(m), Severity::error, "face (0 1 2): non-manifold, shared by 3 tetrahedra (0 1 2)"));
+  EXPECT_TRUE(has(validate(m), Severity::error, "face (0 1 2): non-manifold, shared by 3 tetrahedra (tetrahedron 0, tetrahedron 1, tetrahedron 2)"));
 }
 
 TEST(ValidateTets, UnusedVertexAndLabels) {

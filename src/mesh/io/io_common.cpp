@@ -150,15 +150,16 @@ const char* vtk_cell_name(std::int64_t type) {
   }
 }
 
-void orient_whole_file(TetMesh& mesh) {
+std::size_t orient_whole_file(TetMesh& mesh) {
   bool any_negative = false;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
     const double v = mesh.tet_volume(t);
-    if (v > 0.0) return;
+    if (v > 0.0) return 0;
     if (v < 0.0) any_negative = true;
   }
-  if (!any_negative) return;
+  if (!any_negative) return 0;
   for (auto& tet : mesh.tets) std::swap(tet[2], tet[3]);
+  return mesh.tets.size();
 }
 
 std::string skipped_summary(const std::map<std::string, std::size_t>& skipped) {
@@ -177,7 +178,7 @@ MeshFile cell_mesh_file(MeshFormat format, std::vector<Vec3> points, TetMesh vol
   out.skipped = std::move(skipped);
   if (!volume.tets.empty()) {
     volume.vertices = points;
-    orient_whole_file(volume);
+    out.flipped_tets = orient_whole_file(volume);
     out.volume = std::move(volume);
   }
   if (!surface.triangles.empty()) {

@@ -152,8 +152,9 @@ void reserve_bounded(std::vector<T>& v, std::uint64_t count, std::size_t bytes_l
 
 /// TetMesh wants positive tets. A file whose tets are all negative follows the opposite
 /// convention, so all are flipped (swapping the last two vertices); a file with a mix is
-/// left as it is so that validate() can report the inverted ones.
-void orient_whole_file(TetMesh& mesh);
+/// left as it is so that validate() can report the inverted ones. Returns how many were
+/// flipped (all or none).
+std::size_t orient_whole_file(TetMesh& mesh);
 
 /// What VTK's cell type `type` is called in plural ("quads"), or null for one without a
 /// name here; for the `skipped` summary of the VTK readers.

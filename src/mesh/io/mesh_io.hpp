@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 
+#include "mesh/file_numbering.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "mesh/tri_mesh.hpp"
 
@@ -30,6 +31,12 @@ struct MeshFile {
   /// What the reader left out, e.g. "1942 lines, 12 quads" (VTK cells of other types);
   /// empty when it read everything.
   std::string skipped;
+  /// How the file numbers the surface's and the volume's vertices and elements, with the
+  /// line each element was read on (OBJ, OFF, TetGen, ASCII MSH); empty for the others.
+  FileNumbering surface_numbering, volume_numbering;
+  /// Tetrahedra turned over on reading because the whole file uses the mirrored corner
+  /// order (see orient_whole_file); 0 when none were.
+  std::size_t flipped_tets = 0;
 };
 
 struct WriteOptions {

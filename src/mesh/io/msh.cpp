@@ -50,6 +50,8 @@ int element_nodes(std::int64_t type) {
 struct Element {
   std::array<Index, 4> nodes{};
   int physical = 0;
+  std::int64_t number = 0;  ///< the file's element tag
+  std::uint32_t line = 0;   ///< 0 in binary files
 };
 
 class MshReader {
@@ -152,6 +154,7 @@ class MshReader {
   bool new_node(std::int64_t tag, const Vec3& p) {
     if (!node_index_.try_emplace(tag, static_cast<Index>(nodes_.size())).second) return false;
     nodes_.push_back(p);
+    node_tags_.push_back(tag);
     return true;
   }
 
@@ -186,6 +189,8 @@ class MshReader {
       in_.fail(what + ": expected " + std::to_string(n) + " nodes, got " + std::to_string(tok.size() > first ? tok.size() - first : 0));
     Element e;
     e.physical = physical;
+    e.number = in_.to_int(id, "an element number");
+    e.line = static_cast<std::uint32_t>(std::min<std::uint64_t>(in_.line(), UINT32_MAX));
     for (std::size_t k = 0; k < n; ++k) e.nodes[k] = node(tok[first + k], what);
     (type == 2 ? tris_ : tets_).push_back(e);
   }
@@ -485,6 +490,7 @@ class MshReader {
         }
         Element e;
         e.physical = phys;
+        e.number = id;
         for (int k = 0; k < nodes; ++k) {
           const std::size_t at = bytes.pos();
           e.nodes[static_cast<std::size_t>(k)] = binary_node(bytes, bytes.read<std::int32_t>("a node tag"), at, type, id);
@@ -588,6 +594,7 @@ class MshReader {
         }
         Element e;
         e.physical = phys;
+        e.number = id;
         for (int k = 0; k < nodes; ++k) {
           const std::size_t at = bytes.pos();
           e.nodes[static_cast<std::size_t>(k)] = binary_node(bytes, tag_value("a node tag"), at, type, id);
@@ -611,8 +618,10 @@ class MshReader {
     std::vector<Triangle> tris;
     std::vector<int> markers;
     bool any_marker = false;
+    FileNumbering tri_numbering("element", 0, node_tags_);
     for (const auto& e : tris_) {
       tris.push_back({e.nodes[0], e.nodes[1], e.nodes[2]});
+      tri_numbering.add_element(e.number, e.line);
       markers.push_back(e.physical);
       any_marker = any_marker || e.physical != 0;
     }
@@ -621,15 +630,17 @@ class MshReader {
       TetMesh vol;
       vol.vertices = nodes_;
       bool any_region = false;
+      out.volume_numbering = FileNumbering("element", 0, node_tags_);
       for (const auto& e : tets_) {
         vol.tets.push_back(e.nodes);
+        out.volume_numbering.add_element(e.number, e.line);
         vol.tet_regions.push_back(e.physical);
         any_region = any_region || e.physical != 0;
       }
       if (!any_region) vol.tet_regions.clear();
       vol.faces = tris;
       vol.face_markers = markers;
-      orient_whole_file(vol);
+      out.flipped_tets = orient_whole_file(vol);
       out.volume = std::move(vol);
     }
     if (!tris.empty() || tets_.empty()) {
@@ -637,6 +648,7 @@ class MshReader {
       surf.vertices = std::move(nodes_);
       surf.triangles = std::move(tris);
       out.surface = std::move(surf);
+      out.surface_numbering = std::move(tri_numbering);
     }
     return out;
   }
@@ -651,6 +663,7 @@ class MshReader {
   bool have_nodes_ = false;
   bool have_elements_ = false;
   std::vector<Vec3> nodes_;
+  std::vector<std::int64_t> node_tags_;  ///< per node, its tag
   std::unordered_map<std::int64_t, Index> node_index_;
   std::map<std::pair<int, std::int64_t>, int> entity_physical_;
   std::vector<Element> tris_, tets_;

@@ -22,6 +22,8 @@ bool is_keyword(std::string_view s) {
 MeshFile parse_obj(std::string_view data, const std::string& file) {
   LineReader in(data, file);
   TriMesh mesh;
+  FileNumbering numbering("face", 1);
+  std::int64_t faces = 0;
   std::vector<Index> polygon;
   std::string_view line;
   while (in.next(line)) {
@@ -50,8 +52,11 @@ MeshFile parse_obj(std::string_view data, const std::string& file) {
                                  " vertices defined so far)");
         polygon.push_back(static_cast<Index>(index));
       }
-      for (std::size_t i = 1; i + 1 < polygon.size(); ++i)
+      ++faces;
+      for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
         mesh.triangles.push_back({polygon[0], polygon[i], polygon[i + 1]});
+        numbering.add_element(faces, in.line());
+      }
     } else if (!is_keyword(tok[0])) {
       in.fail_at(tok[0], "unknown keyword '" + quote(tok[0]) + "'");
     }
@@ -61,6 +66,7 @@ MeshFile parse_obj(std::string_view data, const std::string& file) {
   MeshFile out;
   out.format = MeshFormat::obj;
   out.surface = std::move(mesh);
+  out.surface_numbering = std::move(numbering);
   return out;
 }
 

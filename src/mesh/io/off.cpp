@@ -50,6 +50,7 @@ MeshFile parse_off(std::string_view data, const std::string& file) {
     mesh.vertices.emplace_back(in.coordinate(tok[0]), in.coordinate(tok[1]), in.coordinate(tok[2]));
   }
   reserve_bounded(mesh.triangles, static_cast<std::uint64_t>(nf), in.remaining(), 8);
+  FileNumbering numbering("face", 0);
   for (std::int64_t f = 0; f < nf; ++f) {
     tok = content_tokens(in, line);
     if (tok.empty())
@@ -74,12 +75,14 @@ MeshFile parse_off(std::string_view data, const std::string& file) {
     for (std::int64_t j = 2; j < k; ++j) {
       const Index cur = vertex(j);
       mesh.triangles.push_back({first, prev, cur});
+      numbering.add_element(f, in.line());
       prev = cur;
     }
   }
   MeshFile out;
   out.format = MeshFormat::off;
   out.surface = std::move(mesh);
+  out.surface_numbering = std::move(numbering);
   return out;
 }
 

@@ -85,7 +85,8 @@ int integer_label(const LineReader& in, std::string_view tok, const char* what) 
   return static_cast<int>(v);
 }
 
-void read_ele(std::string_view data, const std::string& file, const Nodes& nodes, TetMesh& mesh) {
+void read_ele(std::string_view data, const std::string& file, const Nodes& nodes, TetMesh& mesh,
+              FileNumbering& numbering) {
   LineReader in(data, file);
   auto head = content_tokens(in);
   if (head.empty()) in.fail("empty .ele file");
@@ -101,7 +102,7 @@ void read_ele(std::string_view data, const std::string& file, const Nodes& nodes
     if (tok.size() != width)
       in.fail("tetrahedron line needs " + std::to_string(width) + " values, got " + std::to_string(tok.size()));
     const std::string what = "tetrahedron " + std::string(tok[0]);
-    (void)in.to_int(tok[0], "a tetrahedron index");
+    numbering.add_element(in.to_int(tok[0], "a tetrahedron index"), in.line());
     Tet tet{};
     for (std::size_t k = 0; k < 4; ++k) tet[k] = vertex(in, tok[1 + k], nodes, what);
     for (std::size_t k = 5; k < 1 + static_cast<std::size_t>(per); ++k) (void)vertex(in, tok[k], nodes, what);
@@ -112,7 +113,7 @@ void read_ele(std::string_view data, const std::string& file, const Nodes& nodes
 }
 
 void read_face(std::string_view data, const std::string& file, const Nodes& nodes, std::vector<Triangle>& faces,
-               std::vector<int>& markers) {
+               std::vector<int>& markers, FileNumbering& numbering) {
   LineReader in(data, file);
   auto head = content_tokens(in);
   if (head.empty()) in.fail("empty .face file");
@@ -128,7 +129,7 @@ void read_face(std::string_view data, const std::string& file, const Nodes& node
     if (tok.size() != width && tok.size() != width + 2)
       in.fail("face line needs " + std::to_string(width) + " values, got " + std::to_string(tok.size()));
     const std::string what = "face " + std::string(tok[0]);
-    (void)in.to_int(tok[0], "a face index");
+    numbering.add_element(in.to_int(tok[0], "a face index"), in.line());
     Triangle tri{};
     for (std::size_t k = 0; k < 3; ++k) tri[k] = vertex(in, tok[1 + k], nodes, what);
     faces.push_back(tri);
@@ -159,20 +160,23 @@ MeshFile parse_tetgen(std::string_view node, const std::string& node_file, const
   out.format = MeshFormat::tetgen;
   std::vector<Triangle> faces;
   std::vector<int> markers;
-  if (face) read_face(*face, face_file, nodes, faces, markers);
+  FileNumbering face_numbering("face", nodes.base);
+  if (face) read_face(*face, face_file, nodes, faces, markers, face_numbering);
   if (ele) {
     TetMesh mesh;
-    read_ele(*ele, ele_file, nodes, mesh);
+    out.volume_numbering.vertex_base = nodes.base;
+    read_ele(*ele, ele_file, nodes, mesh, out.volume_numbering);
     mesh.vertices = std::move(nodes.points);
     mesh.faces = std::move(faces);
     mesh.face_markers = std::move(markers);
-    orient_whole_file(mesh);
+    out.flipped_tets = orient_whole_file(mesh);
     out.volume = std::move(mesh);
   } else {
     TriMesh mesh;
     mesh.vertices = std::move(nodes.points);
     mesh.triangles = std::move(faces);
     out.surface = std::move(mesh);
+    out.surface_numbering = std::move(face_numbering);
   }
   return out;
 }
