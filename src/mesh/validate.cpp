@@ -181,8 +181,9 @@ void check_unused(std::size_t nv, const std::vector<char>& used, const Names& na
 
 void check_coincident(const std::vector<Vec3>& vertices, double diagonal, const Names& names, Collector& out) {
   const double tolerance = kCoincidentVertices * diagonal;
-  for (const auto& [v, first] : find_duplicate_vertices(vertices, tolerance))
-    out.add("duplicate vertices", Severity::warning, [&] {
+  // Pairs, not structured bindings: clang 14 does not let a lambda capture those.
+  for (const auto& pair : find_duplicate_vertices(vertices, tolerance))
+    out.add("duplicate vertices", Severity::warning, [&, v = pair.first, first = pair.second] {
       return fmt::format("vertex {}: coincides with vertex {} (within {:.3g} m, {:g} of the bounding-box diagonal)",
                          names.vertex(static_cast<Index>(v)), names.vertex(static_cast<Index>(first)), tolerance,
                          kCoincidentVertices);
@@ -249,8 +250,8 @@ void check_self_intersections(const TriMesh& mesh, const std::vector<char>& skip
     return fmt::format("surface intersects itself: {} {} of triangles cross or overlap", found.count,
                        found.count == 1 ? "pair" : "pairs");
   });
-  for (const auto& [a, b] : found.first)
-    out.add("intersecting triangle pairs", Severity::error, [&] {
+  for (const auto& pair : found.first)
+    out.add("intersecting triangle pairs", Severity::error, [&, a = pair.first, b = pair.second] {
       return fmt::format("{} and {} intersect", names.element(a, mesh.triangles[a]),
                          names.element(b, mesh.triangles[b]));
     }, kSelfIntersectionsShown);
