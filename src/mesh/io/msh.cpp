@@ -3,8 +3,9 @@
 // kept in file order; element node tags are mapped through the node tags (which need not
 // be contiguous). Triangles (type 2) and tetrahedra (type 4) are read with their physical
 // tag (1.0: the reg-phys column; 2.x: the first element tag; 4.x: the first physical tag of
-// the element's entity in $Entities); other element types and unknown sections are
-// skipped. Gmsh's reference tetrahedron is positively oriented, so tets are kept as
+// the element's entity in $Entities) as region or face marker, or, in a file without
+// physical groups, their elementary (entity) tag where it varies; other element types and
+// unknown sections are skipped. Gmsh's reference tetrahedron is positively oriented, so tets are kept as
 // written; orient_whole_file() still corrects a file that is inverted throughout.
 #include <algorithm>
 #include <bit>
@@ -50,6 +51,7 @@ int element_nodes(std::int64_t type) {
 struct Element {
   std::array<Index, 4> nodes{};
   int physical = 0;
+  int elementary = 0;  ///< the geometric entity: the region where a file has no physical groups
   std::int64_t number = 0;  ///< the file's element tag
   std::uint32_t line = 0;   ///< 0 in binary files
 };
@@ -144,6 +146,14 @@ class MshReader {
 
   // ---- shared by all versions ----
 
+  /// An elementary (entity) tag as a region label; tags beyond int's range are refused.
+  int tag_of(std::string_view tok, const char* what) const {
+    const std::int64_t v = in_.to_int(tok, what);
+    if (v < INT32_MIN || v > INT32_MAX) in_.fail_at(tok, std::string(what) + " " + std::to_string(v) + " out of range");
+    return static_cast<int>(v);
+  }
+  static int clamp_tag(std::int64_t tag) { return static_cast<int>(std::clamp<std::int64_t>(tag, INT32_MIN, INT32_MAX)); }
+
   int physical_of(std::string_view tok) const {
     const std::int64_t v = in_.to_int(tok, "a physical tag");
     if (v < INT32_MIN || v > INT32_MAX) in_.fail_at(tok, "physical tag " + std::to_string(v) + " out of range");
@@ -182,13 +192,14 @@ class MshReader {
   }
 
   void add_element(std::int64_t type, const std::vector<std::string_view>& tok, std::size_t first, int physical,
-                   std::string_view id) {
+                   int elementary, std::string_view id) {
     const std::size_t n = type == 2 ? 3 : 4;
     const std::string what = std::string(type == 2 ? "triangle " : "tetrahedron ") + std::string(id);
     if (tok.size() != first + n)
       in_.fail(what + ": expected " + std::to_string(n) + " nodes, got " + std::to_string(tok.size() > first ? tok.size() - first : 0));
     Element e;
     e.physical = physical;
+    e.elementary = elementary;
     e.number = in_.to_int(id, "an element number");
     e.line = static_cast<std::uint32_t>(std::min<std::uint64_t>(in_.line(), UINT32_MAX));
     for (std::size_t k = 0; k < n; ++k) e.nodes[k] = node(tok[first + k], what);
@@ -232,12 +243,12 @@ class MshReader {
       (void)in_.to_int(tok[0], "an element number");
       const std::int64_t type = in_.to_int(tok[1], "an element type");
       const int phys = physical_of(tok[2]);
-      (void)in_.to_int(tok[3], "an elementary tag");
+      const int elementary = tag_of(tok[3], "an elementary tag");
       const std::int64_t count = in_.count(tok[4], "node count");
       if (static_cast<std::int64_t>(tok.size()) != 5 + count)
         in_.fail("element " + std::string(tok[0]) + " lists " + std::to_string(tok.size() - 5) + " nodes, its count says " +
                  std::to_string(count));
-      if (type == 2 || type == 4) add_element(type, tok, 5, phys, tok[0]);
+      if (type == 2 || type == 4) add_element(type, tok, 5, phys, elementary, tok[0]);
       else ++skipped_[type];
     }
     expect_line("$ENDELM", "$ELM");
@@ -274,7 +285,8 @@ class MshReader {
         continue;
       }
       const int phys = ntags > 0 ? physical_of(tok[3]) : 0;
-      add_element(type, tok, 3 + static_cast<std::size_t>(ntags), phys, tok[0]);
+      const int elementary = ntags > 1 ? tag_of(tok[4], "an elementary tag") : 0;
+      add_element(type, tok, 3 + static_cast<std::size_t>(ntags), phys, elementary, tok[0]);
     }
     end_section("$Elements");
   }
@@ -402,7 +414,7 @@ class MshReader {
       const int phys = entity_physical(dim, entity);
       for (std::int64_t i = 0; i < m; ++i) {
         const auto tok = content(std::to_string(m) + " elements of a block: got " + std::to_string(i));
-        if (type == 2 || type == 4) add_element(type, tok, 1, phys, tok[0]);
+        if (type == 2 || type == 4) add_element(type, tok, 1, phys, clamp_tag(entity), tok[0]);
         else ++skipped_[type];
       }
     }
@@ -478,10 +490,11 @@ class MshReader {
       seen += m;
       for (std::int64_t i = 0; i < m; ++i) {
         const std::int64_t id = bytes.read<std::int32_t>("an element number");
-        int phys = 0;
+        int phys = 0, elementary = 0;
         for (std::int64_t t = 0; t < ntags; ++t) {
           const std::int32_t tag = bytes.read<std::int32_t>("an element tag");
           if (t == 0) phys = tag;
+          if (t == 1) elementary = tag;
         }
         if (type != 2 && type != 4) {
           bytes.skip(static_cast<std::size_t>(nodes) * 4, "element nodes");
@@ -490,6 +503,7 @@ class MshReader {
         }
         Element e;
         e.physical = phys;
+        e.elementary = elementary;
         e.number = id;
         for (int k = 0; k < nodes; ++k) {
           const std::size_t at = bytes.pos();
@@ -594,6 +608,7 @@ class MshReader {
         }
         Element e;
         e.physical = phys;
+        e.elementary = clamp_tag(entity);
         e.number = id;
         for (int k = 0; k < nodes; ++k) {
           const std::size_t at = bytes.pos();
@@ -619,13 +634,27 @@ class MshReader {
     std::vector<int> markers;
     bool any_marker = false;
     FileNumbering tri_numbering("element", 0, node_tags_);
+    // Regions and markers are the physical tags. A file with no physical group at all labels
+    // its elements by their geometric entities instead (Gmsh writes physical tag 0 then),
+    // where those tell elements apart: one entity throughout (a single volume, or what
+    // Tactus writes) labels nothing.
+    auto has_physical = [](const std::vector<Element>& v) {
+      return std::any_of(v.begin(), v.end(), [](const Element& e) { return e.physical != 0; });
+    };
+    auto several_entities = [](const std::vector<Element>& v) {
+      return std::any_of(v.begin(), v.end(), [&](const Element& e) { return e.elementary != v.front().elementary; });
+    };
+    const bool physical_groups = has_physical(tris_) || has_physical(tets_);
+    const bool tri_entities = !physical_groups && several_entities(tris_);
+    const bool tet_entities = !physical_groups && several_entities(tets_);
+    auto label = [&](const Element& e, bool entities) { return entities ? e.elementary : e.physical; };
     for (const auto& e : tris_) {
       tris.push_back({e.nodes[0], e.nodes[1], e.nodes[2]});
       tri_numbering.add_element(e.number, e.line);
-      markers.push_back(e.physical);
-      any_marker = any_marker || e.physical != 0;
+      markers.push_back(label(e, tri_entities));
+      any_marker = any_marker || markers.back() != 0;
     }
-    if (!any_marker) markers.clear();  // no physical surfaces: no labels
+    if (!any_marker) markers.clear();  // no labelled surfaces: no labels
     if (!tets_.empty()) {
       TetMesh vol;
       vol.vertices = nodes_;
@@ -634,8 +663,8 @@ class MshReader {
       for (const auto& e : tets_) {
         vol.tets.push_back(e.nodes);
         out.volume_numbering.add_element(e.number, e.line);
-        vol.tet_regions.push_back(e.physical);
-        any_region = any_region || e.physical != 0;
+        vol.tet_regions.push_back(label(e, tet_entities));
+        any_region = any_region || vol.tet_regions.back() != 0;
       }
       if (!any_region) vol.tet_regions.clear();
       vol.faces = tris;

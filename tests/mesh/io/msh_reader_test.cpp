@@ -41,6 +41,35 @@ TEST(MshReader, GmshVersionsOfOneCube) {
   const MeshFile all = read_mesh(data_dir / "gmsh_cube_v22_binary.msh");
   expect_gmsh_cube(all, false);
   EXPECT_EQ(all.skipped, "72 lines (type 1), 8 points (type 15)");
+  // No physical group: the faces are labelled by the box's six surface entities (the
+  // single volume entity labels nothing).
+  const auto& markers = all.volume->face_markers;
+  EXPECT_EQ(std::set<int>(markers.begin(), markers.end()), (std::set<int>{1, 2, 3, 4, 5, 6}));
+}
+
+TEST(MshReader, ElementaryTagsLabelRegionsWhereNoPhysicalGroupDoes) {
+  // Two tetrahedra in two volume entities (elementary tags 5 and 9), physical tag 0.
+  const std::string two_volumes =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n"
+      "$EndNodes\n$Elements\n2\n1 4 2 0 5 1 2 3 4\n2 4 2 0 9 2 3 4 5\n$EndElements\n";
+  const auto dir = scratch_dir();
+  int files = 0;
+  auto read_text = [&](const std::string& text) {
+    std::string name = "f";  // appended: GCC 12 warns falsely on the inlined operator+
+    name.append(std::to_string(files++)).append(".msh");
+    return read_mesh(write_bytes(dir / name, text));
+  };
+  const TetMesh m = *read_text(two_volumes).volume;
+  EXPECT_EQ(m.tet_regions, (std::vector<int>{5, 9}));
+  // With a physical group anywhere, physical tags win (0 where an element has none).
+  const std::string one_physical =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n"
+      "$EndNodes\n$Elements\n2\n1 4 2 3 5 1 2 3 4\n2 4 2 0 9 2 3 4 5\n$EndElements\n";
+  EXPECT_EQ(read_text(one_physical).volume->tet_regions, (std::vector<int>{3, 0}));
+  // MSH 1.0 carries the same two columns (reg-phys, reg-elem).
+  const std::string v1 = "$NOD\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n$ENDNOD\n$ELM\n2\n"
+                         "1 4 0 5 4 1 2 3 4\n2 4 0 9 4 2 3 4 5\n$ENDELM\n";
+  EXPECT_EQ(read_text(v1).volume->tet_regions, (std::vector<int>{5, 9}));
 }
 
 TEST(MshReader, SofaMsh1Files) {
