@@ -1,0 +1,7 @@
+#include "bindings.hpp"
+
+namespace tactus::python {
+
+void bind_simulation(py::module_&) {}
+
+}  // namespace tactus::python
