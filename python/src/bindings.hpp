@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/math.hpp"
+#include "runtime/session.hpp"
 #include "scene/model.hpp"
 
 namespace tactus::python {
@@ -27,6 +28,11 @@ struct LoadedModel : scene::Model {
   std::string text;
 };
 using ModelHandle = std::shared_ptr<LoadedModel>;
+
+/// What tactus.RunResult holds: a run's report, its frames sorted device by device.
+struct RunResult;
+/// The RunResult of a finished run (run.cpp).
+py::object make_run_result(runtime::SessionReport&& report, const scene::Model& model);
 
 /// A NumPy view of `rows` 3-vectors stored `stride` bytes apart from `first`, kept valid by
 /// `owner` (the array holds a reference to it: the memory lives as long as the array).

@@ -11,7 +11,6 @@
 #include "runtime/session.hpp"
 
 namespace tactus::python {
-namespace {
 
 struct RunResult {
   runtime::SessionReport report;
@@ -19,6 +18,9 @@ struct RunResult {
   /// Per device: its frames are report.frames[first[d], first[d] + count[d]).
   std::vector<std::size_t> first, count;
 };
+
+namespace {
+
 using RunHandle = std::shared_ptr<RunResult>;
 
 /// A view of one field of `count` consecutive frames: (count,) for a scalar, (count, cols)
@@ -70,6 +72,26 @@ py::dict frames_of(const py::object& self, const py::object& device) {
   return out;
 }
 
+RunHandle sorted_result(runtime::SessionReport&& report, const scene::Model& model) {
+  auto result = std::make_shared<RunResult>();
+  result->report = std::move(report);
+  // Device by device, each in frame order (the recorder drains device after device, so
+  // each device's frames are already in order among themselves).
+  auto& frames = result->report.frames;
+  std::stable_sort(frames.begin(), frames.end(),
+                   [](const runtime::HapticFrame& a, const runtime::HapticFrame& b) { return a.device < b.device; });
+  for (std::size_t d = 0; d < model.devices.size(); ++d) {
+    result->devices.push_back(model.devices[d].name);
+    const auto lo = std::lower_bound(frames.begin(), frames.end(), d,
+                                     [](const runtime::HapticFrame& f, std::size_t v) { return f.device < v; });
+    const auto hi = std::upper_bound(frames.begin(), frames.end(), d,
+                                     [](std::size_t v, const runtime::HapticFrame& f) { return v < f.device; });
+    result->first.push_back(static_cast<std::size_t>(lo - frames.begin()));
+    result->count.push_back(static_cast<std::size_t>(hi - lo));
+  }
+  return result;
+}
+
 RunHandle run(const ModelHandle& model, double duration, double max_duration,
               const std::optional<std::filesystem::path>& record) {
   runtime::SessionOptions o;
@@ -80,26 +102,12 @@ RunHandle run(const ModelHandle& model, double duration, double max_duration,
   o.scene_text = model->text;
   o.scene_source = model->source;
   o.keep_frames = true;
-  auto result = std::make_shared<RunResult>();
+  runtime::SessionReport report;
   {
     py::gil_scoped_release release;
-    result->report = runtime::run_session(*model, o);
+    report = runtime::run_session(*model, o);
   }
-  // Device by device, each in frame order (the recorder drains device after device, so
-  // each device's frames are already in order among themselves).
-  auto& frames = result->report.frames;
-  std::stable_sort(frames.begin(), frames.end(),
-                   [](const runtime::HapticFrame& a, const runtime::HapticFrame& b) { return a.device < b.device; });
-  for (std::size_t d = 0; d < model->devices.size(); ++d) {
-    result->devices.push_back(model->devices[d].name);
-    const auto lo = std::lower_bound(frames.begin(), frames.end(), d,
-                                     [](const runtime::HapticFrame& f, std::size_t v) { return f.device < v; });
-    const auto hi = std::upper_bound(frames.begin(), frames.end(), d,
-                                     [](std::size_t v, const runtime::HapticFrame& f) { return v < f.device; });
-    result->first.push_back(static_cast<std::size_t>(lo - frames.begin()));
-    result->count.push_back(static_cast<std::size_t>(hi - lo));
-  }
-  return result;
+  return sorted_result(std::move(report), *model);
 }
 
 py::dict device_report(const runtime::DeviceReport& d) {
@@ -116,6 +124,10 @@ py::dict device_report(const runtime::DeviceReport& d) {
 }
 
 }  // namespace
+
+py::object make_run_result(runtime::SessionReport&& report, const scene::Model& model) {
+  return py::cast(sorted_result(std::move(report), model));
+}
 
 void bind_run(py::module_& m) {
   py::class_<RunResult, RunHandle>(m, "RunResult",

@@ -19,6 +19,7 @@ from ._tactus import (  # noqa: F401  (re-exported)
     Tool,
     Algorithm,
     RunResult,
+    Simulation,
     load_scene,
     parse_scene,
     default_scene,
@@ -28,5 +29,5 @@ from ._tactus import (  # noqa: F401  (re-exported)
 
 __all__ = [
     "InputError", "Model", "Material", "Body", "FixedRegion", "Probe", "Device", "Tool",
-    "Algorithm", "RunResult", "load_scene", "parse_scene", "default_scene", "run", "solve",
+    "Algorithm", "RunResult", "Simulation", "load_scene", "parse_scene", "default_scene", "run", "solve",
 ]
