@@ -140,6 +140,11 @@ void bind_model(py::module_& m) {
       .def_readonly("name", &scene::Tool::name)
       .def_property_readonly("kind", [](const scene::Tool& t) { return std::string(scene::tool_type_name(t.shape)); })
       .def_readonly("device_indices", &scene::Tool::devices, "Indices into Model.devices.")
+      .def_property_readonly("radius", [](const scene::Tool& t) -> py::object {
+        if (const auto* s = std::get_if<scene::SphereTool>(&t.shape)) return py::float_(s->radius);
+        if (const auto* s = std::get_if<scene::TwoFingersTool>(&t.shape)) return py::float_(s->radius);
+        return py::none();
+      }, "Sphere radius [m] of a 'sphere' or 'two_fingers' tool; None for the others.")
       .def("__repr__", [](const scene::Tool& t) {
         return "<tactus.Tool '" + t.name + "' " + scene::tool_type_name(t.shape) + ">";
       });

@@ -75,6 +75,7 @@ class Tool:
     name: str
     kind: str
     device_indices: list[int]
+    radius: Optional[float]
 
 class Algorithm:
     name: str

@@ -30,7 +30,7 @@ def test_liver_scene_parts(scenes):
     # Elastic constants are all filled in: mu = E / (2 (1 + nu)).
     assert material.shear_modulus == pytest.approx(material.young_modulus / (2 * (1 + material.poisson_ratio)))
     assert [d.name for d in m.devices] == ["hand"]
-    assert m.tools[0].kind == "sphere"
+    assert m.tools[0].kind == "sphere" and m.tools[0].radius > 0
     assert m.tools[0].device_indices == [0]
     assert m.body("liver").name == "liver"
     with pytest.raises(KeyError):
