@@ -2,6 +2,7 @@
 // Every loop of a run and the channels between them, built before any loop starts, and
 // the two schedulers that drive them.
 #include <algorithm>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -36,6 +37,25 @@ struct Loops {
 /// Builds the devices (or their replays), the haptic loops and the channels, the
 /// simulation and interaction loops.
 Loops build_loops(const scene::Model& model, const SessionOptions& options);
+
+/// Where a lockstep run stands: the simulation and interaction steps taken so far.
+struct LockstepCursor {
+  std::uint64_t simulation_steps = 0;
+  std::uint64_t interaction_steps = 0;
+};
+/// The simulation and interaction steps due by haptic time t (the recorder drained after each
+/// simulation step): the first half of a lockstep haptic period.
+void lockstep_catch_up(const scene::Model& model, Loops& loops, Recorder& recorder, LockstepCursor& cursor, double t);
+/// Every device's haptic frame at t: the second half.
+void lockstep_haptic_frames(Loops& loops, double t);
+
+/// Throws InputError for a scene or options the runtime cannot run (no device, a replay of
+/// a device the scene lacks).
+void check_runnable(const scene::Model& model, const SessionOptions& options);
+/// The report's device entries, before the loops run.
+void start_report(const scene::Model& model, const SessionOptions& options, const Loops& loops, SessionReport& report);
+/// The loops' statistics, safety counters, needle and space notes, after they stopped.
+void complete_report(const scene::Model& model, const Loops& loops, SessionReport& report);
 
 /// One thread, virtual time: reproducible bit for bit.
 void run_lockstep(const scene::Model& model, const SessionOptions& options, Loops& loops, Recorder& recorder,

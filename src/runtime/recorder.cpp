@@ -11,7 +11,9 @@ Recorder::Recorder(const scene::Model& m, const SessionOptions& o, std::vector<D
                    SpscRing<SimulationStep>& steps, SessionReport& report)
     : devices_(std::move(devices)), steps_(steps), report_(report), keep_(o.keep_frames),
       record_steps_(m.recording.timings), record_events_(m.recording.events),
-      palpation_(PalpationTracker::for_model(m)), visual_(o.visual) {
+      palpation_(PalpationTracker::for_model(m)), visual_(o.visual),
+      latest_(m.devices.size()) {
+  for (std::size_t i = 0; i < latest_.size(); ++i) latest_[i].device = static_cast<std::uint16_t>(i);
   if (!o.record) return;
   RecordingHeader h;
   h.scene_name = m.name;
@@ -38,6 +40,7 @@ bool Recorder::drain() {
       ++report_.recorded_frames;
       if (writer_) writer_->append(f);
       if (keep_) report_.frames.push_back(f);
+      if (f.device < latest_.size()) latest_[f.device] = f;
       if (palpation_) palpation_->add(f);
       if (visual_) visual_->frame(f);
       auto& dev = report_.devices[f.device];

@@ -28,6 +28,9 @@ class Recorder {
   }
   /// Drains the rings a last time and closes the recording.
   void close();
+  /// Per device (scene order), the newest frame drained so far (a default frame before any):
+  /// what a caller stepping the run frame by frame reads back (runtime/stepped_run.hpp).
+  [[nodiscard]] const std::vector<HapticFrame>& latest_frames() const { return latest_; }
 
  private:
   std::vector<DeviceChannels*> devices_;
@@ -39,6 +42,7 @@ class Recorder {
   std::optional<RecordingWriter> writer_;
   std::optional<PalpationTracker> palpation_;  ///< scenes with nodules
   VisualSink* visual_;
+  std::vector<HapticFrame> latest_;
 };
 
 }  // namespace tactus::runtime

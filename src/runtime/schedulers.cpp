@@ -23,11 +23,33 @@ double run_length(const SessionOptions& o) { return o.duration > 0.0 ? o.duratio
 
 }  // namespace
 
+void lockstep_catch_up(const scene::Model& m, Loops& loops, Recorder& recorder, LockstepCursor& c, double t) {
+  const double sim_rate = m.rates.simulation, inter_rate = m.rates.interaction;
+  while (static_cast<double>(c.simulation_steps) / sim_rate <= t) {
+    const Nanos now = now_ns();
+    loops.simulation->step(static_cast<double>(c.simulation_steps) / sim_rate, now, now, false);
+    ++c.simulation_steps;
+    recorder.drain();
+  }
+  while (static_cast<double>(c.interaction_steps) / inter_rate <= t) {
+    const Nanos now = now_ns();
+    loops.interaction->step(static_cast<double>(c.interaction_steps) / inter_rate, now, now, false);
+    ++c.interaction_steps;
+  }
+}
+
+void lockstep_haptic_frames(Loops& loops, double t) {
+  for (auto& h : loops.haptic) {
+    const Nanos now = now_ns();
+    h->step(t, now, now, false);
+  }
+}
+
 void run_lockstep(const scene::Model& m, const SessionOptions& o, Loops& loops, Recorder& recorder,
                   SessionReport& report) {
   const double end = run_length(o);
-  const double haptic_rate = m.rates.haptic, sim_rate = m.rates.simulation, inter_rate = m.rates.interaction;
-  std::uint64_t sim_steps = 0, inter_steps = 0;
+  const double haptic_rate = m.rates.haptic;
+  LockstepCursor cursor;
   bool stopped = false;
   double t = 0.0;
   std::optional<Progress> progress;
@@ -38,25 +60,12 @@ void run_lockstep(const scene::Model& m, const SessionOptions& o, Loops& loops, 
   for (std::uint64_t k = 0;; ++k) {
     t = static_cast<double>(k) / haptic_rate;
     if (t > end + 1e-12) break;
-    while (static_cast<double>(sim_steps) / sim_rate <= t) {
-      const Nanos now = now_ns();
-      loops.simulation->step(static_cast<double>(sim_steps) / sim_rate, now, now, false);
-      ++sim_steps;
-      recorder.drain();
-    }
-    while (static_cast<double>(inter_steps) / inter_rate <= t) {
-      const Nanos now = now_ns();
-      loops.interaction->step(static_cast<double>(inter_steps) / inter_rate, now, now, false);
-      ++inter_steps;
-    }
+    lockstep_catch_up(m, loops, recorder, cursor, t);
     if (o.emergency_stop_at && !stopped && t >= *o.emergency_stop_at) {
       for (auto& h : loops.haptic) h->request_emergency_stop();
       stopped = true;
     }
-    for (auto& h : loops.haptic) {
-      const Nanos now = now_ns();
-      h->step(t, now, now, false);
-    }
+    lockstep_haptic_frames(loops, t);
     if (progress && (k & 63) == 0) progress->update(k);
     if (o.duration <= 0.0 && loops.all_finished(t)) break;
     if (o.interrupt && (k & 63) == 0 && o.interrupt->load()) break;

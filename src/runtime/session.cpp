@@ -8,23 +8,31 @@
 
 namespace tactus::runtime {
 
-SessionReport run_session(const scene::Model& model, const SessionOptions& options) {
-  fix_dense_blocking();  // lockstep runs sum alike on every machine
-  fix_blas_threads();
+void check_runnable(const scene::Model& model, const SessionOptions& options) {
   if (model.devices.empty())
     throw InputError(SourceLocation{model.source, {}, {}, {}}, "the scene has no device: nothing drives the haptic loop");
   for (const auto& [name, motion] : options.replay)
     if (!model.find_device(name))
       throw InputError(SourceLocation{motion.source, {}, {}, {}},
                        fmt::format("the recording's device '{}' is not in the scene", name));
+}
 
-  SessionReport report;
+void start_report(const scene::Model& model, const SessionOptions& options, const Loops& loops, SessionReport& report) {
   report.scene = model.name;
   report.scheduling = options.scheduling;
   report.visual = options.visual != nullptr;
-  Loops loops = build_loops(model, options);
   for (std::size_t i = 0; i < model.devices.size(); ++i)
     report.devices.push_back({model.devices[i].name, loops.haptic[i]->device().kind(), {}, 0, 0.0, 0});
+}
+
+SessionReport run_session(const scene::Model& model, const SessionOptions& options) {
+  fix_dense_blocking();  // lockstep runs sum alike on every machine
+  fix_blas_threads();
+  check_runnable(model, options);
+
+  SessionReport report;
+  Loops loops = build_loops(model, options);
+  start_report(model, options, loops, report);
   Recorder recorder(model, options, loops.channel_ptrs(), loops.simulation->steps(), report);
 
   const Nanos wall0 = now_ns();
@@ -34,7 +42,11 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
     run_real_time(model, options, loops, recorder, report);
   report.wall_time = static_cast<double>(now_ns() - wall0) * 1e-9;
   recorder.close();
+  complete_report(model, loops, report);
+  return report;
+}
 
+void complete_report(const scene::Model& model, const Loops& loops, SessionReport& report) {
   for (std::size_t i = 0; i < loops.haptic.size(); ++i) {
     LoopStats s = loops.haptic[i]->stats();
     s.name = "haptic[" + model.devices[i].name + "]";
@@ -82,7 +94,6 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
           model.bodies[b].name, n.solved, n.points, n.complete, n.queries,
           n.queries ? 100.0 * static_cast<double>(n.complete) / static_cast<double>(n.queries) : 0.0));
     }
-  return report;
 }
 
 }  // namespace tactus::runtime

@@ -1,0 +1,151 @@
+// tactus.Simulation: a lockstep run stepped frame by frame from Python
+// (runtime/stepped_run.hpp), with devices whose pose Python sets. The newest frame of each
+// device lives in the run's recorder, at a fixed place that every step overwrites: the
+// arrays over it are live views, not copies.
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <optional>
+
+#include "bindings.hpp"
+#include "runtime/stepped_run.hpp"
+
+namespace tactus::python {
+namespace {
+
+struct Simulation {
+  ModelHandle model;  // the run reads the model for its whole life
+  std::unique_ptr<runtime::SteppedRun> run;
+};
+
+std::size_t index_of(const std::vector<std::string>& names, const py::object& item, const char* what) {
+  if (py::isinstance<py::str>(item)) {
+    const auto name = item.cast<std::string>();
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (names[i] == name) return i;
+    throw py::key_error(std::string("no ") + what + " '" + name + "'");
+  }
+  const auto i = item.cast<std::size_t>();
+  if (i >= names.size()) throw py::index_error(std::string(what) + " index out of range");
+  return i;
+}
+
+std::vector<std::string> device_names(const scene::Model& m) {
+  std::vector<std::string> out;
+  for (const auto& d : m.devices) out.push_back(d.name);
+  return out;
+}
+
+std::vector<std::string> body_names(const scene::Model& m) {
+  std::vector<std::string> out;
+  for (const auto& b : m.bodies) out.push_back(b.name);
+  return out;
+}
+
+/// A live (devices,) or (devices, cols) view of one field of the newest frames.
+template <class T>
+py::array latest_field(const py::object& self, const T* (*field)(const runtime::HapticFrame&), std::size_t cols) {
+  const auto& frames = self.cast<const Simulation&>().run->latest_frames();
+  std::vector<std::size_t> shape{frames.size()}, strides{sizeof(runtime::HapticFrame)};
+  if (cols > 0) {
+    shape.push_back(cols);
+    strides.push_back(sizeof(T));
+  }
+  py::array a(py::dtype::of<T>(), shape, strides, frames.empty() ? nullptr : field(frames.front()), self);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+std::unique_ptr<Simulation> make(const ModelHandle& model, const std::vector<std::string>& controlled,
+                                 const std::optional<std::filesystem::path>& record, bool keep_frames) {
+  runtime::SessionOptions o;
+  o.scheduling = runtime::Scheduling::lockstep;
+  o.record = record;
+  o.scene_text = model->text;
+  o.scene_source = model->source;
+  o.keep_frames = keep_frames;
+  auto sim = std::make_unique<Simulation>();
+  sim->model = model;
+  py::gil_scoped_release release;  // building the loops compiles the bodies
+  sim->run = std::make_unique<runtime::SteppedRun>(*model, std::move(o), controlled);
+  return sim;
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  py::class_<Simulation>(m, "Simulation",
+                         "A lockstep run of a scene stepped frame by frame from Python.\n\n"
+                         "Each step() is one haptic period of every device (the simulation and interaction\n"
+                         "steps due run first), exactly as `tactus run --lockstep` schedules them: stepping\n"
+                         "a scene to a time gives the same forces bit for bit. Devices named in `controlled`\n"
+                         "read the pose set by set_device_pose() instead of their scene entry.\n\n"
+                         "forces, device_positions, proxies and contacts are live read-only views of the\n"
+                         "newest frame of each device: every step() overwrites them in place (copy to keep\n"
+                         "a value); they keep the Simulation alive. body_positions() returns a copy.")
+      .def(py::init(&make), py::arg("model"), py::arg("controlled") = std::vector<std::string>{},
+           py::arg("record") = std::nullopt, py::arg("keep_frames") = false,
+           "controlled: names of devices whose pose Python sets; record: a recording file to write;\n"
+           "keep_frames: keep every frame for the RunResult finish() returns (memory grows with the run).")
+      .def("step", [](Simulation& s, std::uint64_t frames) {
+        py::gil_scoped_release release;
+        for (std::uint64_t i = 0; i < frames; ++i) s.run->step();
+      }, py::arg("frames") = 1, "Advances `frames` haptic periods (the GIL is released meanwhile).")
+      .def_property_readonly("frame", [](const Simulation& s) { return s.run->frames(); },
+                             "Haptic periods stepped so far; the next runs at frame / haptic rate.")
+      .def_property_readonly("time", [](const Simulation& s) { return s.run->time(); },
+                             "Time of the last period stepped [s] (0 before the first).")
+      .def_property_readonly("model", [](const Simulation& s) { return s.model; })
+      .def_property_readonly("devices", [](const Simulation& s) { return device_names(*s.model); })
+      .def("is_controlled", [](const Simulation& s, const py::object& device) {
+        return s.run->controlled(index_of(device_names(*s.model), device, "device"));
+      }, py::arg("device"))
+      .def("set_device_pose", [](Simulation& s, const py::object& device, const std::array<double, 3>& position,
+                                 const std::optional<std::array<double, 4>>& orientation_wxyz, std::uint32_t buttons) {
+        haptics::DevicePose pose;
+        pose.position = Vec3(position[0], position[1], position[2]);
+        if (orientation_wxyz) {
+          const auto& q = *orientation_wxyz;
+          pose.orientation = Quat(q[0], q[1], q[2], q[3]);  // as given: a replay stays bit for bit
+        }
+        pose.buttons = buttons;
+        const std::size_t d = index_of(device_names(*s.model), device, "device");
+        if (!s.run->controlled(d)) throw py::value_error("device '" + s.model->devices[d].name + "' is not controlled");
+        s.run->set_pose(d, pose);
+      }, py::arg("device"), py::arg("position"), py::arg("orientation_wxyz") = std::nullopt, py::arg("buttons") = 0,
+         "The pose a controlled device reads from the next step on, in device coordinates [m]\n"
+         "(the scene's device entry maps them to the scene: scale, rotation, offset); the orientation\n"
+         "is a unit quaternion (w, x, y, z), used as given.")
+      .def_property_readonly("forces", [](py::object self) {
+        return latest_field<double>(self, [](const runtime::HapticFrame& f) { return f.force.data(); }, 3);
+      }, "(devices, 3) force sent in each device's newest frame [N, device coordinates]; live view.")
+      .def_property_readonly("device_positions", [](py::object self) {
+        return latest_field<double>(self, [](const runtime::HapticFrame& f) { return f.position.data(); }, 3);
+      }, "(devices, 3) device positions of the newest frames [m, device coordinates]; live view.")
+      .def_property_readonly("proxies", [](py::object self) {
+        return latest_field<double>(self, [](const runtime::HapticFrame& f) { return f.proxy.data(); }, 3);
+      }, "(devices, 3) proxy / contact points of the newest frames [m, scene coordinates]; live view.")
+      .def_property_readonly("contacts", [](py::object self) {
+        return latest_field<std::uint8_t>(self, [](const runtime::HapticFrame& f) { return &f.contact; }, 0);
+      }, "(devices,) 1 where the newest frame is in contact; live view.")
+      .def("body_positions", [](const Simulation& s, const py::object& body) -> py::object {
+        const VecX* x = s.run->positions(index_of(body_names(*s.model), body, "body"));
+        if (!x || x->size() == 0) return py::none();
+        // A copy: the integrator may swap its position vector for another at the next step.
+        py::array_t<double> a({static_cast<std::size_t>(x->size() / 3), std::size_t{3}});
+        std::copy(x->data(), x->data() + x->size(), a.mutable_data());
+        return a;
+      }, py::arg("body"),
+         "(nodes, 3) current positions of a body's simulation nodes [m] (a copy), or None for a body\n"
+         "without dynamics (rigid, embedded, cspace).")
+      .def("emergency_stop", [](Simulation& s) { s.run->emergency_stop(); },
+           "Latches every device's emergency stop from the next step on.")
+      .def_property_readonly("finished", [](const Simulation& s) { return s.run->finished(); })
+      .def("finish", [](Simulation& s) {
+        runtime::SessionReport report = s.run->finish();
+        return make_run_result(std::move(report), *s.model);
+      }, "Closes the recording and returns the RunResult (frames only with keep_frames=True).\n"
+         "The live views stay readable; step() then raises RuntimeError.");
+}
+
+}  // namespace tactus::python

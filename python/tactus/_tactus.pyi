@@ -1,0 +1,144 @@
+"""Type stubs of the compiled module tactus._tactus (python/src/*.cpp)."""
+from os import PathLike
+from typing import Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_Path = Union[str, PathLike[str]]
+_Index = Union[str, int]
+_F64 = npt.NDArray[np.float64]
+
+class InputError(ValueError):
+    """A problem in the user's input; str() is 'file:line:column: reason'."""
+    file: str
+    line: Optional[int]
+    column: Optional[int]
+    byte_offset: Optional[int]
+    reason: str
+
+class Material:
+    name: str
+    model: str
+    young_modulus: float
+    poisson_ratio: float
+    shear_modulus: float
+    bulk_modulus: float
+    lame_lambda: float
+    c10: float
+    c01: float
+    density: float
+    rayleigh_alpha: float
+    rayleigh_beta: float
+    nodal_damping: float
+    viscoelastic: str
+
+class FixedRegion:
+    name: str
+    selector: str
+    nodes: npt.NDArray[np.int32]
+
+class Probe:
+    name: str
+    position: tuple[float, float, float]
+
+class Body:
+    name: str
+    kind: str
+    material_index: Optional[int]
+    mesh_source: str
+    volumetric: bool
+    node_count: int
+    surface_vertex_count: int
+    triangle_count: int
+    tet_count: int
+    rest_positions: _F64
+    surface_vertices: _F64
+    triangles: npt.NDArray[np.int32]
+    tets: Optional[npt.NDArray[np.int32]]
+    fixed: list[FixedRegion]
+    probes: list[Probe]
+    time_step: float
+    integrator: str
+
+class Device:
+    name: str
+    kind: str
+    max_force: float
+    max_stiffness: float
+    scale: float
+    offset: tuple[float, float, float]
+
+class Tool:
+    name: str
+    kind: str
+    device_indices: list[int]
+    radius: Optional[float]
+
+class Algorithm:
+    name: str
+    kind: str
+    tool_index: int
+    body_indices: list[int]
+    enabled: bool
+
+class Model:
+    name: str
+    description: str
+    source: str
+    text: str
+    gravity: tuple[float, float, float]
+    rates: dict[str, float]
+    materials: list[Material]
+    bodies: list[Body]
+    devices: list[Device]
+    tools: list[Tool]
+    algorithms: list[Algorithm]
+    def body(self, name: str) -> Body: ...
+    def material(self, name: str) -> Material: ...
+    def material_of(self, body: Body) -> Optional[Material]: ...
+    def summary(self, real_time: bool = True) -> str: ...
+
+def load_scene(path: _Path) -> Model: ...
+def parse_scene(text: str, name: str = "<python>", allow_file_access: bool = True) -> Model: ...
+def default_scene() -> Model: ...
+
+class RunResult:
+    devices: list[str]
+    simulated_time: float
+    wall_time: float
+    recorded_frames: int
+    recording_bytes: int
+    dropped_steps: int
+    events: dict[str, int]
+    device_reports: list[dict[str, Union[str, int, float]]]
+    def frames(self, device: _Index = 0) -> dict[str, np.ndarray]:
+        """t, frame, position, orientation_xyzw, force, torque, proxy, contact, flags, buttons."""
+
+def run(model: Model, duration: float = 0.0, max_duration: float = 30.0,
+        record: Optional[_Path] = None) -> RunResult: ...
+
+class Simulation:
+    def __init__(self, model: Model, controlled: Sequence[str] = ..., record: Optional[_Path] = None,
+                 keep_frames: bool = False) -> None: ...
+    def step(self, frames: int = 1) -> None: ...
+    frame: int
+    time: float
+    model: Model
+    devices: list[str]
+    finished: bool
+    forces: _F64
+    device_positions: _F64
+    proxies: _F64
+    contacts: npt.NDArray[np.uint8]
+    def is_controlled(self, device: _Index) -> bool: ...
+    def set_device_pose(self, device: _Index, position: Sequence[float],
+                        orientation_wxyz: Optional[Sequence[float]] = None, buttons: int = 0) -> None: ...
+    def body_positions(self, body: _Index) -> Optional[_F64]: ...
+    def emergency_stop(self) -> None: ...
+    def finish(self) -> RunResult: ...
+
+def solve(model: Model, *, static: bool = True, until: float = 1.0,
+          every: float = 0.0) -> list[dict[str, object]]: ...
