@@ -622,6 +622,26 @@ class MshReader {
     end_section("$Elements");
   }
 
+  /// A Gmsh element tag names one element: a tag used twice among the triangles and
+  /// tetrahedra is refused, at the later of the two lines (ASCII files).
+  void check_unique_element_tags() const {
+    std::vector<std::pair<std::int64_t, std::uint32_t>> tags;  // tag, line (0: binary)
+    for (const auto* list : {&tris_, &tets_})
+      for (const auto& e : *list) tags.emplace_back(e.number, e.line);
+    std::sort(tags.begin(), tags.end());
+    for (std::size_t i = 1; i < tags.size(); ++i) {
+      if (tags[i].first != tags[i - 1].first) continue;
+      SourceLocation where{in_.file(), {}, {}, {}};
+      std::string lines;
+      if (tags[i].second > 0) {
+        where.line = std::max(tags[i].second, tags[i - 1].second);
+        lines.append(" (lines ").append(std::to_string(std::min(tags[i].second, tags[i - 1].second)));
+        lines.append(" and ").append(std::to_string(*where.line)).append(")");
+      }
+      throw InputError(where, "element tag " + std::to_string(tags[i].first) + " names two elements" + lines);
+    }
+  }
+
   MeshFile result() {
     MeshFile out;
     out.format = MeshFormat::msh;
@@ -630,6 +650,7 @@ class MshReader {
     if (tris_.empty() && tets_.empty())
       in_.fail("no triangles (type 2) or tetrahedra (type 4) to read" +
                (out.skipped.empty() ? std::string() : " (the file holds " + out.skipped + ")"));
+    check_unique_element_tags();
     std::vector<Triangle> tris;
     std::vector<int> markers;
     bool any_marker = false;

@@ -72,6 +72,14 @@ TEST(MshReader, ElementaryTagsLabelRegionsWhereNoPhysicalGroupDoes) {
   EXPECT_EQ(read_text(v1).volume->tet_regions, (std::vector<int>{5, 9}));
 }
 
+TEST(MshReader, AnElementTagUsedTwiceIsRefused) {
+  const std::string twice =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n"
+      "$EndNodes\n$Elements\n2\n7 4 2 0 5 1 2 3 4\n7 4 2 0 9 2 3 4 5\n$EndElements\n";
+  expect_read_error(write_bytes(scratch_dir() / "twice.msh", twice), "element tag 7 names two elements (lines 14 and 15)",
+                    {15});
+}
+
 TEST(MshReader, SofaMsh1Files) {
   // Tetrahedra only (counted with awk): "$NOD 40" and 54 tets; "$NOD 181" and 596 tets.
   const MeshFile truss = read_mesh(data_dir / "sofa_truss_tetra_v1.msh");
