@@ -126,10 +126,16 @@ BodySolve solve_body(const scene::Model& model, std::size_t index, const SolveOp
         auto fraction = [s_k](double) { return s_k; };
         compile::assemble_loads(b, fraction, f_ext);
         compile::place_prescribed(b, rest, fraction, s.x);
-        physics::predict_static(pb, s, equilibrium, f_ext);
-        r = physics::solve_static(pb, s, f_ext, settings.newton);
+        std::string thrown;  // a linear solve that failed outright (not positive definite)
+        try {
+          physics::predict_static(pb, s, equilibrium, f_ext);
+          r = physics::solve_static(pb, s, f_ext, settings.newton);
+        } catch (const std::runtime_error& e) {
+          r = {};
+          thrown = e.what();
+        }
         iterations += r.iterations;
-        if (r.converged && s.x.allFinite()) {
+        if (thrown.empty() && r.converged && s.x.allFinite()) {
           reached = s_k;
           equilibrium = s.x;
         } else if (halvings < settings.max_step_halvings) {
@@ -137,16 +143,19 @@ BodySolve solve_body(const scene::Model& model, std::size_t index, const SolveOp
           size *= 0.5;
           s.x = equilibrium;
         } else {
-          out.failure = fmt::format(
-              "load step {}/{} (load fraction {:.6g}){}: {}", k, steps, s_k,
-              halvings > 0 ? fmt::format(", after {} halvings of the step", halvings) : std::string(),
-              r.inverted ? fmt::format("the balanced state has an element inside out (min volume ratio {:.3g}); "
-                                       "the law cannot follow this deformation (a finer mesh or neo_hookean may)",
-                                       pb.model->min_volume_ratio(s.x))
-                         : fmt::format("Newton stopped at an out-of-balance force of {:.3g} N ({:.3g} of the "
-                                       "loads and reactions) after {} iterations{}",
-                                       r.residual_force, r.residual, r.iterations,
-                                       r.stagnated ? " (line search stagnated)" : ""));
+          std::string reason = thrown;
+          if (reason.empty() && r.inverted)
+            reason = fmt::format("the balanced state has an element inside out (min volume ratio {:.3g}); the law "
+                                 "cannot follow this deformation (a finer mesh or neo_hookean may)",
+                                 pb.model->min_volume_ratio(s.x));
+          else if (reason.empty())
+            reason = fmt::format("Newton stopped at an out-of-balance force of {:.3g} N ({:.3g} of the loads and "
+                                 "reactions) after {} iterations{}",
+                                 r.residual_force, r.residual, r.iterations,
+                                 r.stagnated ? " (line search stagnated)" : "");
+          out.failure = fmt::format("load step {}/{} (load fraction {:.6g}){}: {}", k, steps, s_k,
+                                    halvings > 0 ? fmt::format(", after {} halvings of the step", halvings) : "",
+                                    reason);
           s.x = equilibrium;  // the row and the output mesh show the last equilibrium
           const double last = reached;
           compile::assemble_loads(b, [last](double) { return last; }, f_ext);
