@@ -873,7 +873,9 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
     const double scale = static_force_scale(w, load);
     w.force.array() *= w.free_mask.array();
     result.residual_force = w.force.norm();
-    result.residual = scale > 0.0 ? result.residual_force / scale : 0.0;
+    // Nothing to measure against (no load, no reaction): only the floor in newtons decides.
+    result.residual = scale > 0.0 ? result.residual_force / scale
+                                  : (result.residual_force > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
     return result.residual_force <= settings.force_tolerance || result.residual <= settings.tolerance;
   };
   // A balanced state with an element turned inside out is the wrong equilibrium.
