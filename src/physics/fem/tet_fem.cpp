@@ -206,6 +206,19 @@ TetFem::TetFem(const mesh::TetMesh& mesh, const FemMaterial& material, FemMass m
       const auto index = static_cast<std::int32_t>(found - block_column_.begin());
       pair_block_[e][p] = na < nb ? index : -1 - index;
     }
+  block_pair_start_.assign(block_column_.size() + 1, 0);
+  for (const auto& pairs : pair_block_)
+    for (const auto index : pairs) ++block_pair_start_[static_cast<std::size_t>(index >= 0 ? index : -1 - index) + 1];
+  for (std::size_t k = 0; k < block_column_.size(); ++k) block_pair_start_[k + 1] += block_pair_start_[k];
+  block_pair_.resize(static_cast<std::size_t>(block_pair_start_.back()));
+  std::vector<std::int32_t> next(block_pair_start_.begin(), block_pair_start_.end() - 1);
+  for (std::size_t e = 0; e < pair_block_.size(); ++e)
+    for (std::size_t p = 0; p < kPairs.size(); ++p) {
+      const std::int32_t index = pair_block_[e][p];
+      const auto code = static_cast<std::int32_t>(6 * e + p);
+      block_pair_[static_cast<std::size_t>(next[static_cast<std::size_t>(index >= 0 ? index : -1 - index)]++)] =
+          index >= 0 ? code : -1 - code;
+    }
 }
 
 std::unique_ptr<Scratch> TetFem::make_scratch() const {
@@ -630,6 +643,45 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
     for (int k = 0; k < 9; ++k) out[k] += block[k];
   };
   const bool consistent = mass_kind_ == FemMass::consistent && mass != 0.0;
+  auto gradients = [&](std::size_t e) { return rotated() ? cc.rotated_grad[e].data() : elements_[e].sgrad.data(); };
+  if (thread_count() > 1 && elements_.size() >= 2 * kElementGrain) {
+    // Row by row on every thread: each diagonal and upper block gathers its elements' terms
+    // in element order, so the sums are the serial loop's, bit for bit.
+    parallel_for(0, node_count(), [&](std::size_t begin, std::size_t end) {
+      double ra[3], rb[3];
+      for (std::size_t i = begin; i < end; ++i) {
+        double* d = K.diagonal[i].data();
+        for (auto k = node_start_[i]; k < node_start_[i + 1]; ++k) {
+          const auto slot = static_cast<std::size_t>(node_slot_[static_cast<std::size_t>(k)]);
+          const double* g = gradients(slot / 4) + 3 * (slot % 4);
+          for (int c = 0; c < 3; ++c) ra[c] = g[c];
+          add_block(ra, ra, d);
+        }
+        for (auto k = block_row_start_[i]; k < block_row_start_[i + 1]; ++k) {
+          double* out = K.upper[static_cast<std::size_t>(k)].data();
+          for (auto t = block_pair_start_[static_cast<std::size_t>(k)]; t < block_pair_start_[static_cast<std::size_t>(k) + 1]; ++t) {
+            const std::int32_t stored = block_pair_[static_cast<std::size_t>(t)];
+            const auto code = static_cast<std::size_t>(stored >= 0 ? stored : -1 - stored);
+            const std::size_t e = code / 6, p = code % 6;
+            if (consistent) {
+              const double m = mass * material_.density * elements_[e].volume / 20.0;
+              for (int c = 0; c < 3; ++c) out[4 * c] += m;
+            }
+            const double* g = gradients(e);
+            for (int c = 0; c < 3; ++c) {
+              ra[c] = g[3 * kPairs[p][0] + static_cast<std::size_t>(c)];
+              rb[c] = g[3 * kPairs[p][1] + static_cast<std::size_t>(c)];
+            }
+            if (stored >= 0)
+              add_block(ra, rb, out);
+            else
+              add_block(rb, ra, out);
+          }
+        }
+      }
+    }, kNodeGrain);
+    return &K;
+  }
   double r[4][3];
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     const TetElement& el = elements_[e];
@@ -642,7 +694,7 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
         for (int i = 0; i < 3; ++i) block[4 * i] += m;
       }
     }
-    const double* g = rotated() ? cc.rotated_grad[e].data() : el.sgrad.data();  // column a at g + 3 a
+    const double* g = gradients(e);  // column a at g + 3 a
     for (int k = 0; k < 12; ++k) r[k / 3][k % 3] = g[k];
     for (std::size_t n = 0; n < 4; ++n) add_block(r[n], r[n], K.diagonal[static_cast<std::size_t>(el.nodes[n])].data());
     for (std::size_t p = 0; p < kPairs.size(); ++p) {

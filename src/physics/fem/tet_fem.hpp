@@ -128,6 +128,11 @@ class TetFem final : public ForceModel {
   /// goes in transposed).
   std::vector<std::int32_t> block_row_start_, block_column_;
   std::vector<std::array<std::int32_t, 6>> pair_block_;
+  /// Upper block -> the element pairs that add to it, in element order: 6 e + pair, or
+  /// -1 - (6 e + pair) where the element block goes in transposed; block k's from
+  /// block_pair_start_[k] to block_pair_start_[k + 1]. Threads assembling the system row by
+  /// row add each block's terms in the order the serial element loop does.
+  std::vector<std::int32_t> block_pair_start_, block_pair_;
 };
 
 }  // namespace tactus::physics
