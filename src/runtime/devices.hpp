@@ -17,27 +17,20 @@ namespace tactus::runtime {
 std::unique_ptr<haptics::Device> make_device(const scene::Model& model, std::size_t index, unsigned seed = 0);
 
 /// A device whose pose its owner sets between frames (a program embedding the engine, the
-/// Python module): read() returns the last pose set, write() keeps the force for the owner.
+/// Python module): read() returns the last pose set. The force sent reaches the owner through
+/// the run's frames (runtime/stepped_run.hpp), so write() keeps nothing.
 class ControlledDevice final : public haptics::Device {
  public:
   explicit ControlledDevice(haptics::DeviceLimits limits) : limits_(std::move(limits)) {}
   void set_pose(const haptics::DevicePose& pose) { pose_ = pose; }
-  [[nodiscard]] const haptics::DevicePose& pose() const { return pose_; }
   haptics::DevicePose read(double /*t*/) override { return pose_; }
-  void write(const Vec3& force, const Vec3& torque) override {
-    force_ = force;
-    torque_ = torque;
-  }
-  [[nodiscard]] const Vec3& force() const { return force_; }
-  [[nodiscard]] const Vec3& torque() const { return torque_; }
+  void write(const Vec3& /*force*/, const Vec3& /*torque*/) override {}
   [[nodiscard]] const haptics::DeviceLimits& limits() const override { return limits_; }
   [[nodiscard]] const char* kind() const override { return "controlled"; }
 
  private:
   haptics::DeviceLimits limits_;
   haptics::DevicePose pose_;
-  Vec3 force_ = Vec3::Zero();
-  Vec3 torque_ = Vec3::Zero();
 };
 
 /// Recorded poses of one device, for a replay.

@@ -318,6 +318,26 @@ class MshReader {
     end_section("$Entities");
   }
 
+  /// A 4.x node block's header line (4.1: "entityDim entityTag parametric numNodes"; 4.0
+  /// swaps the first two): its node count, checked against the `declared` total, and the
+  /// parametric coordinates each of its nodes carries after x y z.
+  std::pair<std::int64_t, std::size_t> node_block(std::int64_t blocks, std::int64_t b, std::int64_t declared,
+                                                  bool v40) {
+    const auto bh = content(std::to_string(blocks) + " node blocks: got " + std::to_string(b));
+    if (bh.size() != 4)
+      in_.fail(v40 ? "expected 'entityTag entityDim parametric numNodes'"
+                   : "expected 'entityDim entityTag parametric numNodesInBlock'");
+    const std::string_view dim_token = bh[v40 ? 1 : 0];
+    const std::int64_t dim = in_.to_int(dim_token, "an entity dimension");
+    if (dim < 0 || dim > 3) in_.fail_at(dim_token, "entity dimension must be 0..3, got " + std::to_string(dim));
+    const std::int64_t parametric = in_.to_int(bh[2], "0 or 1");
+    if (parametric != 0 && parametric != 1) in_.fail_at(bh[2], "parametric flag must be 0 or 1");
+    const std::int64_t m = in_.count(bh[3], "block node count");
+    if (static_cast<std::int64_t>(nodes_.size()) + m > declared)
+      in_.fail_at(bh[3], "node blocks hold more nodes than the " + std::to_string(declared) + " declared");
+    return {m, parametric ? static_cast<std::size_t>(dim) : 0};
+  }
+
   void read_nodes41() {
     begin_nodes();
     const auto head = content("$Nodes");
@@ -327,16 +347,8 @@ class MshReader {
     reserve_bounded(nodes_, static_cast<std::uint64_t>(n), in_.remaining(), 8);
     std::vector<std::int64_t> tags;
     for (std::int64_t b = 0; b < blocks; ++b) {
-      const auto bh = content(std::to_string(blocks) + " node blocks: got " + std::to_string(b));
-      if (bh.size() != 4) in_.fail("expected 'entityDim entityTag parametric numNodesInBlock'");
-      const std::int64_t dim = in_.to_int(bh[0], "an entity dimension");
-      if (dim < 0 || dim > 3) in_.fail_at(bh[0], "entity dimension must be 0..3, got " + std::to_string(dim));
-      const std::int64_t parametric = in_.to_int(bh[2], "0 or 1");
-      if (parametric != 0 && parametric != 1) in_.fail_at(bh[2], "parametric flag must be 0 or 1");
-      const std::int64_t m = in_.count(bh[3], "block node count");
-      if (static_cast<std::int64_t>(nodes_.size()) + m > n)
-        in_.fail_at(bh[3], "node blocks hold more nodes than the " + std::to_string(n) + " declared");
-      const std::size_t values = 3 + (parametric ? static_cast<std::size_t>(dim) : 0);
+      const auto [m, parametric_values] = node_block(blocks, b, n, false);
+      const std::size_t values = 3 + parametric_values;
       // Tags come first, then coordinates.
       tags.clear();
       for (std::int64_t i = 0; i < m; ++i) {
@@ -368,16 +380,8 @@ class MshReader {
     const std::int64_t n = in_.count(head[1], "node count");
     reserve_bounded(nodes_, static_cast<std::uint64_t>(n), in_.remaining(), 8);
     for (std::int64_t b = 0; b < blocks; ++b) {
-      const auto bh = content(std::to_string(blocks) + " node blocks: got " + std::to_string(b));
-      if (bh.size() != 4) in_.fail("expected 'entityTag entityDim parametric numNodes'");
-      const std::int64_t dim = in_.to_int(bh[1], "an entity dimension");
-      if (dim < 0 || dim > 3) in_.fail_at(bh[1], "entity dimension must be 0..3, got " + std::to_string(dim));
-      const std::int64_t parametric = in_.to_int(bh[2], "0 or 1");
-      if (parametric != 0 && parametric != 1) in_.fail_at(bh[2], "parametric flag must be 0 or 1");
-      const std::int64_t m = in_.count(bh[3], "block node count");
-      if (static_cast<std::int64_t>(nodes_.size()) + m > n)
-        in_.fail_at(bh[3], "node blocks hold more nodes than the " + std::to_string(n) + " declared");
-      const std::size_t values = 4 + (parametric ? static_cast<std::size_t>(dim) : 0);
+      const auto [m, parametric_values] = node_block(blocks, b, n, true);
+      const std::size_t values = 4 + parametric_values;
       for (std::int64_t i = 0; i < m; ++i) {
         const auto tok = content(std::to_string(m) + " nodes of a block: got " + std::to_string(i));
         if (tok.size() != values)
