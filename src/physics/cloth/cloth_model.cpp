@@ -1,0 +1,423 @@
+#include "physics/cloth/cloth_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "mesh/half_edge.hpp"
+
+namespace tactus::physics {
+namespace {
+
+inline Vec3 node(const VecX& x, std::int32_t n) { return x.segment<3>(3 * static_cast<Eigen::Index>(n)); }
+inline auto node(VecX& x, std::int32_t n) { return x.segment<3>(3 * static_cast<Eigen::Index>(n)); }
+
+// The warp/weft shear angle stays off ±90°, where asin's slope blows up; no fabric gets there.
+constexpr double kMaxShearSine = 0.95;
+
+/// One triangle's linearization: K block (n, m) = a_n a_m P_u + b_n b_m P_v + k_s g_n g_mᵀ,
+/// D block (n, m) = a_n a_m d_u ŵ_u ŵ_uᵀ + b_n b_m d_v ŵ_v ŵ_vᵀ + d_s g_n g_mᵀ.
+struct TriangleLinear {
+  Mat3 pu, pv;
+  Vec3 g[3];
+  Vec3 wu, wv;
+  double ks, du, dv, ds;
+};
+/// One hinge's: K = k g gᵀ, D = d g gᵀ over its nodes (e0, e1, o0, o1).
+struct HingeLinear {
+  Vec3 g[4];
+  double k, d;
+};
+
+struct ClothScratch final : Scratch {
+  std::vector<TriangleLinear> triangles;
+  std::vector<HingeLinear> hinges;
+  BlockMatrix system;
+};
+
+constexpr int kHingePairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+constexpr int kTrianglePairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+
+/// The dihedral angle θ of a hinge (0 flat, signed) and its gradient over (e0, e1, o0, o1)
+/// (Bridson, Marino and Fedkiw 2003). False for a degenerate triangle.
+bool hinge_angle(const Vec3& e0, const Vec3& e1, const Vec3& o0, const Vec3& o1, double& theta, Vec3 (&g)[4]) {
+  const Vec3 e = e1 - e0;
+  const Vec3 n1 = e.cross(o0 - e0), n2 = (o1 - e0).cross(e);
+  const double l1 = n1.squaredNorm(), l2 = n2.squaredNorm(), el2 = e.squaredNorm();
+  if (!(l1 > 0.0 && l2 > 0.0 && el2 > 0.0)) return false;
+  const double el = std::sqrt(el2);
+  theta = std::atan2(n1.cross(n2).dot(e) / el, n1.dot(n2));
+  g[2] = (-el / l1) * n1;
+  g[3] = (-el / l2) * n2;
+  g[0] = ((o0 - e1).dot(e) / el2) * g[2] + ((o1 - e1).dot(e) / el2) * g[3];
+  g[1] = (-(o0 - e0).dot(e) / el2) * g[2] - ((o1 - e0).dot(e) / el2) * g[3];
+  return true;
+}
+
+}  // namespace
+
+ClothModel::ClothModel(const ClothMesh& cloth, ClothMaterial material) : material_(std::move(material)) {
+  const auto& m = cloth.mesh;
+  const auto nodes = m.vertices.size();
+  if (cloth.uv.size() != nodes)
+    throw InputError("cloth: " + std::to_string(cloth.uv.size()) + " (u, v) coordinates for " + std::to_string(nodes) +
+                     " vertices");
+  if (m.triangles.empty()) throw InputError("cloth: the mesh has no triangles");
+  if (!(material_.areal_density > 0.0 && std::isfinite(material_.areal_density)))
+    throw InputError("cloth: the areal density must be positive and finite");
+  for (double beta : {material_.stretch_damping, material_.shear_damping, material_.bend_damping})
+    if (!(beta >= 0.0 && std::isfinite(beta))) throw InputError("cloth: damping time constants must be finite and >= 0");
+  const mesh::HalfEdgeMesh topology(m);  // rejects non-manifold and inconsistently oriented meshes
+
+  rest_.resize(3 * static_cast<Eigen::Index>(nodes));
+  for (std::size_t i = 0; i < nodes; ++i) {
+    if (!m.vertices[i].allFinite() || !cloth.uv[i].allFinite())
+      throw InputError("cloth: vertex " + std::to_string(i) + " is not finite");
+    rest_.segment<3>(3 * static_cast<Eigen::Index>(i)) = m.vertices[i];
+  }
+  mass_ = VecX::Zero(rest_.size());
+  triangles_ = m.triangles;
+  rest_triangles_.resize(triangles_.size());
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    const auto& tri = triangles_[t];
+    Eigen::Matrix2d d;
+    d.col(0) = cloth.uv[static_cast<std::size_t>(tri[1])] - cloth.uv[static_cast<std::size_t>(tri[0])];
+    d.col(1) = cloth.uv[static_cast<std::size_t>(tri[2])] - cloth.uv[static_cast<std::size_t>(tri[0])];
+    const double det = d.determinant();
+    const double scale = d.col(0).squaredNorm() + d.col(1).squaredNorm();
+    if (!(std::abs(det) > 1e-12 * scale)) throw InputError("cloth: triangle " + std::to_string(t) + " has no area in (u, v)");
+    const Eigen::Matrix2d inv = d.inverse();
+    TriangleRest& r = rest_triangles_[t];
+    r.a[0] = -inv(0, 0) - inv(1, 0), r.a[1] = inv(0, 0), r.a[2] = inv(1, 0);
+    r.b[0] = -inv(0, 1) - inv(1, 1), r.b[1] = inv(0, 1), r.b[2] = inv(1, 1);
+    r.area = 0.5 * std::abs(det);
+    for (auto n : tri) mass_.segment<3>(3 * static_cast<Eigen::Index>(n)).array() += material_.areal_density * r.area / 3.0;
+  }
+  for (std::size_t i = 0; i < nodes; ++i)
+    if (!(mass_[3 * static_cast<Eigen::Index>(i)] > 0.0))
+      throw InputError("cloth: vertex " + std::to_string(i) + " belongs to no triangle");
+
+  // One hinge per interior edge, from its half-edge whose origin is the smaller vertex.
+  for (mesh::Index h = 0; h < static_cast<mesh::Index>(topology.num_half_edges()); ++h) {
+    const mesh::Index t = topology.twin(h);
+    if (topology.is_boundary(h) || topology.is_boundary(t) || h > t) continue;
+    ClothHinge hinge;
+    hinge.e0 = topology.origin(h);
+    hinge.e1 = topology.target(h);
+    hinge.o0 = topology.target(topology.next(h));
+    hinge.o1 = topology.target(topology.next(t));
+    const auto f0 = static_cast<std::size_t>(topology.face(h)), f1 = static_cast<std::size_t>(topology.face(t));
+    const Vec2 edge = cloth.uv[static_cast<std::size_t>(hinge.e1)] - cloth.uv[static_cast<std::size_t>(hinge.e0)];
+    const double length = edge.norm();
+    hinge.area = rest_triangles_[f0].area + rest_triangles_[f1].area;
+    hinge.mean_height = hinge.area / length;  // (2A0/|e| + 2A1/|e|) / 2
+    hinge.warp_share = edge.y() * edge.y() / edge.squaredNorm();
+    double theta = 0.0;
+    Vec3 g[4];
+    if (hinge_angle(node(rest_, hinge.e0), node(rest_, hinge.e1), node(rest_, hinge.o0), node(rest_, hinge.o1), theta, g))
+      hinge.rest_curvature = 2.0 * std::sin(0.5 * theta) / hinge.mean_height;
+    hinges_.push_back(hinge);
+  }
+
+  // Block pattern of the assembled system.
+  std::vector<std::vector<std::int32_t>> upper(nodes);
+  auto link = [&](std::int32_t i, std::int32_t j) { upper[static_cast<std::size_t>(std::min(i, j))].push_back(std::max(i, j)); };
+  for (const auto& tri : triangles_)
+    for (const auto& p : kTrianglePairs) link(tri[static_cast<std::size_t>(p[0])], tri[static_cast<std::size_t>(p[1])]);
+  for (const auto& h : hinges_) link(h.o0, h.o1);  // the other hinge pairs are triangle pairs
+  row_start_.assign(nodes + 1, 0);
+  for (std::size_t i = 0; i < nodes; ++i) {
+    auto& row = upper[i];
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    row_start_[i + 1] = row_start_[i] + static_cast<std::int32_t>(row.size());
+    column_.insert(column_.end(), row.begin(), row.end());
+  }
+  auto slot = [&](std::int32_t i, std::int32_t j) {
+    const auto lo = static_cast<std::size_t>(std::min(i, j));
+    const auto begin = column_.begin() + row_start_[lo], end = column_.begin() + row_start_[lo + 1];
+    const auto k = static_cast<std::int32_t>(std::lower_bound(begin, end, std::max(i, j)) - column_.begin());
+    return i < j ? k : -1 - k;
+  };
+  for (const auto& tri : triangles_)
+    for (const auto& p : kTrianglePairs)
+      triangle_slot_.push_back(slot(tri[static_cast<std::size_t>(p[0])], tri[static_cast<std::size_t>(p[1])]));
+  for (const auto& h : hinges_) {
+    const std::int32_t n[4] = {h.e0, h.e1, h.o0, h.o1};
+    for (const auto& p : kHingePairs) hinge_slot_.push_back(slot(n[p[0]], n[p[1]]));
+  }
+}
+
+std::unique_ptr<Scratch> ClothModel::make_scratch() const {
+  auto s = std::make_unique<ClothScratch>();
+  s->triangles.resize(triangles_.size());
+  s->hinges.resize(hinges_.size());
+  const auto nodes = node_count();
+  s->system.diagonal.resize(nodes);
+  s->system.row_start = row_start_;
+  s->system.column = column_;
+  s->system.upper.resize(column_.size());
+  return s;
+}
+
+Vec3 ClothModel::triangle_strain(const VecX& x, std::size_t t) const {
+  const auto& tri = triangles_[t];
+  const auto& r = rest_triangles_[t];
+  Vec3 wu = Vec3::Zero(), wv = Vec3::Zero();
+  for (int n = 0; n < 3; ++n) {
+    const Vec3 p = node(x, tri[static_cast<std::size_t>(n)]);
+    wu += r.a[n] * p;
+    wv += r.b[n] * p;
+  }
+  const double s = std::clamp(wu.normalized().dot(wv.normalized()), -kMaxShearSine, kMaxShearSine);
+  return {wu.norm() - 1.0, wv.norm() - 1.0, std::asin(s)};
+}
+
+double ClothModel::hinge_curvature(const VecX& x, std::size_t h) const {
+  const ClothHinge& hinge = hinges_[h];
+  double theta = 0.0;
+  Vec3 g[4];
+  if (!hinge_angle(node(x, hinge.e0), node(x, hinge.e1), node(x, hinge.o0), node(x, hinge.o1), theta, g)) return 0.0;
+  return 2.0 * std::sin(0.5 * theta) / hinge.mean_height;
+}
+
+template <bool Linearize>
+void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) const {
+  auto& cs = static_cast<ClothScratch&>(s);
+  if (f) f->setZero(rest_.size());
+  const bool damped = f && v.size() == rest_.size();
+  const auto& mat = material_;
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    const auto& tri = triangles_[t];
+    const auto& r = rest_triangles_[t];
+    Vec3 wu = Vec3::Zero(), wv = Vec3::Zero();
+    for (int n = 0; n < 3; ++n) {
+      const Vec3 p = node(x, tri[static_cast<std::size_t>(n)]);
+      wu += r.a[n] * p;
+      wv += r.b[n] * p;
+    }
+    const double lu = wu.norm(), lv = wv.norm();
+    if (!(lu > 0.0 && lv > 0.0)) continue;  // collapsed to a line: no direction to push along
+    wu /= lu;
+    wv /= lv;
+    const double eu = lu - 1.0, ev = lv - 1.0;
+    const double s_raw = wu.dot(wv);
+    const double sn = std::clamp(s_raw, -kMaxShearSine, kMaxShearSine);
+    const double c = 1.0 / std::sqrt(1.0 - sn * sn);
+    const double gamma = std::asin(sn);
+    const Vec3 pu = (wv - sn * wu) / lu, pv = (wu - sn * wv) / lv;
+    Vec3 g[3];
+    for (int n = 0; n < 3; ++n) g[n] = c * (r.a[n] * pu + r.b[n] * pv);
+    const double ku = mat.warp.slope(eu), kv = mat.weft.slope(ev), ks = mat.shear.slope(gamma);
+    if (f) {
+      const double tu = mat.warp.value(eu), tv = mat.weft.value(ev), ts = mat.shear.value(gamma);
+      double rate_u = 0.0, rate_v = 0.0, rate_s = 0.0;
+      if (damped) {
+        for (int n = 0; n < 3; ++n) {
+          const Vec3 vn = node(v, tri[static_cast<std::size_t>(n)]);
+          rate_u += r.a[n] * wu.dot(vn);
+          rate_v += r.b[n] * wv.dot(vn);
+          rate_s += g[n].dot(vn);
+        }
+      }
+      const double su = r.area * (tu + mat.stretch_damping * ku * rate_u);
+      const double sv = r.area * (tv + mat.stretch_damping * kv * rate_v);
+      const double ss = r.area * (ts + mat.shear_damping * ks * rate_s);
+      for (int n = 0; n < 3; ++n) node(*f, tri[static_cast<std::size_t>(n)]) -= su * r.a[n] * wu + sv * r.b[n] * wv + ss * g[n];
+    }
+    if constexpr (Linearize) {
+      TriangleLinear& l = cs.triangles[t];
+      const double tu = std::max(mat.warp.value(eu), 0.0), tv = std::max(mat.weft.value(ev), 0.0);
+      const Mat3 uu = wu * wu.transpose(), vv = wv * wv.transpose();
+      // Compressed directions keep only their axial stiffness: the transverse term T/l of a
+      // compressed fibre is negative and would make K indefinite.
+      l.pu = r.area * (ku * uu + (tu / lu) * (Mat3::Identity() - uu));
+      l.pv = r.area * (kv * vv + (tv / lv) * (Mat3::Identity() - vv));
+      for (int n = 0; n < 3; ++n) l.g[n] = g[n];
+      l.wu = wu;
+      l.wv = wv;
+      l.ks = r.area * ks;
+      l.du = r.area * mat.stretch_damping * ku;
+      l.dv = r.area * mat.stretch_damping * kv;
+      l.ds = r.area * mat.shear_damping * ks;
+    }
+  }
+  for (std::size_t h = 0; h < hinges_.size(); ++h) {
+    const ClothHinge& hinge = hinges_[h];
+    const std::int32_t nodes[4] = {hinge.e0, hinge.e1, hinge.o0, hinge.o1};
+    double theta = 0.0;
+    Vec3 g[4];
+    if (!hinge_angle(node(x, hinge.e0), node(x, hinge.e1), node(x, hinge.o0), node(x, hinge.o1), theta, g)) {
+      if constexpr (Linearize) cs.hinges[h] = HingeLinear{{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}, 0.0, 0.0};
+      continue;
+    }
+    const double kappa = 2.0 * std::sin(0.5 * theta) / hinge.mean_height - hinge.rest_curvature;
+    const double dk = std::cos(0.5 * theta) / hinge.mean_height;  // dK/dθ
+    const double w = hinge.warp_share;
+    const double slope = w * mat.bend_warp.slope(kappa) + (1.0 - w) * mat.bend_weft.slope(kappa);
+    const double k = hinge.area * slope * dk * dk;
+    if (f) {
+      const double moment = w * mat.bend_warp.value(kappa) + (1.0 - w) * mat.bend_weft.value(kappa);
+      double rate = 0.0;
+      if (damped)
+        for (int n = 0; n < 4; ++n) rate += g[n].dot(node(v, nodes[n]));
+      const double scale = hinge.area * moment * dk + mat.bend_damping * k * rate;
+      for (int n = 0; n < 4; ++n) node(*f, nodes[n]) -= scale * g[n];
+    }
+    if constexpr (Linearize) {
+      HingeLinear& l = cs.hinges[h];
+      for (int n = 0; n < 4; ++n) l.g[n] = g[n];
+      l.k = k;
+      l.d = mat.bend_damping * k;
+    }
+  }
+}
+
+void ClothModel::forces(const VecX& x, const VecX& v, const VecX&, VecX& f, Scratch& s) const {
+  evaluate<false>(x, v, &f, s);
+}
+
+void ClothModel::linearize(const VecX& x, const VecX& v, const VecX&, Scratch& s) const {
+  evaluate<true>(x, v, nullptr, s);
+}
+
+namespace {
+
+/// out += (c·K + b·D) in, over the triangles and hinges of a linearization.
+template <class Rest, class Triangles>
+void add_product(const Triangles& triangles, const std::vector<mesh::Triangle>& tris, const Rest& rest,
+                 const std::vector<ClothHinge>& hinges, const std::vector<HingeLinear>& hl, double c, double b,
+                 const VecX& in, VecX& out) {
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    const TriangleLinear& l = triangles[t];
+    const auto& r = rest[t];
+    Vec3 su = Vec3::Zero(), sv = Vec3::Zero();
+    double gs = 0.0;
+    for (int n = 0; n < 3; ++n) {
+      const Vec3 p = node(in, tris[t][static_cast<std::size_t>(n)]);
+      su += r.a[n] * p;
+      sv += r.b[n] * p;
+      gs += l.g[n].dot(p);
+    }
+    const Vec3 fu = c * (l.pu * su) + (b * l.du * l.wu.dot(su)) * l.wu;
+    const Vec3 fv = c * (l.pv * sv) + (b * l.dv * l.wv.dot(sv)) * l.wv;
+    const double fs = (c * l.ks + b * l.ds) * gs;
+    for (int n = 0; n < 3; ++n) node(out, tris[t][static_cast<std::size_t>(n)]) += r.a[n] * fu + r.b[n] * fv + fs * l.g[n];
+  }
+  for (std::size_t h = 0; h < hinges.size(); ++h) {
+    const HingeLinear& l = hl[h];
+    const std::int32_t nodes[4] = {hinges[h].e0, hinges[h].e1, hinges[h].o0, hinges[h].o1};
+    double gs = 0.0;
+    for (int n = 0; n < 4; ++n) gs += l.g[n].dot(node(in, nodes[n]));
+    const double scale = (c * l.k + b * l.d) * gs;
+    for (int n = 0; n < 4; ++n) node(out, nodes[n]) += scale * l.g[n];
+  }
+}
+
+}  // namespace
+
+void ClothModel::add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const {
+  const auto& cs = static_cast<const ClothScratch&>(s);
+  add_product(cs.triangles, triangles_, rest_triangles_, hinges_, cs.hinges, 1.0, 0.0, dx, out);
+}
+
+void ClothModel::add_damping_product(const VecX& dv, VecX& out, const Scratch& s) const {
+  const auto& cs = static_cast<const ClothScratch&>(s);
+  add_product(cs.triangles, triangles_, rest_triangles_, hinges_, cs.hinges, 0.0, 1.0, dv, out);
+}
+
+namespace {
+
+/// Block (n, m) of c·K + b·D of a triangle.
+Mat3 triangle_block(const TriangleLinear& l, const ClothModel::TriangleRest& r, int n, int m, double c, double b) {
+  const double aa = r.a[n] * r.a[m], bb = r.b[n] * r.b[m];
+  return c * (aa * l.pu + bb * l.pv + l.ks * l.g[n] * l.g[m].transpose()) +
+         b * (aa * l.du * l.wu * l.wu.transpose() + bb * l.dv * l.wv * l.wv.transpose() + l.ds * l.g[n] * l.g[m].transpose());
+}
+
+}  // namespace
+
+void ClothModel::add_diagonal(double a, double b, VecX& out, const Scratch& s) const {
+  const auto& cs = static_cast<const ClothScratch&>(s);
+  for (std::size_t t = 0; t < triangles_.size(); ++t)
+    for (int n = 0; n < 3; ++n)
+      node(out, triangles_[t][static_cast<std::size_t>(n)]) +=
+          triangle_block(cs.triangles[t], rest_triangles_[t], n, n, a, b).diagonal();
+  for (std::size_t h = 0; h < hinges_.size(); ++h) {
+    const HingeLinear& l = cs.hinges[h];
+    const std::int32_t nodes[4] = {hinges_[h].e0, hinges_[h].e1, hinges_[h].o0, hinges_[h].o1};
+    for (int n = 0; n < 4; ++n) node(out, nodes[n]) += (a * l.k + b * l.d) * l.g[n].cwiseAbs2();
+  }
+}
+
+const BlockMatrix* ClothModel::assemble_system(double a, double b, double c, Scratch& s) const {
+  auto& cs = static_cast<ClothScratch&>(s);
+  BlockMatrix& A = cs.system;
+  for (std::size_t i = 0; i < A.diagonal.size(); ++i) A.diagonal[i] = (a * mass_[3 * static_cast<Eigen::Index>(i)]) * Mat3::Identity();
+  std::fill(A.upper.begin(), A.upper.end(), Mat3::Zero());
+  auto add = [&A](std::int32_t slot, const Mat3& block) {
+    if (slot >= 0)
+      A.upper[static_cast<std::size_t>(slot)] += block;
+    else
+      A.upper[static_cast<std::size_t>(-1 - slot)] += block.transpose();
+  };
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    const auto& tri = triangles_[t];
+    for (int n = 0; n < 3; ++n)
+      A.diagonal[static_cast<std::size_t>(tri[static_cast<std::size_t>(n)])] +=
+          triangle_block(cs.triangles[t], rest_triangles_[t], n, n, c, b);
+    for (int p = 0; p < 3; ++p)
+      add(triangle_slot_[3 * t + static_cast<std::size_t>(p)],
+          triangle_block(cs.triangles[t], rest_triangles_[t], kTrianglePairs[p][0], kTrianglePairs[p][1], c, b));
+  }
+  for (std::size_t h = 0; h < hinges_.size(); ++h) {
+    const HingeLinear& l = cs.hinges[h];
+    const double w = c * l.k + b * l.d;
+    if (w == 0.0) continue;
+    const std::int32_t nodes[4] = {hinges_[h].e0, hinges_[h].e1, hinges_[h].o0, hinges_[h].o1};
+    for (int n = 0; n < 4; ++n) A.diagonal[static_cast<std::size_t>(nodes[n])] += w * l.g[n] * l.g[n].transpose();
+    for (int p = 0; p < 6; ++p)
+      add(hinge_slot_[6 * h + static_cast<std::size_t>(p)], w * l.g[kHingePairs[p][0]] * l.g[kHingePairs[p][1]].transpose());
+  }
+  return &A;
+}
+
+void ClothModel::add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const {
+  const auto& cs = static_cast<const ClothScratch&>(s);
+  auto emit = [&out](std::int32_t i, std::int32_t j, const Mat3& block) {
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) out.emplace_back(3 * i + r, 3 * j + q, block(r, q));
+  };
+  for (std::size_t t = 0; t < triangles_.size(); ++t)
+    for (int n = 0; n < 3; ++n)
+      for (int m = 0; m < 3; ++m)
+        emit(triangles_[t][static_cast<std::size_t>(n)], triangles_[t][static_cast<std::size_t>(m)],
+             triangle_block(cs.triangles[t], rest_triangles_[t], n, m, a, b));
+  for (std::size_t h = 0; h < hinges_.size(); ++h) {
+    const HingeLinear& l = cs.hinges[h];
+    const double w = a * l.k + b * l.d;
+    if (w == 0.0) continue;
+    const std::int32_t nodes[4] = {hinges_[h].e0, hinges_[h].e1, hinges_[h].o0, hinges_[h].o1};
+    for (int n = 0; n < 4; ++n)
+      for (int m = 0; m < 4; ++m) emit(nodes[n], nodes[m], w * l.g[n] * l.g[m].transpose());
+  }
+}
+
+double ClothModel::elastic_energy(const VecX& x, const VecX&) const {
+  double energy = 0.0;
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    const Vec3 e = triangle_strain(x, t);
+    energy += rest_triangles_[t].area *
+              (material_.warp.integral(e[0]) + material_.weft.integral(e[1]) + material_.shear.integral(e[2]));
+  }
+  for (std::size_t h = 0; h < hinges_.size(); ++h) {
+    const ClothHinge& hinge = hinges_[h];
+    const double kappa = hinge_curvature(x, h) - hinge.rest_curvature;
+    energy += hinge.area * (hinge.warp_share * material_.bend_warp.integral(kappa) +
+                            (1.0 - hinge.warp_share) * material_.bend_weft.integral(kappa));
+  }
+  return energy;
+}
+
+}  // namespace tactus::physics

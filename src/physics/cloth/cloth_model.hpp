@@ -1,0 +1,107 @@
+#pragma once
+// Woven fabric as particles on a triangle mesh (seed 002 §III-B): each triangle knows its
+// rest warp/weft (u, v) coordinates, and the fabric's measured curves give its forces.
+//
+// - Stretch, warp and weft apart: (W_u W_v) = (x1 − x0, x2 − x0)·(uv1 − uv0, uv2 − uv0)⁻¹, the
+//   strains ‖W_u‖ − 1 and ‖W_v‖ − 1 constant over the triangle; the tension per unit width
+//   T(ε) [N/m] from the warp or weft curve, energy A·∫T dε.
+// - Shear: the angle γ = asin(Ŵ_u·Ŵ_v) by which warp and weft leave the right angle; the
+//   shear force per unit width from the shear curve, energy A·∫T_s dγ.
+// - Bending along each interior edge: the normal curvature across it, K = (2/σ)·cos(Θ/2)
+//   with Θ the angle between the two triangles (π when flat) and σ the mean of the two
+//   opposite vertices' heights over the edge. That is the curvature of the circle through
+//   the two opposite vertices and the edge; the seed calls σ the "mean distance", so its
+//   formula holds as printed (with σ the summed heights it would be half the curvature).
+//   Energy A_e·∫M dK, M [N·m/m] the moment per unit width from the bending curves (warp and
+//   weft mixed by the edge's direction), A_e the two triangles' area. The seed puts the
+//   force F_b = M/l on the two opposite vertices only; alone it would push the fabric's
+//   centre of mass, so the edge's vertices take the reaction (the energy's gradient does it:
+//   the opposite vertices still get |e|·M/h, the seed's M/l with l the yarn's length h).
+// - Damping per term along the term's own direction (§III-B2d): force −β·k·g(g·v), g the
+//   term's gradient and k its tangent stiffness, with one time constant β per kind.
+// - Lumped masses: areal density × area / 3 per vertex.
+#include <memory>
+#include <vector>
+
+#include "mesh/tri_mesh.hpp"
+#include "physics/cloth/measured_curve.hpp"
+#include "physics/force_model.hpp"
+
+namespace tactus::physics {
+
+struct ClothMaterial {
+  MeasuredCurve warp, weft;            ///< tension per unit width [N/m] against strain
+  MeasuredCurve shear;                 ///< shear force per unit width [N/m] against angle [rad]
+  MeasuredCurve bend_warp, bend_weft;  ///< moment per unit width [N·m/m] against curvature [1/m]
+  double areal_density = 0.0;          ///< [kg/m²]
+  /// Damping time constants [s] of stretch, shear and bending (damping = β × tangent stiffness).
+  double stretch_damping = 0.0, shear_damping = 0.0, bend_damping = 0.0;
+};
+
+/// A mesh with its rest warp/weft coordinates (one (u, v) per vertex, in metres of fabric).
+struct ClothMesh {
+  mesh::TriMesh mesh;
+  std::vector<Vec2> uv;
+};
+
+/// One interior edge: e0 → e1, o0 opposite in the triangle on its left, o1 in the other.
+struct ClothHinge {
+  std::int32_t e0 = 0, e1 = 0, o0 = 0, o1 = 0;
+  double area = 0.0;         ///< the two triangles' rest area [m²]
+  double mean_height = 0.0;  ///< σ, rest [m]
+  double warp_share = 0.0;   ///< cos² of the angle between the fold's normal and the warp
+  double rest_curvature = 0.0;
+};
+
+class ClothModel final : public ForceModel {
+ public:
+  /// Throws InputError for a non-manifold or inconsistently oriented mesh (naming the edge or
+  /// the triangle), a triangle of zero (u, v) area, uv of the wrong size, a density that is
+  /// not positive, or a negative damping.
+  ClothModel(const ClothMesh& cloth, ClothMaterial material);
+
+  [[nodiscard]] const ClothMaterial& material() const { return material_; }
+  [[nodiscard]] const std::vector<mesh::Triangle>& triangles() const { return triangles_; }
+  [[nodiscard]] const std::vector<ClothHinge>& hinges() const { return hinges_; }
+  /// The warp and weft strains and the shear angle [rad] of triangle t at x.
+  [[nodiscard]] Vec3 triangle_strain(const VecX& x, std::size_t t) const;
+  /// The curvature across hinge h at x [1/m] (signed).
+  [[nodiscard]] double hinge_curvature(const VecX& x, std::size_t h) const;
+
+  // ForceModel
+  [[nodiscard]] std::size_t node_count() const override { return static_cast<std::size_t>(rest_.size() / 3); }
+  [[nodiscard]] const VecX& rest_positions() const override { return rest_; }
+  [[nodiscard]] const VecX& lumped_mass() const override { return mass_; }
+  [[nodiscard]] std::unique_ptr<Scratch> make_scratch() const override;
+  void forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratch& s) const override;
+  void linearize(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const override;
+  void add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const override;
+  void add_damping_product(const VecX& dv, VecX& out, const Scratch& s) const override;
+  void add_diagonal(double a, double b, VecX& out, const Scratch& s) const override;
+  const BlockMatrix* assemble_system(double a, double b, double c, Scratch& s) const override;
+  void add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const override;
+  [[nodiscard]] double elastic_energy(const VecX& x, const VecX& q) const override;
+
+  /// A triangle's constant part: W_u = Σ a_n x_n, W_v = Σ b_n x_n.
+  struct TriangleRest {
+    double a[3], b[3];
+    double area;
+  };
+
+ private:
+  template <bool Linearize>
+  void evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) const;
+
+  VecX rest_, mass_;
+  ClothMaterial material_;
+  std::vector<mesh::Triangle> triangles_;
+  std::vector<TriangleRest> rest_triangles_;
+  std::vector<ClothHinge> hinges_;
+  // The assembled system's block pattern: per node its upper neighbours, and per element
+  // pair its block (≥ 0: stored as (row, column); < 0: −1 − index, stored transposed).
+  std::vector<std::int32_t> row_start_, column_;
+  std::vector<std::int32_t> triangle_slot_;  // 3 per triangle: pairs (0,1) (0,2) (1,2)
+  std::vector<std::int32_t> hinge_slot_;     // 6 per hinge: pairs of (e0, e1, o0, o1)
+};
+
+}  // namespace tactus::physics

@@ -1,0 +1,233 @@
+// The cloth model's derivatives against finite differences of its own energy and forces,
+// its conservation of momentum, the agreement of its linear-algebra views, the curvature of
+// a sheet rolled onto a cylinder, and bad meshes refused.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCore>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "core/error.hpp"
+#include "physics/cloth/cloth_model.hpp"
+#include "physics/cloth/sheet.hpp"
+
+namespace tactus::physics {
+namespace {
+
+VecX random_vector(Eigen::Index n, unsigned seed, double scale) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-scale, scale);
+  VecX v(n);
+  for (auto& x : v) x = u(rng);
+  return v;
+}
+
+/// Nonlinear curves in every term, and damping in every term.
+ClothMaterial test_material() {
+  ClothMaterial m;
+  m.warp = MeasuredCurve({0.0, 0.02, 0.05, 0.1}, {0.0, 20.0, 120.0, 500.0}, MeasuredCurve::BelowZero::linear, 30.0, "warp");
+  m.weft = MeasuredCurve({0.0, 0.03, 0.08}, {0.0, 10.0, 200.0}, MeasuredCurve::BelowZero::linear, 10.0, "weft");
+  m.shear = MeasuredCurve({0.0, 0.1, 0.3}, {0.0, 5.0, 40.0}, MeasuredCurve::BelowZero::mirror, 0.0, "shear");
+  m.bend_warp = MeasuredCurve({0.0, 10.0, 50.0}, {0.0, 1e-4, 1e-3}, MeasuredCurve::BelowZero::mirror, 0.0, "bend warp");
+  m.bend_weft = MeasuredCurve::line(3e-5, "bend weft");
+  m.areal_density = 0.15;
+  m.stretch_damping = 0.002;
+  m.shear_damping = 0.004;
+  m.bend_damping = 0.01;
+  return m;
+}
+
+struct Fixture {
+  std::shared_ptr<ClothModel> model;
+  VecX x, v;
+};
+
+Fixture make_fixture() {
+  const auto sheet = rectangular_sheet(0.03, 0.02, 0.01);
+  Fixture f;
+  f.model = std::make_shared<ClothModel>(sheet.cloth, test_material());
+  const auto n = f.model->rest_positions().size();
+  f.x = f.model->rest_positions() + random_vector(n, 1, 1.5e-3);  // ±15 % of the 10 mm cell
+  f.v = random_vector(n, 2, 0.05);
+  return f;
+}
+
+VecX forces(const ClothModel& m, const VecX& x, const VecX& v) {
+  auto s = m.make_scratch();
+  VecX f(x.size());
+  m.forces(x, v, VecX(), f, *s);
+  return f;
+}
+
+TEST(ClothModel, ForcesAreMinusTheEnergyGradient) {
+  const Fixture f = make_fixture();
+  const VecX force = forces(*f.model, f.x, VecX::Zero(f.x.size()));
+  const double h = 1e-7;
+  for (Eigen::Index i = 0; i < f.x.size(); ++i) {
+    VecX xp = f.x, xm = f.x;
+    xp[i] += h;
+    xm[i] -= h;
+    const double derivative = (f.model->elastic_energy(xp, VecX()) - f.model->elastic_energy(xm, VecX())) / (2 * h);
+    EXPECT_NEAR(force[i], -derivative, 1e-6 * (1.0 + force.cwiseAbs().maxCoeff())) << "dof " << i;
+  }
+}
+
+TEST(ClothModel, ConservesLinearAndAngularMomentum) {
+  const Fixture f = make_fixture();
+  const VecX force = forces(*f.model, f.x, f.v);  // with damping
+  Vec3 sum = Vec3::Zero(), torque = Vec3::Zero();
+  for (Eigen::Index n = 0; n < f.x.size() / 3; ++n) {
+    sum += force.segment<3>(3 * n);
+    torque += f.x.segment<3>(3 * n).cross(force.segment<3>(3 * n));
+  }
+  const double scale = force.norm();
+  EXPECT_LT(sum.norm(), 1e-12 * scale);
+  EXPECT_LT(torque.norm(), 1e-12 * scale);
+}
+
+TEST(ClothModel, DampingForceIsMinusTheDampingMatrixTimesVelocity) {
+  const Fixture f = make_fixture();
+  const VecX zero = VecX::Zero(f.x.size());
+  auto s = f.model->make_scratch();
+  f.model->linearize(f.x, f.v, VecX(), *s);
+  VecX dv = VecX::Zero(f.x.size());
+  f.model->add_damping_product(f.v, dv, *s);
+  const VecX damping_force = forces(*f.model, f.x, f.v) - forces(*f.model, f.x, zero);
+  EXPECT_GT(dv.norm(), 0.0);
+  EXPECT_LT((damping_force + dv).norm(), 1e-10 * dv.norm());
+}
+
+TEST(ClothModel, StiffnessIsExactWhereTheDroppedTermsVanish) {
+  // Stretched in its plane without shear or bending: the shear and bending terms that the
+  // Gauss–Newton tangent leaves out are proportional to the shear force and the moment, both
+  // zero here, so K must equal the force's derivative exactly.
+  const Fixture f = make_fixture();
+  VecX x = f.model->rest_positions();
+  for (Eigen::Index n = 0; n < x.size() / 3; ++n) {
+    x[3 * n] *= 1.06;
+    x[3 * n + 1] *= 1.04;
+  }
+  auto s = f.model->make_scratch();
+  f.model->linearize(x, VecX::Zero(x.size()), VecX(), *s);
+  for (unsigned seed = 10; seed < 13; ++seed) {
+    const VecX dx = random_vector(x.size(), seed, 1.0);
+    VecX kdx = VecX::Zero(x.size());
+    f.model->add_stiffness_product(dx, kdx, *s);
+    const double h = 1e-7;
+    const VecX zero = VecX::Zero(x.size());
+    const VecX fd = (forces(*f.model, x - h * dx, zero) - forces(*f.model, x + h * dx, zero)) / (2 * h);
+    // 1e-5: the spline's second derivative jumps at its knots, which central differences see.
+    EXPECT_LT((kdx - fd).norm(), 1e-5 * kdx.norm()) << "seed " << seed;
+  }
+}
+
+TEST(ClothModel, AssembledTripletDiagonalAndProductViewsAgreeAndArePositiveSemiDefinite) {
+  const Fixture f = make_fixture();
+  auto s = f.model->make_scratch();
+  f.model->linearize(f.x, f.v, VecX(), *s);
+  const auto n = f.x.size();
+  const double a = 3.0, b = 0.7, c = 1.3;
+  // Dense matrices from the products.
+  MatX K(n, n), D(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    VecX e = VecX::Zero(n), k = VecX::Zero(n), d = VecX::Zero(n);
+    e[j] = 1.0;
+    f.model->add_stiffness_product(e, k, *s);
+    f.model->add_damping_product(e, d, *s);
+    K.col(j) = k;
+    D.col(j) = d;
+  }
+  EXPECT_LT((K - K.transpose()).norm(), 1e-12 * K.norm());
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<MatX>(K).eigenvalues().minCoeff(), -1e-9 * K.norm());
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<MatX>(D).eigenvalues().minCoeff(), -1e-9 * D.norm());
+  const MatX system = MatX(f.model->lumped_mass().asDiagonal()) * a + b * D + c * K;
+
+  const BlockMatrix* A = f.model->assemble_system(a, b, c, *s);
+  ASSERT_NE(A, nullptr);
+  MatX assembled = MatX::Zero(n, n);
+  for (std::size_t i = 0; i < A->diagonal.size(); ++i) {
+    const auto r = 3 * static_cast<Eigen::Index>(i);
+    assembled.block<3, 3>(r, r) = A->diagonal[i];
+    for (auto k = A->row_start[i]; k < A->row_start[i + 1]; ++k) {
+      const auto col = 3 * static_cast<Eigen::Index>(A->column[static_cast<std::size_t>(k)]);
+      assembled.block<3, 3>(r, col) = A->upper[static_cast<std::size_t>(k)];
+      assembled.block<3, 3>(col, r) = A->upper[static_cast<std::size_t>(k)].transpose();
+    }
+  }
+  EXPECT_LT((assembled - system).norm(), 1e-12 * system.norm());
+
+  std::vector<Triplet> triplets;
+  f.model->add_triplets(c, b, triplets, *s);
+  SparseMatrix sparse(n, n);
+  sparse.setFromTriplets(triplets.begin(), triplets.end());
+  EXPECT_LT((MatX(sparse) - (b * D + c * K)).norm(), 1e-12 * K.norm());
+
+  VecX diagonal = VecX::Zero(n);
+  f.model->add_diagonal(c, b, diagonal, *s);
+  EXPECT_LT((diagonal - (b * D + c * K).diagonal()).norm(), 1e-12 * diagonal.norm());
+}
+
+TEST(ClothModel, CurvatureOfASheetRolledOntoACylinderIsOneOverItsRadius) {
+  // The seed's K = (2/σ)·cos(Θ/2), σ the mean height: exact for the circle through the two
+  // opposite vertices and the edge. Rolled about the weft axis, the edges along the weft fold
+  // by K = 1/R and no other edge folds; the bending energy is then ½·B·K² per unit area.
+  const double radius = 0.05, width = 0.1, height = 0.04;
+  ClothMaterial m = test_material();
+  m.bend_warp = MeasuredCurve::line(2e-5, "warp bending");
+  const auto sheet = rectangular_sheet(width, height, 0.0025);
+  const ClothModel model(sheet.cloth, m);
+  // Nodes on the circle one chord apart, so that no triangle stretches: the arc between two
+  // columns is 2·asin(h/2R) and the curvature across each fold is exactly 1/R.
+  const double step = 2.0 * std::asin(0.5 * 0.0025 / radius);
+  VecX x = model.rest_positions();
+  for (Eigen::Index n = 0; n < x.size() / 3; ++n) {
+    const double phi = std::round(sheet.cloth.uv[static_cast<std::size_t>(n)].x() / 0.0025) * step;
+    x[3 * n] = radius * std::sin(phi);
+    x[3 * n + 2] = radius * (1.0 - std::cos(phi));
+  }
+  double bending = 0.0;
+  for (std::size_t h = 0; h < model.hinges().size(); ++h) {
+    const auto& hinge = model.hinges()[h];
+    const double k = std::abs(model.hinge_curvature(x, h));
+    if (hinge.warp_share == 1.0)
+      EXPECT_NEAR(k, 1.0 / radius, 1e-9 / radius) << "hinge " << h;
+    else
+      EXPECT_LT(k, 1e-9 / radius) << "hinge " << h;
+    bending += hinge.area * 0.5 * 2e-5 * k * k;
+  }
+  // Stretch and shear are zero on the isometric roll: the whole energy is bending. The hinges
+  // along the weft cover the sheet less its first and last column of cells.
+  const double cells = std::round(width / 0.0025);
+  const double expected = 0.5 * 2e-5 / (radius * radius) * width * height * (cells - 1) / cells;
+  EXPECT_NEAR(bending, expected, 1e-9 * expected);
+  EXPECT_NEAR(model.elastic_energy(x, VecX()), bending, 1e-9 * bending);
+}
+
+TEST(ClothModel, RefusesBadMeshesAndMaterials) {
+  auto sheet = rectangular_sheet(0.02, 0.02, 0.01);
+  ClothMaterial m = test_material();
+  auto bad = sheet.cloth;
+  // A third triangle on the edge (0, 4): non-manifold.
+  bad.mesh.vertices.push_back(Vec3(0.0, 0.0, 0.01));
+  bad.uv.push_back(Vec2(0.0, -0.01));
+  bad.mesh.triangles.push_back({0, 4, 9});
+  EXPECT_THROW(ClothModel(bad, m), InputError);
+  auto degenerate = sheet.cloth;
+  degenerate.uv[4] = degenerate.uv[0];
+  try {
+    ClothModel model(degenerate, m);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has no area in (u, v)"), std::string::npos) << e.what();
+  }
+  auto short_uv = sheet.cloth;
+  short_uv.uv.pop_back();
+  EXPECT_THROW(ClothModel(short_uv, m), InputError);
+  m.areal_density = -1.0;
+  EXPECT_THROW(ClothModel(sheet.cloth, m), InputError);
+}
+
+}  // namespace
+}  // namespace tactus::physics

@@ -1,0 +1,1 @@
+// Hang, cantilever, picture-frame and energy tests follow.
