@@ -29,10 +29,20 @@ struct HingeLinear {
   Vec3 g[4];
   double k, d;
 };
+/// One yarn bend's: block (n, m) of K is w_n w_m H, of D w_n w_m d·t tᵀ, w = (1, −2, 1), t the
+/// direction of a − 2b + c (the damping resists only the change of curvature, not a rotation).
+struct YarnLinear {
+  Mat3 h;
+  Vec3 t;
+  double d;
+};
+constexpr double kYarnWeight[3] = {1.0, -2.0, 1.0};
+constexpr int kYarnPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
 
 struct ClothScratch final : Scratch {
   std::vector<TriangleLinear> triangles;
   std::vector<HingeLinear> hinges;
+  std::vector<YarnLinear> yarns;
   BlockMatrix system;
 };
 
@@ -98,8 +108,25 @@ ClothModel::ClothModel(const ClothMesh& cloth, ClothMaterial material) : materia
     if (!(mass_[3 * static_cast<Eigen::Index>(i)] > 0.0))
       throw InputError("cloth: vertex " + std::to_string(i) + " belongs to no triangle");
 
-  // One hinge per interior edge, from its half-edge whose origin is the smaller vertex.
-  for (mesh::Index h = 0; h < static_cast<mesh::Index>(topology.num_half_edges()); ++h) {
+  yarns_ = cloth.yarns;
+  for (std::size_t y = 0; y < yarns_.size(); ++y) {
+    const YarnBend& b = yarns_[y];
+    const std::string where = "cloth: yarn bend " + std::to_string(y);
+    for (auto n : {b.a, b.b, b.c})
+      if (n < 0 || static_cast<std::size_t>(n) >= nodes) throw InputError(where + " names a vertex out of range");
+    const Vec2 first = cloth.uv[static_cast<std::size_t>(b.b)] - cloth.uv[static_cast<std::size_t>(b.a)];
+    const Vec2 second = cloth.uv[static_cast<std::size_t>(b.c)] - cloth.uv[static_cast<std::size_t>(b.b)];
+    const double spacing = first.norm();
+    if (!(spacing > 0.0) || (second - first).norm() > 1e-9 * spacing)
+      throw InputError(where + " is not straight and evenly spaced in (u, v)");
+    if (!(b.area > 0.0 && std::isfinite(b.area))) throw InputError(where + " needs a positive area");
+    if (!(b.curvature_scale > 0.0 && std::isfinite(b.curvature_scale)))
+      throw InputError(where + " needs a positive curvature scale");
+    yarn_spacing_.push_back(spacing * spacing / b.curvature_scale);  // σ²/scale: K = |d| over it
+  }
+  // Without yarn lines, one hinge per interior edge, from its half-edge whose origin is the
+  // smaller vertex.
+  for (mesh::Index h = 0; yarns_.empty() && h < static_cast<mesh::Index>(topology.num_half_edges()); ++h) {
     const mesh::Index t = topology.twin(h);
     if (topology.is_boundary(h) || topology.is_boundary(t) || h > t) continue;
     ClothHinge hinge;
@@ -126,6 +153,11 @@ ClothModel::ClothModel(const ClothMesh& cloth, ClothMaterial material) : materia
   for (const auto& tri : triangles_)
     for (const auto& p : kTrianglePairs) link(tri[static_cast<std::size_t>(p[0])], tri[static_cast<std::size_t>(p[1])]);
   for (const auto& h : hinges_) link(h.o0, h.o1);  // the other hinge pairs are triangle pairs
+  for (const auto& y : yarns_) {
+    link(y.a, y.b);
+    link(y.a, y.c);
+    link(y.b, y.c);
+  }
   row_start_.assign(nodes + 1, 0);
   for (std::size_t i = 0; i < nodes; ++i) {
     auto& row = upper[i];
@@ -147,12 +179,17 @@ ClothModel::ClothModel(const ClothMesh& cloth, ClothMaterial material) : materia
     const std::int32_t n[4] = {h.e0, h.e1, h.o0, h.o1};
     for (const auto& p : kHingePairs) hinge_slot_.push_back(slot(n[p[0]], n[p[1]]));
   }
+  for (const auto& y : yarns_) {
+    const std::int32_t n[3] = {y.a, y.b, y.c};
+    for (const auto& p : kYarnPairs) yarn_slot_.push_back(slot(n[p[0]], n[p[1]]));
+  }
 }
 
 std::unique_ptr<Scratch> ClothModel::make_scratch() const {
   auto s = std::make_unique<ClothScratch>();
   s->triangles.resize(triangles_.size());
   s->hinges.resize(hinges_.size());
+  s->yarns.resize(yarns_.size());
   const auto nodes = node_count();
   s->system.diagonal.resize(nodes);
   s->system.row_start = row_start_;
@@ -180,6 +217,11 @@ double ClothModel::hinge_curvature(const VecX& x, std::size_t h) const {
   Vec3 g[4];
   if (!hinge_angle(node(x, hinge.e0), node(x, hinge.e1), node(x, hinge.o0), node(x, hinge.o1), theta, g)) return 0.0;
   return 2.0 * std::sin(0.5 * theta) / hinge.mean_height;
+}
+
+double ClothModel::yarn_curvature(const VecX& x, std::size_t y) const {
+  const YarnBend& b = yarns_[y];
+  return (node(x, b.a) - 2.0 * node(x, b.b) + node(x, b.c)).norm() / yarn_spacing_[y];
 }
 
 template <bool Linearize>
@@ -272,6 +314,29 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
       l.d = mat.bend_damping * k;
     }
   }
+  for (std::size_t y = 0; y < yarns_.size(); ++y) {
+    // E = A·Φ(K), K = |d|/σ², d = a − 2b + c: ∇E = A·M(K)/(K σ⁴)·d ⊗ (1, −2, 1), and the
+    // Hessian A/σ⁴·[M'(K) d̂d̂ᵀ + M(K)/K (I − d̂d̂ᵀ)] ⊗ w wᵀ is exact (d is linear in x).
+    const YarnBend& b = yarns_[y];
+    const MeasuredCurve& curve = b.warp ? mat.bend_warp : mat.bend_weft;
+    const double s2 = yarn_spacing_[y];
+    const Vec3 d = node(x, b.a) - 2.0 * node(x, b.b) + node(x, b.c);
+    const double len = d.norm(), kappa = len / s2;
+    const double slope = curve.slope(kappa);
+    const double secant = kappa > 0.0 ? curve.value(kappa) / kappa : slope;  // M/K, M'(0) at K = 0
+    const double scale = b.area / (s2 * s2);
+    const Vec3 dir = len > 0.0 ? Vec3(d / len) : Vec3::Zero();
+    Mat3 h = (scale * secant) * Mat3::Identity() + (scale * (slope - secant)) * (dir * dir.transpose());
+    const double damping = mat.bend_damping * scale * slope;
+    if (f) {
+      Vec3 push = (scale * secant) * d;  // ∂E/∂d
+      if (damped) push += (damping * dir.dot(node(v, b.a) - 2.0 * node(v, b.b) + node(v, b.c))) * dir;
+      node(*f, b.a) -= push;
+      node(*f, b.b) += 2.0 * push;
+      node(*f, b.c) -= push;
+    }
+    if constexpr (Linearize) cs.yarns[y] = YarnLinear{h, dir, damping};
+  }
 }
 
 void ClothModel::forces(const VecX& x, const VecX& v, const VecX&, VecX& f, Scratch& s) const {
@@ -287,8 +352,17 @@ namespace {
 /// out += (c·K + b·D) in, over the triangles and hinges of a linearization.
 template <class Rest, class Triangles>
 void add_product(const Triangles& triangles, const std::vector<mesh::Triangle>& tris, const Rest& rest,
-                 const std::vector<ClothHinge>& hinges, const std::vector<HingeLinear>& hl, double c, double b,
+                 const std::vector<ClothHinge>& hinges, const std::vector<HingeLinear>& hl,
+                 const std::vector<YarnBend>& yarns, const std::vector<YarnLinear>& yl, double c, double b,
                  const VecX& in, VecX& out) {
+  for (std::size_t y = 0; y < yarns.size(); ++y) {
+    const YarnLinear& l = yl[y];
+    const Vec3 d = node(in, yarns[y].a) - 2.0 * node(in, yarns[y].b) + node(in, yarns[y].c);
+    const Vec3 push = c * (l.h * d) + (b * l.d * l.t.dot(d)) * l.t;
+    node(out, yarns[y].a) += push;
+    node(out, yarns[y].b) -= 2.0 * push;
+    node(out, yarns[y].c) += push;
+  }
   for (std::size_t t = 0; t < tris.size(); ++t) {
     const TriangleLinear& l = triangles[t];
     const auto& r = rest[t];
@@ -319,12 +393,12 @@ void add_product(const Triangles& triangles, const std::vector<mesh::Triangle>& 
 
 void ClothModel::add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const {
   const auto& cs = static_cast<const ClothScratch&>(s);
-  add_product(cs.triangles, triangles_, rest_triangles_, hinges_, cs.hinges, 1.0, 0.0, dx, out);
+  add_product(cs.triangles, triangles_, rest_triangles_, hinges_, cs.hinges, yarns_, cs.yarns, 1.0, 0.0, dx, out);
 }
 
 void ClothModel::add_damping_product(const VecX& dv, VecX& out, const Scratch& s) const {
   const auto& cs = static_cast<const ClothScratch&>(s);
-  add_product(cs.triangles, triangles_, rest_triangles_, hinges_, cs.hinges, 0.0, 1.0, dv, out);
+  add_product(cs.triangles, triangles_, rest_triangles_, hinges_, cs.hinges, yarns_, cs.yarns, 0.0, 1.0, dv, out);
 }
 
 namespace {
@@ -348,6 +422,13 @@ void ClothModel::add_diagonal(double a, double b, VecX& out, const Scratch& s) c
     const HingeLinear& l = cs.hinges[h];
     const std::int32_t nodes[4] = {hinges_[h].e0, hinges_[h].e1, hinges_[h].o0, hinges_[h].o1};
     for (int n = 0; n < 4; ++n) node(out, nodes[n]) += (a * l.k + b * l.d) * l.g[n].cwiseAbs2();
+  }
+  for (std::size_t y = 0; y < yarns_.size(); ++y) {
+    const YarnLinear& l = cs.yarns[y];
+    const Vec3 diagonal = a * l.h.diagonal() + (b * l.d) * l.t.cwiseAbs2();
+    node(out, yarns_[y].a) += diagonal;
+    node(out, yarns_[y].b) += 4.0 * diagonal;
+    node(out, yarns_[y].c) += diagonal;
   }
 }
 
@@ -380,6 +461,14 @@ const BlockMatrix* ClothModel::assemble_system(double a, double b, double c, Scr
     for (int p = 0; p < 6; ++p)
       add(hinge_slot_[6 * h + static_cast<std::size_t>(p)], w * l.g[kHingePairs[p][0]] * l.g[kHingePairs[p][1]].transpose());
   }
+  for (std::size_t y = 0; y < yarns_.size(); ++y) {
+    const YarnLinear& l = cs.yarns[y];
+    const Mat3 h = c * l.h + (b * l.d) * (l.t * l.t.transpose());
+    const std::int32_t nodes[3] = {yarns_[y].a, yarns_[y].b, yarns_[y].c};
+    for (int n = 0; n < 3; ++n) A.diagonal[static_cast<std::size_t>(nodes[n])] += (kYarnWeight[n] * kYarnWeight[n]) * h;
+    for (int p = 0; p < 3; ++p)
+      add(yarn_slot_[3 * y + static_cast<std::size_t>(p)], (kYarnWeight[kYarnPairs[p][0]] * kYarnWeight[kYarnPairs[p][1]]) * h);
+  }
   return &A;
 }
 
@@ -402,6 +491,13 @@ void ClothModel::add_triplets(double a, double b, std::vector<Triplet>& out, con
     for (int n = 0; n < 4; ++n)
       for (int m = 0; m < 4; ++m) emit(nodes[n], nodes[m], w * l.g[n] * l.g[m].transpose());
   }
+  for (std::size_t y = 0; y < yarns_.size(); ++y) {
+    const YarnLinear& l = cs.yarns[y];
+    const Mat3 h = a * l.h + (b * l.d) * (l.t * l.t.transpose());
+    const std::int32_t nodes[3] = {yarns_[y].a, yarns_[y].b, yarns_[y].c};
+    for (int n = 0; n < 3; ++n)
+      for (int m = 0; m < 3; ++m) emit(nodes[n], nodes[m], (kYarnWeight[n] * kYarnWeight[m]) * h);
+  }
 }
 
 double ClothModel::elastic_energy(const VecX& x, const VecX&) const {
@@ -417,6 +513,8 @@ double ClothModel::elastic_energy(const VecX& x, const VecX&) const {
     energy += hinge.area * (hinge.warp_share * material_.bend_warp.integral(kappa) +
                             (1.0 - hinge.warp_share) * material_.bend_weft.integral(kappa));
   }
+  for (std::size_t y = 0; y < yarns_.size(); ++y)
+    energy += yarns_[y].area * (yarns_[y].warp ? material_.bend_warp : material_.bend_weft).integral(yarn_curvature(x, y));
   return energy;
 }
 

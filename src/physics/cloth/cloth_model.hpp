@@ -17,6 +17,14 @@
 //   force F_b = M/l on the two opposite vertices only; alone it would push the fabric's
 //   centre of mass, so the edge's vertices take the reaction (the energy's gradient does it:
 //   the opposite vertices still get |e|·M/h, the seed's M/l with l the yarn's length h).
+//   Or, where the mesh follows the yarns (a warp/weft grid), bending along the yarns: three
+//   consecutive nodes a, b, c of a warp or weft line, K = |a − 2b + c|/σ², the same circle
+//   through three points (σ the rest spacing), so K = (2/σ)·cos(Θ/2) with Θ the angle at b.
+//   The fold of a triangle edge mixes the twist of the surface into its curvature wherever
+//   the two opposite vertices do not face each other across the edge, as on every grid of
+//   right triangles: there a cantilever strip bends 25–40 % too far and refining does not
+//   cure it (docs/validation-fabric.md). Along the yarns K holds no twist, its Hessian is
+//   exact and constant in direction, and the strip converges to the elastica.
 // - Damping per term along the term's own direction (§III-B2d): force −β·k·g(g·v), g the
 //   term's gradient and k its tangent stiffness, with one time constant β per kind.
 // - Lumped masses: areal density × area / 3 per vertex.
@@ -38,10 +46,24 @@ struct ClothMaterial {
   double stretch_damping = 0.0, shear_damping = 0.0, bend_damping = 0.0;
 };
 
-/// A mesh with its rest warp/weft coordinates (one (u, v) per vertex, in metres of fabric).
+/// Bending along a yarn: consecutive nodes a, b, c of a warp or weft line, straight and
+/// equally spaced at rest, standing for `area` of fabric.
+struct YarnBend {
+  std::int32_t a = 0, b = 0, c = 0;
+  bool warp = true;
+  double area = 0.0;  ///< [m²]
+  /// 2 where b is the edge of a clamp that holds the fabric level and a is held: the free side
+  /// mirrored across the clamp is the true neighbour, so the curvature is twice what the held
+  /// node gives (the ghost node of a clamped boundary), over the free half of the area.
+  double curvature_scale = 1.0;
+};
+
+/// A mesh with its rest warp/weft coordinates (one (u, v) per vertex, in metres of fabric),
+/// and the yarn lines that bend (none: every interior edge bends as a hinge).
 struct ClothMesh {
   mesh::TriMesh mesh;
   std::vector<Vec2> uv;
+  std::vector<YarnBend> yarns;
 };
 
 /// One interior edge: e0 → e1, o0 opposite in the triangle on its left, o1 in the other.
@@ -67,6 +89,9 @@ class ClothModel final : public ForceModel {
   [[nodiscard]] Vec3 triangle_strain(const VecX& x, std::size_t t) const;
   /// The curvature across hinge h at x [1/m] (signed).
   [[nodiscard]] double hinge_curvature(const VecX& x, std::size_t h) const;
+  [[nodiscard]] const std::vector<YarnBend>& yarns() const { return yarns_; }
+  /// The curvature of yarn bend y at x [1/m] (≥ 0).
+  [[nodiscard]] double yarn_curvature(const VecX& x, std::size_t y) const;
 
   // ForceModel
   [[nodiscard]] std::size_t node_count() const override { return static_cast<std::size_t>(rest_.size() / 3); }
@@ -97,11 +122,14 @@ class ClothModel final : public ForceModel {
   std::vector<mesh::Triangle> triangles_;
   std::vector<TriangleRest> rest_triangles_;
   std::vector<ClothHinge> hinges_;
+  std::vector<YarnBend> yarns_;
+  std::vector<double> yarn_spacing_;
   // The assembled system's block pattern: per node its upper neighbours, and per element
   // pair its block (≥ 0: stored as (row, column); < 0: −1 − index, stored transposed).
   std::vector<std::int32_t> row_start_, column_;
   std::vector<std::int32_t> triangle_slot_;  // 3 per triangle: pairs (0,1) (0,2) (1,2)
   std::vector<std::int32_t> hinge_slot_;     // 6 per hinge: pairs of (e0, e1, o0, o1)
+  std::vector<std::int32_t> yarn_slot_;      // 3 per yarn bend: pairs (a,b) (a,c) (b,c)
 };
 
 }  // namespace tactus::physics

@@ -44,8 +44,8 @@ struct Fixture {
   VecX x, v;
 };
 
-Fixture make_fixture() {
-  const auto sheet = rectangular_sheet(0.03, 0.02, 0.01);
+Fixture make_fixture(SheetBending bending) {
+  const auto sheet = rectangular_sheet(0.03, 0.02, 0.01, Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), bending);
   Fixture f;
   f.model = std::make_shared<ClothModel>(sheet.cloth, test_material());
   const auto n = f.model->rest_positions().size();
@@ -62,7 +62,9 @@ VecX forces(const ClothModel& m, const VecX& x, const VecX& v) {
 }
 
 TEST(ClothModel, ForcesAreMinusTheEnergyGradient) {
-  const Fixture f = make_fixture();
+  for (auto bending : {SheetBending::hinges, SheetBending::yarns}) {
+  SCOPED_TRACE(bending == SheetBending::hinges ? "hinges" : "yarns");
+  const Fixture f = make_fixture(bending);
   const VecX force = forces(*f.model, f.x, VecX::Zero(f.x.size()));
   const double h = 1e-7;
   for (Eigen::Index i = 0; i < f.x.size(); ++i) {
@@ -72,10 +74,13 @@ TEST(ClothModel, ForcesAreMinusTheEnergyGradient) {
     const double derivative = (f.model->elastic_energy(xp, VecX()) - f.model->elastic_energy(xm, VecX())) / (2 * h);
     EXPECT_NEAR(force[i], -derivative, 1e-6 * (1.0 + force.cwiseAbs().maxCoeff())) << "dof " << i;
   }
+  }
 }
 
 TEST(ClothModel, ConservesLinearAndAngularMomentum) {
-  const Fixture f = make_fixture();
+  for (auto bending : {SheetBending::hinges, SheetBending::yarns}) {
+  SCOPED_TRACE(bending == SheetBending::hinges ? "hinges" : "yarns");
+  const Fixture f = make_fixture(bending);
   const VecX force = forces(*f.model, f.x, f.v);  // with damping
   Vec3 sum = Vec3::Zero(), torque = Vec3::Zero();
   for (Eigen::Index n = 0; n < f.x.size() / 3; ++n) {
@@ -85,10 +90,13 @@ TEST(ClothModel, ConservesLinearAndAngularMomentum) {
   const double scale = force.norm();
   EXPECT_LT(sum.norm(), 1e-12 * scale);
   EXPECT_LT(torque.norm(), 1e-12 * scale);
+  }
 }
 
 TEST(ClothModel, DampingForceIsMinusTheDampingMatrixTimesVelocity) {
-  const Fixture f = make_fixture();
+  for (auto bending : {SheetBending::hinges, SheetBending::yarns}) {
+  SCOPED_TRACE(bending == SheetBending::hinges ? "hinges" : "yarns");
+  const Fixture f = make_fixture(bending);
   const VecX zero = VecX::Zero(f.x.size());
   auto s = f.model->make_scratch();
   f.model->linearize(f.x, f.v, VecX(), *s);
@@ -97,13 +105,16 @@ TEST(ClothModel, DampingForceIsMinusTheDampingMatrixTimesVelocity) {
   const VecX damping_force = forces(*f.model, f.x, f.v) - forces(*f.model, f.x, zero);
   EXPECT_GT(dv.norm(), 0.0);
   EXPECT_LT((damping_force + dv).norm(), 1e-10 * dv.norm());
+  }
 }
 
 TEST(ClothModel, StiffnessIsExactWhereTheDroppedTermsVanish) {
   // Stretched in its plane without shear or bending: the shear and bending terms that the
   // Gauss–Newton tangent leaves out are proportional to the shear force and the moment, both
   // zero here, so K must equal the force's derivative exactly.
-  const Fixture f = make_fixture();
+  for (auto bending : {SheetBending::hinges, SheetBending::yarns}) {
+  SCOPED_TRACE(bending == SheetBending::hinges ? "hinges" : "yarns");
+  const Fixture f = make_fixture(bending);
   VecX x = f.model->rest_positions();
   for (Eigen::Index n = 0; n < x.size() / 3; ++n) {
     x[3 * n] *= 1.06;
@@ -121,10 +132,13 @@ TEST(ClothModel, StiffnessIsExactWhereTheDroppedTermsVanish) {
     // 1e-5: the spline's second derivative jumps at its knots, which central differences see.
     EXPECT_LT((kdx - fd).norm(), 1e-5 * kdx.norm()) << "seed " << seed;
   }
+  }
 }
 
 TEST(ClothModel, AssembledTripletDiagonalAndProductViewsAgreeAndArePositiveSemiDefinite) {
-  const Fixture f = make_fixture();
+  for (auto bending : {SheetBending::hinges, SheetBending::yarns}) {
+  SCOPED_TRACE(bending == SheetBending::hinges ? "hinges" : "yarns");
+  const Fixture f = make_fixture(bending);
   auto s = f.model->make_scratch();
   f.model->linearize(f.x, f.v, VecX(), *s);
   const auto n = f.x.size();
@@ -167,6 +181,7 @@ TEST(ClothModel, AssembledTripletDiagonalAndProductViewsAgreeAndArePositiveSemiD
   VecX diagonal = VecX::Zero(n);
   f.model->add_diagonal(c, b, diagonal, *s);
   EXPECT_LT((diagonal - (b * D + c * K).diagonal()).norm(), 1e-12 * diagonal.norm());
+  }
 }
 
 TEST(ClothModel, CurvatureOfASheetRolledOntoACylinderIsOneOverItsRadius) {
@@ -176,7 +191,8 @@ TEST(ClothModel, CurvatureOfASheetRolledOntoACylinderIsOneOverItsRadius) {
   const double radius = 0.05, width = 0.1, height = 0.04;
   ClothMaterial m = test_material();
   m.bend_warp = MeasuredCurve::line(2e-5, "warp bending");
-  const auto sheet = rectangular_sheet(width, height, 0.0025);
+  const auto sheet = rectangular_sheet(width, height, 0.0025, Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(),
+                                      SheetBending::hinges);
   const ClothModel model(sheet.cloth, m);
   // Nodes on the circle one chord apart, so that no triangle stretches: the arc between two
   // columns is 2·asin(h/2R) and the curvature across each fold is exactly 1/R.
@@ -203,6 +219,15 @@ TEST(ClothModel, CurvatureOfASheetRolledOntoACylinderIsOneOverItsRadius) {
   const double expected = 0.5 * 2e-5 / (radius * radius) * width * height * (cells - 1) / cells;
   EXPECT_NEAR(bending, expected, 1e-9 * expected);
   EXPECT_NEAR(model.elastic_energy(x, VecX()), bending, 1e-9 * bending);
+
+  // Along the yarns: the warp lines curve by exactly 1/R, the weft lines stay straight, and the
+  // energy is ½·B·K² over the area the bends stand for (all but half a column at each end).
+  const auto yarn_sheet = rectangular_sheet(width, height, 0.0025);
+  const ClothModel yarn_model(yarn_sheet.cloth, m);
+  for (std::size_t y = 0; y < yarn_model.yarns().size(); ++y)
+    EXPECT_NEAR(yarn_model.yarn_curvature(x, y), yarn_model.yarns()[y].warp ? 1.0 / radius : 0.0, 1e-9 / radius);
+  const double yarn_expected = 0.5 * 2e-5 / (radius * radius) * width * height * (cells - 1) / cells;
+  EXPECT_NEAR(yarn_model.elastic_energy(x, VecX()), yarn_expected, 1e-9 * yarn_expected);
 }
 
 TEST(ClothModel, RefusesBadMeshesAndMaterials) {
