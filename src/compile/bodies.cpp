@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "physics/cloth/cloth_model.hpp"
 #include "physics/fem/tet_fem.hpp"
 #include "physics/mass_spring/surface_builder.hpp"
 #include "physics/mass_spring/tet_builder.hpp"
@@ -125,6 +126,20 @@ physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
   if (b.kind == scene::BodyKind::rigid) throw InputError(fmt::format("body '{}' is rigid: it has no dynamics", b.name));
   if (b.kind == scene::BodyKind::embedded)
     throw InputError(fmt::format("body '{}' is embedded: it moves with its host's tetrahedra", b.name));
+  if (b.kind == scene::BodyKind::cloth) {
+    physics::Body body;
+    try {
+      body.model = std::make_shared<physics::ClothModel>(b.cloth->mesh, b.cloth->material);
+    } catch (const InputError& e) {
+      throw InputError(SourceLocation{model.source, {}, {}, {}}, fmt::format("body '{}': {}", b.name, e.what()));
+    }
+    body.gravity = model.gravity;
+    body.fixed_dofs.assign(3 * body.model->node_count(), 0);
+    for (const auto& f : b.fixed) body.fix_nodes(f.nodes);
+    for (const auto& p : b.prescribed) body.fix_nodes(p.nodes);
+    body.settings = b.stepping;
+    return body;
+  }
   const scene::Material& m = model.materials.at(*b.material);
   if (b.mass_matrix == scene::MassMatrix::consistent) {
     // Explicit integrators need M^-1 f: with a consistent M that is a sparse solve per
@@ -144,7 +159,8 @@ physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
       case scene::BodyKind::tet_mass_spring: body.model = tet_spring_model(b, m); break;
       case scene::BodyKind::surface_mass_spring: body.model = surface_spring_model(b, m); break;
       case scene::BodyKind::rigid:
-      case scene::BodyKind::embedded: break;
+      case scene::BodyKind::embedded:
+      case scene::BodyKind::cloth: break;
     }
   } catch (const InputError& e) {
     throw InputError(SourceLocation{model.source, {}, {}, {}}, fmt::format("body '{}': {}", b.name, e.what()));

@@ -268,7 +268,8 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   if (multi) s.local_model = contact::LocalModelKind::plane;
   if (a->local_model == contact::LocalModelKind::mass_spring && !multi)
     for (std::size_t b : s.bodies)
-      if (m.bodies[b].kind != scene::BodyKind::rigid && m.bodies[b].kind != scene::BodyKind::embedded && !m.bodies[b].material)
+      if (m.bodies[b].kind != scene::BodyKind::rigid && m.bodies[b].kind != scene::BodyKind::embedded &&
+          m.bodies[b].kind != scene::BodyKind::cloth && !m.bodies[b].material)
         throw InputError(SourceLocation{m.source, {}, {}, {}},
                          fmt::format("algorithm '{}': local_model = \"mass_spring\" fits its springs to the body's "
                                      "material, and body '{}' has none",

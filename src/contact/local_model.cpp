@@ -348,13 +348,63 @@ void PatchBuilder::fit_mass_spring(const Inputs& in, LocalPatch& out) {
   // the node's share of the surface, 2a·E/(1 − ν²); its mass a column as deep as it is wide.
   // On a coarse FEM block this is softer than the body, and a patch softer than the body
   // does net work on the hand at updates (docs/contact-mechanics.md, "Local models").
-  const Eigen::Index f3 = dof(free);
   for (int i = 0; i < free; ++i) {
     const double area = area_[static_cast<std::size_t>(i)];
     const double a = std::sqrt(area / std::numbers::pi);
     full_.block<3, 3>(dof(i), dof(i)) += 2.0 * a * plane_strain * Mat3::Identity();
     out.mass.segment<3>(dof(i)).setConstant(mat.density * area * std::sqrt(area));
   }
+  finish_mass_spring(in, out);
+}
+
+void PatchBuilder::take_body_stiffness(const Inputs& in, LocalPatch& out) {
+  if (!in.physics_body || !in.physics_state || in.surface_to_node.size() != vertex_count_)
+    throw std::runtime_error("local model: a patch of the body's own stiffness needs the body, its state and its node map");
+  const physics::Body& body = *in.physics_body;
+  const physics::BodyState& state = *in.physics_state;
+  const physics::ForceModel& model = *body.model;
+  if (!scratch_) scratch_ = model.make_scratch();
+  model.linearize(state.x, state.v, state.q, *scratch_);
+  const physics::BlockMatrix* k = model.assemble_system(0.0, 0.0, 1.0, *scratch_);
+  if (!k) throw std::runtime_error("local model: the body assembles no stiffness; use local_model = \"compliance\"");
+  const int nodes = out.node_count, free = out.free_count;
+  node_patch_.assign(model.node_count(), -1);
+  auto body_node = [&](int p) {
+    return static_cast<std::size_t>(in.surface_to_node[static_cast<std::size_t>(patch_vertex_[static_cast<std::size_t>(p)])]);
+  };
+  for (int p = 0; p < nodes; ++p) node_patch_[body_node(p)] = p;
+  full_.setZero(dof(nodes), dof(nodes));
+  const VecX& m = model.lumped_mass();
+  for (int p = 0; p < nodes; ++p) {
+    const std::size_t i = body_node(p);
+    full_.block<3, 3>(dof(p), dof(p)) = k->diagonal[i];
+    for (auto b = k->row_start[i]; b < k->row_start[i + 1]; ++b) {
+      const int q = node_patch_[static_cast<std::size_t>(k->column[static_cast<std::size_t>(b)])];
+      if (q < 0) continue;
+      full_.block<3, 3>(dof(p), dof(q)) = k->upper[static_cast<std::size_t>(b)];
+      full_.block<3, 3>(dof(q), dof(p)) = k->upper[static_cast<std::size_t>(b)].transpose();
+    }
+    if (p < free) out.mass.segment<3>(dof(p)) = m.segment<3>(3 * static_cast<Eigen::Index>(i));
+  }
+  // A held node (the stand's clamp) inside the patch stays where it is: no stiffness, and a
+  // mass that nothing in a frame can move.
+  for (int p = 0; p < free; ++p)
+    for (int a = 0; a < 3; ++a) {
+      const std::size_t d = 3 * body_node(p) + static_cast<std::size_t>(a);
+      if (d < body.fixed_dofs.size() && body.fixed_dofs[d]) {
+        full_.row(dof(p) + a).setZero();
+        full_.col(dof(p) + a).setZero();
+        out.mass[dof(p) + a] = 1e12 * m[static_cast<Eigen::Index>(d)];
+      }
+    }
+  for (int p = 0; p < nodes; ++p) node_patch_[body_node(p)] = -1;
+  area_.assign(static_cast<std::size_t>(nodes), 0.0);
+  finish_mass_spring(in, out);
+}
+
+void PatchBuilder::finish_mass_spring(const Inputs& in, LocalPatch& out) {
+  const int nodes = out.node_count, free = out.free_count;
+  const Eigen::Index f3 = dof(free);
   const double h = in.frame_time;
   out.stiffness.topLeftCorner(f3, f3) = full_.topLeftCorner(f3, f3);
   // Border at constant velocity: force on the free nodes per second of it, K_FB·v_B.
@@ -390,6 +440,7 @@ void PatchBuilder::build(const Inputs& in, LocalPatch& out) {
   out.frame_time = in.frame_time;
   if (in.rigid) hold_still(out);  // whatever the kind: a rigid body does not yield
   else if (in.kind == LocalModelKind::compliance) condense_compliance(in, out);
+  else if (in.kind == LocalModelKind::mass_spring && in.own_stiffness) take_body_stiffness(in, out);
   else if (in.kind == LocalModelKind::mass_spring) fit_mass_spring(in, out);
   out.valid = true;
 }

@@ -137,6 +137,9 @@ class PatchBuilder {
     std::span<const std::int32_t> surface_to_node;
     /// mass_spring: the material and the haptic period.
     PatchMaterial material;
+    /// mass_spring on a body with nothing under it (a fabric): the springs are the body's own
+    /// stiffness linearized at its state (the physics body and state above), no material.
+    bool own_stiffness = false;
     double frame_time = 1e-3;
   };
 
@@ -152,6 +155,10 @@ class PatchBuilder {
   static void hold_still(LocalPatch& out);
   void condense_compliance(const Inputs& in, LocalPatch& out);
   void fit_mass_spring(const Inputs& in, LocalPatch& out);
+  /// The body's assembled stiffness restricted to the patch, its lumped masses (own_stiffness).
+  void take_body_stiffness(const Inputs& in, LocalPatch& out);
+  /// The mass_spring patch's dynamics from full_ and out.mass: border drift and response.
+  void finish_mass_spring(const Inputs& in, LocalPatch& out);
 
   std::size_t vertex_count_;
   std::vector<mesh::Triangle> triangles_;
@@ -171,6 +178,7 @@ class PatchBuilder {
   MatX full_, system_;
   std::vector<double> area_;
   VecX border_velocity_;
+  std::vector<std::int32_t> node_patch_;  ///< own_stiffness: body node → patch node (−1: none)
 };
 
 /// The contact on a patch for one frame: where, which way, how hard and how stiff.

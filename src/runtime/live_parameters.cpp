@@ -128,7 +128,8 @@ VecX scene_mass_damping(const scene::Model& model, std::size_t index, const VecX
       for (Eigen::Index i = 0; i < c.size(); ++i) c[i] = lumped_mass[i] > 0.0 ? m.damping.nodal / lumped_mass[i] : 0.0;
       break;
     case scene::BodyKind::rigid:
-    case scene::BodyKind::embedded: break;
+    case scene::BodyKind::embedded:
+    case scene::BodyKind::cloth: break;
   }
   return c;
 }

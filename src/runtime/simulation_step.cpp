@@ -259,6 +259,7 @@ void write_patches(const SimulationModel& model, SimulationState& state, double 
       const scene::Material& m = model.scene->materials[*body.material];
       patch_in.material = {m.young_modulus, m.poisson_ratio, m.density};
     }
+    patch_in.own_stiffness = body.kind == scene::BodyKind::cloth;  // a fabric: nothing under it
     patch_in.frame_time = 1.0 / model.scene->rates.haptic;
     d.builders[best_body]->build(patch_in, out);
   }

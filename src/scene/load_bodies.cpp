@@ -412,6 +412,7 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
                                {"fem", BodyKind::fem},
                                {"rigid", BodyKind::rigid},
                                {"embedded", BodyKind::embedded},
+                               {"cloth", BodyKind::cloth},
                                {"cspace", BodyKind::fem}},  // an FEM body rendered from a precomputed space
                               std::nullopt);
   if (r.string("kind") == "cspace") {
@@ -447,7 +448,10 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
   }
   const bool rigid = b.kind == BodyKind::rigid;
 
-  if (const auto material = r.string("material")) {
+  if (b.kind == BodyKind::cloth) {
+    if (r.table().contains("material")) r.fail("material", "a cloth body takes its properties from `fabric` or `curves`");
+    read_cloth(r, b);
+  } else if (const auto material = r.string("material")) {
     b.material = resolve_name(r, "material", *material, model.materials, "material");
     if (b.kind == BodyKind::fem && !model.materials[*b.material].law)
       r.fail("material", "material '" + *material + "' has model 'mass_spring'; a 'fem' body needs a continuum model"
@@ -456,7 +460,7 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
     r.fail_missing("material", "a material name");
   }
 
-  attach_mesh(r, b, read_mesh_key(r, b.volumetric()));
+  if (b.kind != BodyKind::cloth) attach_mesh(r, b, read_mesh_key(r, b.volumetric()));
 
   if (rigid) {
     if (r.table().contains("fixed")) r.fail("fixed", "a rigid body does not move; it takes no fixed regions");

@@ -22,6 +22,8 @@ precompute::Interpolation read_interpolation(Reader& r, std::string_view key);
 /// bodies.<name>.nodules of a body whose mesh and fixed regions are read (load_nodules.cpp).
 std::vector<Nodule> read_nodules(Reader& r, const Body& body);
 Feedback read_feedback(Reader& root);
+/// The fabric, mesh and clamp of a kind = "cloth" body (load_cloth.cpp).
+void read_cloth(Reader& r, Body& body);
 
 /// A path from the scene, resolved against the scene's folder; checks that the file
 /// exists (or that file access is allowed at all).

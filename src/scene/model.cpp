@@ -46,6 +46,7 @@ const char* to_string(BodyKind k) {
     case BodyKind::fem: return "fem";
     case BodyKind::rigid: return "rigid";
     case BodyKind::embedded: return "embedded";
+    case BodyKind::cloth: return "cloth";
   }
   return "?";
 }

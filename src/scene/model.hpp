@@ -22,6 +22,7 @@
 #include "mesh/generators.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "mesh/tri_mesh.hpp"
+#include "physics/cloth/cloth_model.hpp"
 #include "physics/fem/material.hpp"
 #include "physics/mapping.hpp"
 #include "physics/step_settings.hpp"
@@ -101,7 +102,7 @@ struct Material {
 
 /// embedded: a surface carried by another body's tetrahedra (seed 003 §3.1: a fascia sheet,
 /// a vessel wall inside the behaviour mesh); it has no dynamics of its own.
-enum class BodyKind { surface_mass_spring, tet_mass_spring, fem, rigid, embedded };
+enum class BodyKind { surface_mass_spring, tet_mass_spring, fem, rigid, embedded, cloth };
 enum class MassMatrix { lumped, consistent };
 enum class SpringType { longitudinal, diagonal, torsional, bending };
 
@@ -163,6 +164,17 @@ struct Nodule {
   double poisson_ratio = 0.45; ///< soft only
 };
 
+/// kind = "cloth": a woven fabric (seed 002 §III-B) on a warp/weft sheet or a mesh file.
+struct Cloth {
+  std::string fabric;         ///< the database key, or empty for the scene's own curves
+  std::string fabric_source;  ///< the database file (or the scene) the values came from
+  bool illustrative = false;  ///< the database marks the values as not measured
+  physics::ClothMaterial material;
+  physics::ClothMesh mesh;    ///< rest positions, (u, v) and yarn bends
+  int nodes_u = 0, nodes_v = 0;  ///< a generated sheet's nodes along warp and weft (0: a mesh file)
+  double static_friction = 0.5, kinetic_friction = 0.4;  ///< against skin
+};
+
 struct Body {
   std::string name;
   BodyKind kind = BodyKind::fem;
@@ -205,6 +217,7 @@ struct Body {
   /// into them. Loads on the surface go to the host's nodes by the mapping's transpose.
   std::optional<std::size_t> host;
   std::shared_ptr<const physics::BarycentricMapping> host_mapping;
+  std::optional<Cloth> cloth;  ///< kind = "cloth"
 
   // Time stepping (deformable bodies): the integrator, the linear solver and its tolerances,
   // the Newton iterations of an implicit step.

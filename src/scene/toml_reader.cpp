@@ -282,6 +282,16 @@ std::vector<std::string> Reader::string_list(std::string_view key, std::vector<s
   return out;
 }
 
+std::vector<double> Reader::number_list(std::string_view key, const Range& range) {
+  const toml::node* n = typed(key, is_array, "an array of numbers");
+  std::vector<double> out;
+  if (!n) return out;
+  const toml::array& a = *n->as_array();
+  out.reserve(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) out.push_back(checked_number(*a.get(i), fmt::format("{}[{}]", key_path(key), i), range));
+  return out;
+}
+
 std::vector<std::int64_t> Reader::integer_list(std::string_view key, std::int64_t lo, std::int64_t hi) {
   const toml::node* n = typed(key, is_array, "an array of integers");
   std::vector<std::int64_t> out;

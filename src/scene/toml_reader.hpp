@@ -93,6 +93,8 @@ class Reader {
   std::vector<Reader> table_array(std::string_view key);
   /// An array of strings; `fallback` when absent.
   std::vector<std::string> string_list(std::string_view key, std::vector<std::string> fallback);
+  /// An array of numbers in `range`; empty when absent.
+  std::vector<double> number_list(std::string_view key, const Range& range = Range::any());
   /// An array of integers in [lo, hi]; empty when absent.
   std::vector<std::int64_t> integer_list(std::string_view key, std::int64_t lo, std::int64_t hi);
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "core/error.hpp"
 
 namespace tactus::physics {
@@ -19,11 +21,10 @@ MeasuredCurve::MeasuredCurve(std::vector<double> x, std::vector<double> y, Below
   if (x_[0] != 0.0 || y_[0] != 0.0) throw InputError(what + ": the first point must be (0, 0)");
   for (std::size_t k = 1; k < x_.size(); ++k) {
     if (!(x_[k] > x_[k - 1]))
-      throw InputError(what + ": abscissa of point " + std::to_string(k + 1) + " (" + std::to_string(x_[k]) +
-                       ") does not increase");
+      throw InputError(fmt::format("{}: abscissa of point {} ({:g}) does not increase", what, k + 1, x_[k]));
     if (y_[k] < y_[k - 1])
-      throw InputError(what + ": not monotone: point " + std::to_string(k + 1) + " (" + std::to_string(y_[k]) +
-                       ") is below point " + std::to_string(k) + " (" + std::to_string(y_[k - 1]) + ")");
+      throw InputError(fmt::format("{}: not monotone: point {} ({:g}) is below point {} ({:g})", what, k + 1, y_[k], k,
+                                   y_[k - 1]));
   }
   if (!(below_slope_ >= 0.0 && std::isfinite(below_slope_)))
     throw InputError(what + ": the slope below zero must be finite and >= 0");

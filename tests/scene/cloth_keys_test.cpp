@@ -1,0 +1,151 @@
+// Cloth bodies in scenes: a fabric from the database or from the scene's own curves, the
+// sheet and its clamp; and every way they can be wrong, located.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/error.hpp"
+#include "scene/scene.hpp"
+
+namespace tactus::scene {
+namespace {
+
+// Line numbers below refer to this scene.
+const std::string kCloth = R"([bodies.fabric]
+kind = "cloth"
+fabric = "denim"
+size = [0.2, 0.1]
+spacing = 0.01
+origin = [0.0, 0.0, 0.3]
+warp_axis = [0.0, 0.0, -1.0]
+weft_axis = [1.0, 0.0, 0.0]
+clamp = 2
+)";
+
+std::string with_line(const std::string& base, int line, const std::string& text) {
+  std::string out;
+  std::size_t start = 0;
+  for (int i = 1;; ++i) {
+    const std::size_t end = base.find('\n', start);
+    if (end == std::string::npos) break;
+    out += (i == line ? text : base.substr(start, end - start)) + "\n";
+    start = end + 1;
+  }
+  return out;
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_scene(text, std::string(TACTUS_SOURCE_DIR) + "/scenes/x.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ClothScene, DatabaseFabricOnAClampedSheet) {
+  const Model m = parse_scene(kCloth, std::string(TACTUS_SOURCE_DIR) + "/scenes/x.toml");
+  ASSERT_EQ(m.bodies.size(), 1u);
+  const Body& b = m.bodies[0];
+  EXPECT_EQ(b.kind, BodyKind::cloth);
+  ASSERT_TRUE(b.cloth);
+  EXPECT_EQ(b.cloth->nodes_u, 21);
+  EXPECT_EQ(b.cloth->nodes_v, 11);
+  EXPECT_EQ(b.surface.vertices.size(), 21u * 11u);
+  ASSERT_EQ(b.fixed.size(), 1u);
+  EXPECT_EQ(b.fixed[0].nodes.size(), 22u);  // two rows of 11 along the weft
+  // The clamp's first row is the sheet's top edge, at the origin's height.
+  for (auto n : b.fixed[0].nodes) EXPECT_GE(b.surface.vertices[static_cast<std::size_t>(n)].z(), 0.29 - 1e-12);
+  // Denim's KES weight W (mg/cm²) is the areal density ×100 (kg/m²).
+  EXPECT_GT(b.cloth->material.areal_density, 0.0);
+  EXPECT_FALSE(b.cloth->mesh.yarns.empty());
+  EXPECT_NE(summarize(m).find("fabric: 'denim'"), std::string::npos) << summarize(m);
+}
+
+TEST(ClothScene, OwnCurvesInsteadOfADatabaseKey) {
+  const std::string text = with_line(kCloth, 3, R"([bodies.fabric.curves]
+areal_density = 0.2
+warp = { strain = [0.0, 0.02, 0.05], tension = [0.0, 40.0, 300.0] }
+weft = { strain = [0.0, 0.03, 0.06], tension = [0.0, 20.0, 200.0] }
+shear = { angle = [0.0, 0.2], force = [0.0, 2.0] }
+bend_warp = { curvature = [0.0, 100.0], moment = [0.0, 1e-3] }
+bend_weft = { curvature = [0.0, 100.0], moment = [0.0, 5e-4] }
+[bodies.fabric.geometry_follows]
+)");
+  // The curves table closes the body's table: the remaining keys belong to a later table.
+  const std::string fixed = text.substr(0, text.find("[bodies.fabric.geometry_follows]"));
+  std::string body = "[bodies.fabric]\nkind = \"cloth\"\nsize = [0.2, 0.1]\nspacing = 0.01\n";
+  body += fixed.substr(fixed.find("[bodies.fabric.curves]"));
+  const Model m = parse_scene(body, "x.toml");
+  ASSERT_TRUE(m.bodies[0].cloth);
+  EXPECT_DOUBLE_EQ(m.bodies[0].cloth->material.areal_density, 0.2);
+  EXPECT_DOUBLE_EQ(m.bodies[0].cloth->material.warp.value(0.02), 40.0);
+  EXPECT_TRUE(m.bodies[0].cloth->fabric.empty());
+}
+
+TEST(ClothScene, BadFabricsAreLocated) {
+  EXPECT_EQ(error_of(with_line(kCloth, 3, "fabric = \"dennim\"")).find(":3:10: bodies.fabric.fabric: no fabric 'dennim'"),
+            error_of(with_line(kCloth, 3, "fabric = \"dennim\"")).find(":3:10:"));
+  EXPECT_NE(error_of(with_line(kCloth, 3, "fabric = \"dennim\"")).find("did you mean 'denim'?"), std::string::npos);
+  EXPECT_NE(error_of(with_line(kCloth, 9, "clamp = 1")).find(":9:9: bodies.fabric.clamp: a clamp holds at least 2"),
+            std::string::npos);
+  EXPECT_NE(error_of(with_line(kCloth, 8, "weft_axis = [0.0, 0.5, -1.0]")).find("perpendicular"), std::string::npos);
+  EXPECT_NE(error_of(with_line(kCloth, 5, "spacing = 0.2")).find("bodies.fabric.spacing"), std::string::npos);
+  EXPECT_NE(error_of(with_line(kCloth, 2, "kind = \"cloth\"\nmaterial = \"skin\"")).find("takes its properties from"),
+            std::string::npos);
+
+  // A tensile curve that is not monotone, named by its point.
+  const std::string own = "[bodies.fabric]\nkind = \"cloth\"\nsize = [0.2, 0.1]\nspacing = 0.01\n"
+                          "[bodies.fabric.curves]\nareal_density = 0.2\n"
+                          "warp = { strain = [0.0, 0.02, 0.05], tension = [0.0, 40.0, 30.0] }\n"
+                          "weft = { strain = [0.0, 0.03], tension = [0.0, 20.0] }\n"
+                          "shear = { angle = [0.0, 0.2], force = [0.0, 2.0] }\n"
+                          "bend_warp = { curvature = [0.0, 100.0], moment = [0.0, 1e-3] }\n"
+                          "bend_weft = { curvature = [0.0, 100.0], moment = [0.0, 5e-4] }\n";
+  EXPECT_NE(error_of(own).find(":7:8: bodies.fabric.curves.warp: the tension against strain: not monotone: point 3 (30) is below point 2 (40)"), std::string::npos)
+      << error_of(own);
+  std::string negative = own;
+  negative.replace(negative.find("areal_density = 0.2"), 19, "areal_density = -0.2");
+  EXPECT_NE(error_of(negative).find("areal_density: -0.2 is out of range"), std::string::npos) << error_of(negative);
+}
+
+TEST(ClothScene, DatabaseErrorsPointIntoTheDatabase) {
+  const auto dir = std::filesystem::temp_directory_path() / "tactus_cloth_db_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "fabrics.toml") << "[bad]\nW = 20.0\n[bad.warp]\nEMT = 5.0\nLT = 0.6\nWT = 20.0\nB = 0.1\nG = 1.0\n"
+                                         "[bad.weft]\nEMT = 5.0\nLT = 0.6\nWT = 7.5\nB = 0.1\nG = 1.0\n";
+  const std::string scene = with_line(kCloth, 3, "fabric = \"bad\"\nfabric_database = \"fabrics.toml\"");
+  std::string message;
+  try {
+    parse_scene(scene, (dir / "scene.toml").string());
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  // WT = 20 where LT·½·500·5/100 = 7.5: a misprint the loader refuses, in the database's lines.
+  EXPECT_NE(message.find("fabrics.toml:6:6: bad.warp.WT: WT = 20 disagrees by 167 %"), std::string::npos) << message;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ClothScene, NonManifoldMeshIsRefusedNamingTheEdge) {
+  const auto dir = std::filesystem::temp_directory_path() / "tactus_cloth_mesh_test";
+  std::filesystem::create_directories(dir);
+  // Three triangles on the edge 1–2.
+  std::ofstream(dir / "fin.obj") << "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0.1 0.1 0\nv 0.05 0.05 0.1\n"
+                                    "f 1 2 3\nf 2 4 3\nf 2 3 5\n";
+  const std::string scene = "[bodies.fabric]\nkind = \"cloth\"\nfabric = \"denim\"\nmesh = \"fin.obj\"\n"
+                            "warp_axis = [1, 0, 0]\nweft_axis = [0, 1, 0]\n";
+  std::string message;
+  try {
+    parse_scene(scene, (dir / "scene.toml").string());
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("bodies.fabric.mesh"), std::string::npos) << message;
+  EXPECT_NE(message.find("edge"), std::string::npos) << message;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tactus::scene
