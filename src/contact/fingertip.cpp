@@ -44,7 +44,8 @@ void validate(const CapsuleShape& shape, const char* who) {
       len > 0.0 ? Vec3(shape.pad_normal - shape.pad_normal.dot(axis / len) * axis / len) : shape.pad_normal;
   // The pad plane needs a direction across the axis; a normal along it names none.
   if (!finite(shape.pad_normal) || !(pad > 0.0) || !(across_axis.norm() > 1e-6 * pad))
-    throw InputError(fmt::format("{}: the pad normal must be finite, non-zero and not along the axis base -> tip", who));
+    throw InputError(
+        fmt::format("{}: the pad normal must be finite, non-zero and not along the axis base -> tip", who));
 }
 
 Capsule posed(const CapsuleShape& shape, const Pose& pose) noexcept {

@@ -45,7 +45,8 @@ std::vector<Vec3> surface_samples(const Capsule& c, int rings, int around) {
 /// The distance from p to the segment, by sampling it.
 double sampled_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b, int samples) {
   double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i <= samples; ++i) best = std::min(best, (p - (a + (static_cast<double>(i) / samples) * (b - a))).norm());
+  for (int i = 0; i <= samples; ++i)
+    best = std::min(best, (p - (a + (static_cast<double>(i) / samples) * (b - a))).norm());
   return best;
 }
 
