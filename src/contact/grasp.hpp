@@ -13,6 +13,7 @@
 // update() allocates nothing (the held list has a capacity fixed at construction) and
 // throws nothing.
 #include <cstdint>
+#include <numbers>
 #include <span>
 #include <vector>
 
@@ -72,7 +73,7 @@ struct GraspParams {
   double kinetic_friction = 0.8;
   /// Pads closer to parallel than this use the parallel rule (rad); once in it, a grasp
   /// leaves it only beyond 1.5 times this, so the frame does not flip back and forth.
-  double parallel_angle = 10.0 * 3.14159265358979323846 / 180.0;
+  double parallel_angle = 10.0 * std::numbers::pi / 180.0;
   std::size_t max_particles = 256;  ///< the held list's capacity; more caught ones are ignored
 };
 
