@@ -15,6 +15,7 @@
 #include "haptics/algorithms/field_lookup.hpp"
 #include "haptics/algorithms/multi_surface_algorithm.hpp"
 #include "haptics/algorithms/needle_algorithm.hpp"
+#include "haptics/algorithms/fabric_proxy_on_patch.hpp"
 #include "haptics/algorithms/proxy_on_patch.hpp"
 #include "haptics/algorithms/proxy_on_plane.hpp"
 #include "haptics/algorithms/pulse_overlay.hpp"
@@ -209,7 +210,22 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   std::optional<contact::ProxyParams> proxy;
   std::optional<haptics::ContactLaw> law;
   std::optional<haptics::MultiSurfaceConfig> multi;
-  if (const auto* p = std::get_if<scene::ProxyParams>(&a->params)) {
+  std::optional<contact::FabricProxyParams> fabric;
+  if (const auto* fabric_params = std::get_if<scene::FabricProxyParams>(&a->params)) {
+    // A sphere fingertip is a capsule of zero length; friction against the fabric it touches.
+    contact::FabricProxyParams p;
+    p.finger.base = p.finger.tip = first.offset;
+    p.finger.radius = first.radius;
+    const scene::FabricProxyParams& fpp = *fabric_params;
+    p.stiffness = std::min(fpp.stiffness, d.max_stiffness);  // never stiffer than the device renders stably
+    const scene::Cloth& cloth = *m.bodies[s.bodies.front()].cloth;
+    p.static_friction = fpp.static_friction.value_or(cloth.static_friction);
+    p.kinetic_friction = fpp.kinetic_friction.value_or(cloth.kinetic_friction);
+    p.side = fpp.side;
+    p.mass = fpp.mass;
+    p.damping = fpp.damping;
+    fabric = p;
+  } else if (const auto* p = std::get_if<scene::ProxyParams>(&a->params)) {
     contact::ProxyParams pp;
     pp.radius = first.radius;
     pp.stiffness = std::min(p->stiffness, d.max_stiffness);  // never stiffer than the device renders stably
@@ -306,6 +322,9 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
       model.algorithms.push_back(std::make_shared<haptics::MultiSurfaceAlgorithm>(*multi, s.bodies, first.offset));
     } else if (cspace) {
       model.algorithms.push_back(std::make_shared<haptics::FieldLookup>(cspace, first.offset));
+    } else if (fabric) {
+      model.algorithms.push_back(
+          std::make_shared<haptics::FabricProxyOnPatch>(*fabric, s.local_model, s.patch_capacity, spread));
     } else if (proxy && on_patch) {
       model.algorithms.push_back(
           std::make_shared<haptics::ProxyOnPatch>(first, *proxy, s.local_model, s.patch_capacity, spread));
@@ -318,6 +337,8 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
       model.algorithms.push_back(std::make_shared<haptics::SpheresOnPlane>(spheres, *law));
     }
   } catch (const std::invalid_argument& e) {
+    throw InputError(SourceLocation{m.source, {}, {}, {}}, fmt::format("algorithm '{}': {}", a->name, e.what()));
+  } catch (const InputError& e) {
     throw InputError(SourceLocation{m.source, {}, {}, {}}, fmt::format("algorithm '{}': {}", a->name, e.what()));
   }
   if (pulse) model.algorithms.push_back(std::make_shared<haptics::PulseOverlay>(make_pulse(m, *pulse), first.offset));

@@ -58,10 +58,11 @@ std::vector<NeedleLayer> read_needle_layers(Reader& r, const Algorithm& a, const
 Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model) {
   Algorithm a;
   a.name = name;
-  enum Type { proxy, hertz_finger, fingerpad, multi_surface, pulse, needle };
+  enum Type { proxy, hertz_finger, fingerpad, multi_surface, pulse, needle, fabric_proxy };
   const Type type = r.choice<Type>("type",
                                    {{"proxy", proxy}, {"hertz_finger", hertz_finger}, {"fingerpad", fingerpad},
-                                    {"multi_surface", multi_surface}, {"pulse", pulse}, {"needle", needle}},
+                                    {"multi_surface", multi_surface}, {"pulse", pulse}, {"needle", needle},
+                                    {"fabric_proxy", fabric_proxy}},
                                    std::nullopt);
   const auto tool = r.string("tool");
   if (!tool) r.fail_missing("tool", "a tool name");
@@ -94,6 +95,30 @@ Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model)
   a.passivity_control = r.boolean("passivity_control", a.passivity_control);
 
   switch (type) {
+    case fabric_proxy: {
+      if (!std::holds_alternative<SphereTool>(shape)) r.fail("tool", "fabric_proxy needs a fingertip of type 'sphere'");
+      if (a.bodies.empty()) r.fail_missing("bodies", "the cloth bodies the fingertip touches");
+      for (std::size_t b : a.bodies)
+        if (model.bodies[b].kind != BodyKind::cloth)
+          r.fail("bodies", "fabric_proxy touches cloth bodies; '" + model.bodies[b].name + "' is '" +
+                               std::string(to_string(model.bodies[b].kind)) + "'");
+      if (a.local_model == contact::LocalModelKind::plane)
+        r.fail("local_model", "a fabric is touched on its local patch: \"mass_spring\" (seed 002 §IV) or \"compliance\"");
+      FabricProxyParams p;
+      p.stiffness = r.number("stiffness", p.stiffness, Range::positive());
+      p.static_friction = r.number("static_friction", Range::non_negative());
+      p.kinetic_friction = r.number("kinetic_friction", Range::non_negative());
+      if (p.static_friction.has_value() != p.kinetic_friction.has_value())
+        r.fail(p.static_friction ? "static_friction" : "kinetic_friction",
+               "give both friction coefficients, or neither (the fabric's own)");
+      if (p.static_friction && *p.kinetic_friction > *p.static_friction)
+        r.fail("kinetic_friction", "must not exceed static_friction");
+      p.side = r.choice<int>("side", {{"front", +1}, {"back", -1}}, +1);
+      p.mass = r.number("proxy_mass", p.mass, Range::positive());
+      p.damping = r.number("proxy_damping", p.damping, Range::positive());
+      a.params = p;
+      break;
+    }
     case proxy: {
       ProxyParams p;
       p.stiffness = r.number("stiffness", p.stiffness, Range::positive());

@@ -116,7 +116,8 @@ const char* algorithm_type_name(const AlgorithmParams& p) {
                              [](const FingerpadParams&) { return "fingerpad"; },
                              [](const MultiSurfaceParams&) { return "multi_surface"; },
                              [](const PulseParams&) { return "pulse"; },
-                             [](const NeedleParams&) { return "needle"; }},
+                             [](const NeedleParams&) { return "needle"; },
+                             [](const FabricProxyParams&) { return "fabric_proxy"; }},
                     p);
 }
 

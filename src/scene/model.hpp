@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "contact/fabric_proxy.hpp"
 #include "contact/hertz.hpp"
 #include "contact/local_model_kind.hpp"
 #include "contact/proxy.hpp"
@@ -366,6 +367,16 @@ struct MultiSurfaceParams {
   double static_friction = haptics::MultiSurfaceConfig{}.static_friction;    ///< tissue dragging: μs (0 = frictionless)
   double kinetic_friction = haptics::MultiSurfaceConfig{}.kinetic_friction;  ///< μk ≤ μs
 };
+/// The V-proxy of a fingertip on a fabric (seed 002 §V-C): a god-object that keeps to its
+/// side of the thin sheet, with stick–slip friction, on the fabric's local patch.
+struct FabricProxyParams {
+  double stiffness = 190.0;  ///< k^K, finger and fabric in series [N/m] (the fingerpad's slope at first touch)
+  /// μs, μk against the fabric; unset: the fabric's own (its database entry or `friction`).
+  std::optional<double> static_friction, kinetic_friction;
+  int side = +1;             ///< +1: the front, where the fabric's normals point (thumb); −1: the back (index)
+  double mass = contact::FabricProxyParams{}.mass;        ///< the proxy's while it slides [kg]
+  double damping = contact::FabricProxyParams{}.damping;  ///< [N·s/m]
+};
 /// Rectangular pulse wave from point sources along a body (an artery).
 struct PulseParams {
   std::size_t body = 0;       ///< index into Model::bodies
@@ -384,7 +395,7 @@ struct NeedleParams {
   std::vector<NeedleLayer> layers;
 };
 using AlgorithmParams = std::variant<ProxyParams, HertzFingerParams, FingerpadParams,
-                                     MultiSurfaceParams, PulseParams, NeedleParams>;
+                                     MultiSurfaceParams, PulseParams, NeedleParams, FabricProxyParams>;
 
 /// How the contact force is shared among the tissue's nodes (contact/load_spread.hpp): by
 /// the contact triangle's barycentric weights, or over the contact disc.

@@ -147,5 +147,40 @@ TEST(ClothScene, NonManifoldMeshIsRefusedNamingTheEdge) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(ClothScene, FabricProxyTouchesClothOnItsPatch) {
+  const std::string touch = kCloth + R"([bodies.block]
+kind = "rigid"
+mesh = { generator = "box", size = [0.05, 0.05, 0.05], cells = 1 }
+[devices.hand]
+type = "scripted"
+trajectory = { type = "press", position = [0.1, -0.02, 0.25], direction = [0, 1, 0], depth = 0.01 }
+[tools.thumb]
+type = "sphere"
+device = "hand"
+radius = 0.009
+[algorithms.thumb_on_fabric]
+type = "fabric_proxy"
+tool = "thumb"
+bodies = ["fabric"]
+side = "back"
+)";
+  const std::string path = std::string(TACTUS_SOURCE_DIR) + "/scenes/x.toml";
+  const Model m = parse_scene(touch, path);
+  const auto* p = std::get_if<FabricProxyParams>(&m.algorithms.at(0).params);
+  ASSERT_NE(p, nullptr);
+  EXPECT_EQ(p->side, -1);
+  EXPECT_FALSE(p->static_friction.has_value());  // the fabric's own
+  auto error = [&](const std::string& from, const std::string& to) {
+    std::string text = touch;
+    text.replace(text.find(from), from.size(), to);
+    return error_of(text);
+  };
+  EXPECT_NE(error("bodies = [\"fabric\"]", "bodies = [\"block\"]").find("fabric_proxy touches cloth bodies; 'block' is 'rigid'"),
+            std::string::npos);
+  EXPECT_NE(error("side = \"back\"", "side = \"back\"\nlocal_model = \"plane\"").find("local patch"), std::string::npos);
+  EXPECT_NE(error("side = \"back\"", "side = \"backside\"").find("algorithms.thumb_on_fabric.side"), std::string::npos);
+  EXPECT_NE(error("side = \"back\"", "static_friction = 0.5").find("give both friction coefficients"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace tactus::scene
