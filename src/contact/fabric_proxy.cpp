@@ -135,7 +135,10 @@ FabricProxyResult FabricProxy::update(FabricProxyState& state, const Pose& finge
       if (!face_of(t, positions, triangles, p.side, f)) continue;
       const double h = plane_offset(f, e0, e1, r);
       const double g0 = f.normal.dot(x) - h, g1 = f.normal.dot(xd) - h;
-      if (g0 < -p.tolerance || !(g1 < 0.0)) continue;  // started behind it, or ends in front
+      // Started behind the sheet itself (the axis on the other side: a finger that came round
+      // from the wrong side passes), or ends in front: no touch. A start already closer than
+      // the radius, on its own side, touches at once (a sheet that moved into the finger).
+      if (g0 + r < -p.tolerance || !(g1 < 0.0)) continue;
       const double tau = g0 > 0.0 ? g0 / (g0 - g1) : 0.0;
       if (!(tau < first)) continue;
       const Vec3 at = x + tau * (xd - x);

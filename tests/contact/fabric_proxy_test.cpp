@@ -352,3 +352,28 @@ TEST(FabricProxy, UpdateAllocatesNothingAndRejectsBadInput) {
 
 }  // namespace
 }  // namespace tactus::contact
+
+namespace tactus::contact {
+namespace {
+
+TEST(FabricProxy, ASheetThatMovedIntoAFreeFingerIsTouchedAtOnce) {
+  // The fabric moved toward the finger between two updates (a simulation step carried it)
+  // and now overlaps the free finger on the finger's own side: the finger touches it at once
+  // instead of slipping behind it on its next move.
+  const Patch patch = flat_patch();
+  const FabricProxy proxy(params_for());
+  const double r = lying_finger().radius;
+  FabricProxyState s = make_fabric_proxy_state(Vec3(0, 0, 0.75 * r));  // 2 mm into the sheet's reach
+  const Pose finger{Vec3(0, 0, 0.7 * r), Quat::Identity()};
+  const FabricProxyResult out = proxy.update(s, finger, patch.positions, patch.triangles, patch.all, kDt);
+  ASSERT_TRUE(out.in_contact);
+  EXPECT_NEAR(out.force.z(), 1000.0 * 0.3 * r, 1e-9);
+  EXPECT_NEAR(out.force.head<2>().norm(), 0.0, 1e-12);
+  // A finger whose axis is already behind the sheet still passes: it came from the back.
+  FabricProxyState behind = make_fabric_proxy_state(Vec3(0, 0, -0.001));
+  const Pose deeper{Vec3(0, 0, -0.002), Quat::Identity()};
+  EXPECT_FALSE(proxy.update(behind, deeper, patch.positions, patch.triangles, patch.all, kDt).in_contact);
+}
+
+}  // namespace
+}  // namespace tactus::contact

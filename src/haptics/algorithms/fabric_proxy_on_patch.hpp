@@ -26,8 +26,14 @@ class FabricProxyOnPatch final : public OnPatch {
     contact::FabricProxyState proxy;
     bool started = false;
     std::vector<std::int32_t> candidates;  ///< 0, 1, ... over the patch's triangles
+    std::int32_t surface_triangle = -1;    ///< the body's triangle the proxy rests on, across an update
+    /// Free: the body's triangle nearest the finger at the last frame (on the finger's side),
+    /// so that a patch update that moved the sheet past the finger is caught.
+    std::int32_t nearest_free = -1;
   };
   void begin(const FrameInputs& frame, PatchState& state) const override;
+  void patch_replacing(PatchState& state) const override;
+  void patch_replaced(PatchState& state) const override;
   [[nodiscard]] Rendering against(const FrameInputs& frame, PatchState& state, bool trial) const override;
   void advance(const FrameInputs& frame, const Rendering& rendered, const Reaction& reaction, bool on,
                const contact::PatchContact& on_patch, PatchState& state, ContactLoad& load) const override;

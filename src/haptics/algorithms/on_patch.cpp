@@ -16,6 +16,7 @@ Rendering OnPatch::render(const FrameInputs& f, AlgorithmState& state) const {
     before = against(f, s, true).force;
   }
   if (replaced) {
+    patch_replacing(s);
     s.local.reset(*f.patch, f.t);
     patch_replaced(s);
   } else {

@@ -35,7 +35,11 @@ class OnPatch : public ForceAlgorithm {
   [[nodiscard]] double disc_radius(double contact_radius) const { return spread_over_disc_ ? contact_radius : -1.0; }
 
   virtual void begin(const FrameInputs& /*frame*/, PatchState& /*state*/) const {}
-  /// A new patch replaced the old: whatever remembers the old one's triangles forgets them.
+  /// A new patch is about to replace the old one (still in the state): what remembers the
+  /// old one's triangles notes them as the body's surface triangles.
+  virtual void patch_replacing(PatchState& /*state*/) const {}
+  /// A new patch replaced the old: whatever remembers the old one's triangles forgets them,
+  /// or finds them again in the new one.
   virtual void patch_replaced(PatchState& /*state*/) const {}
   /// The force against the patch's current shape. A `trial` measures without changing the state.
   [[nodiscard]] virtual Rendering against(const FrameInputs& frame, PatchState& state, bool trial) const = 0;
