@@ -147,7 +147,7 @@ TEST(SceneErrors, OutOfRangeValues) {
 TEST(SceneErrors, UnknownEnumValue) {
   EXPECT_EQ(error_of(with_line(8, "kind = \"femm\"")),
             "dir/x.toml:8:8: bodies.block.kind: unknown value 'femm'; did you mean 'fem'? (expected one of: "
-            "surface_mass_spring, tet_mass_spring, fem, rigid, embedded, cspace)");
+            "surface_mass_spring, tet_mass_spring, fem, rigid, embedded, cloth, cspace)");
 }
 
 TEST(SceneErrors, UndefinedReferences) {
