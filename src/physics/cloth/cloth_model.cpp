@@ -252,8 +252,10 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
     Vec3 g[3];
     for (int n = 0; n < 3; ++n) g[n] = c * (r.a[n] * pu + r.b[n] * pv);
     const double ku = mat.warp.slope(eu), kv = mat.weft.slope(ev), ks = mat.shear.slope(gamma);
+    // The tensions, looked up once for the force and the linearization alike.
+    const double tu = f || Linearize ? mat.warp.value(eu) : 0.0, tv = f || Linearize ? mat.weft.value(ev) : 0.0;
     if (f) {
-      const double tu = mat.warp.value(eu), tv = mat.weft.value(ev), ts = mat.shear.value(gamma);
+      const double ts = mat.shear.value(gamma);
       double rate_u = 0.0, rate_v = 0.0, rate_s = 0.0;
       if (damped) {
         for (int n = 0; n < 3; ++n) {
@@ -270,12 +272,12 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
     }
     if constexpr (Linearize) {
       TriangleLinear& l = cs.triangles[t];
-      const double tu = std::max(mat.warp.value(eu), 0.0), tv = std::max(mat.weft.value(ev), 0.0);
-      const Mat3 uu = wu * wu.transpose(), vv = wv * wv.transpose();
       // Compressed directions keep only their axial stiffness: the transverse term T/l of a
       // compressed fibre is negative and would make K indefinite.
-      l.pu = r.area * (ku * uu + (tu / lu) * (Mat3::Identity() - uu));
-      l.pv = r.area * (kv * vv + (tv / lv) * (Mat3::Identity() - vv));
+      const double pull_u = std::max(tu, 0.0), pull_v = std::max(tv, 0.0);
+      const Mat3 uu = wu * wu.transpose(), vv = wv * wv.transpose();
+      l.pu = r.area * (ku * uu + (pull_u / lu) * (Mat3::Identity() - uu));
+      l.pv = r.area * (kv * vv + (pull_v / lv) * (Mat3::Identity() - vv));
       for (int n = 0; n < 3; ++n) l.g[n] = g[n];
       l.wu = wu;
       l.wv = wv;
@@ -345,6 +347,12 @@ void ClothModel::forces(const VecX& x, const VecX& v, const VecX&, VecX& f, Scra
 
 void ClothModel::linearize(const VecX& x, const VecX& v, const VecX&, Scratch& s) const {
   evaluate<true>(x, v, nullptr, s);
+}
+
+void ClothModel::linearized_forces(const VecX& x, const VecX& v, const VecX&, const VecX& dx, VecX& f,
+                                   Scratch& s) const {
+  evaluate<true>(x, v, &f, s);
+  add_stiffness_product(dx, f, s);
 }
 
 namespace {

@@ -100,6 +100,9 @@ class ClothModel final : public ForceModel {
   [[nodiscard]] std::unique_ptr<Scratch> make_scratch() const override;
   void forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratch& s) const override;
   void linearize(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const override;
+  /// The force and the linearization in one pass over the elements, then K·dx.
+  void linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
+                         Scratch& s) const override;
   void add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const override;
   void add_damping_product(const VecX& dv, VecX& out, const Scratch& s) const override;
   void add_diagonal(double a, double b, VecX& out, const Scratch& s) const override;

@@ -108,6 +108,29 @@ TEST(ClothModel, DampingForceIsMinusTheDampingMatrixTimesVelocity) {
   }
 }
 
+TEST(ClothModel, LinearizedForcesInOnePassAreTheThreeCallsBitForBit) {
+  // The implicit step's f + K·dx: one pass over the elements must give what forces(),
+  // linearize() and add_stiffness_product() give, to the last bit, and leave the same
+  // linearization behind.
+  for (auto bending : {SheetBending::hinges, SheetBending::yarns}) {
+  SCOPED_TRACE(bending == SheetBending::hinges ? "hinges" : "yarns");
+  const Fixture f = make_fixture(bending);
+  const VecX dx = random_vector(f.x.size(), 7, 1e-3);
+  auto one = f.model->make_scratch(), three = f.model->make_scratch();
+  VecX combined(f.x.size()), separate(f.x.size());
+  f.model->linearized_forces(f.x, f.v, VecX(), dx, combined, *one);
+  f.model->forces(f.x, f.v, VecX(), separate, *three);
+  f.model->linearize(f.x, f.v, VecX(), *three);
+  f.model->add_stiffness_product(dx, separate, *three);
+  EXPECT_TRUE((combined.array() == separate.array()).all());
+  const VecX probe = random_vector(f.x.size(), 8, 1.0);
+  VecX k1 = VecX::Zero(f.x.size()), k3 = VecX::Zero(f.x.size());
+  f.model->add_system_product(1.0, 0.3, 0.7, probe, k1, *one);
+  f.model->add_system_product(1.0, 0.3, 0.7, probe, k3, *three);
+  EXPECT_TRUE((k1.array() == k3.array()).all());
+  }
+}
+
 TEST(ClothModel, StiffnessIsExactWhereTheDroppedTermsVanish) {
   // Stretched in its plane without shear or bending: the shear and bending terms that the
   // Gauss–Newton tangent leaves out are proportional to the shear force and the moment, both

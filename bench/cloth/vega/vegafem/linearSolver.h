@@ -1,0 +1,55 @@
+/*************************************************************************
+ *                                                                       *
+ * Vega FEM Simulation Library Version 3.1                               *
+ *                                                                       *
+ * "sparseSolver" library , Copyright (C) 2007 CMU, 2009 MIT, 2016 USC   *
+ * All rights reserved.                                                  *
+ *                                                                       *
+ * Code author: Jernej Barbic                                            *
+ * http://www.jernejbarbic.com/code                                      *
+ *                                                                       *
+ * Research: Jernej Barbic, Fun Shing Sin, Daniel Schroeder,             *
+ *           Doug L. James, Jovan Popovic                                *
+ *                                                                       *
+ * Funding: National Science Foundation, Link Foundation,                *
+ *          Singapore-MIT GAMBIT Game Lab,                               *
+ *          Zumberge Research and Innovation Fund at USC                 *
+ *                                                                       *
+ * This library is free software; you can redistribute it and/or         *
+ * modify it under the terms of the BSD-style license that is            *
+ * included with this library in the file LICENSE.txt                    *
+ *                                                                       *
+ * This library is distributed in the hope that it will be useful,       *
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of        *
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE. See the file     *
+ * LICENSE.TXT for more details.                                         *
+ *                                                                       *
+ *************************************************************************/
+
+#ifndef _LINEARSOLVER_H_
+#define _LINEARSOLVER_H_
+
+/*
+  Abstract class to solve
+  A * x = rhs, where A is a square matrix.
+  
+  Jernej Barbic, USC, 2010
+*/
+
+#include <stdio.h>
+#include <stdlib.h>
+
+class LinearSolver
+{
+public:
+  virtual ~LinearSolver();
+
+  // solve: A * x = rhs
+  // return: 0 on success, error code otherwise
+  virtual int SolveLinearSystem(double * x, const double * rhs) = 0;
+
+protected:
+};
+
+#endif
+

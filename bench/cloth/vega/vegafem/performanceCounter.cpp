@@ -1,0 +1,2 @@
+#include "performanceCounter.h"
+
