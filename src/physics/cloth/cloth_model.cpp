@@ -198,7 +198,7 @@ std::unique_ptr<Scratch> ClothModel::make_scratch() const {
   return s;
 }
 
-Vec3 ClothModel::triangle_strain(const VecX& x, std::size_t t) const {
+std::pair<Vec3, Vec3> ClothModel::warp_weft(const VecX& x, std::size_t t) const {
   const auto& tri = triangles_[t];
   const auto& r = rest_triangles_[t];
   Vec3 wu = Vec3::Zero(), wv = Vec3::Zero();
@@ -207,6 +207,11 @@ Vec3 ClothModel::triangle_strain(const VecX& x, std::size_t t) const {
     wu += r.a[n] * p;
     wv += r.b[n] * p;
   }
+  return {wu, wv};
+}
+
+Vec3 ClothModel::triangle_strain(const VecX& x, std::size_t t) const {
+  const auto [wu, wv] = warp_weft(x, t);
   const double s = std::clamp(wu.normalized().dot(wv.normalized()), -kMaxShearSine, kMaxShearSine);
   return {wu.norm() - 1.0, wv.norm() - 1.0, std::asin(s)};
 }
@@ -233,12 +238,7 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     const auto& tri = triangles_[t];
     const auto& r = rest_triangles_[t];
-    Vec3 wu = Vec3::Zero(), wv = Vec3::Zero();
-    for (int n = 0; n < 3; ++n) {
-      const Vec3 p = node(x, tri[static_cast<std::size_t>(n)]);
-      wu += r.a[n] * p;
-      wv += r.b[n] * p;
-    }
+    auto [wu, wv] = warp_weft(x, t);
     const double lu = wu.norm(), lv = wv.norm();
     if (!(lu > 0.0 && lv > 0.0)) continue;  // collapsed to a line: no direction to push along
     wu /= lu;

@@ -29,6 +29,7 @@
 //   term's gradient and k its tangent stiffness, with one time constant β per kind.
 // - Lumped masses: areal density × area / 3 per vertex.
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "mesh/tri_mesh.hpp"
@@ -117,6 +118,8 @@ class ClothModel final : public ForceModel {
   };
 
  private:
+  /// A triangle's warp and weft vectors W_u, W_v at x.
+  [[nodiscard]] std::pair<Vec3, Vec3> warp_weft(const VecX& x, std::size_t t) const;
   template <bool Linearize>
   void evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) const;
 
