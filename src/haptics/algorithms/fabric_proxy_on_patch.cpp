@@ -2,8 +2,6 @@
 
 #include <numeric>
 
-#include "contact/load_spread.hpp"
-
 namespace tactus::haptics {
 namespace {
 
@@ -112,7 +110,7 @@ Rendering FabricProxyOnPatch::against(const FrameInputs& f, PatchState& state, b
   const auto count = static_cast<std::size_t>(patch.triangle_count);
   const contact::FabricProxyResult r =
       proxy_.update(proxy, pose, s.local.positions(), {patch.triangles.data(), count}, {s.candidates.data(), count},
-                    f.dt > 0.0 ? f.dt : 1e-3);
+                    f.dt > 0.0 ? f.dt : 1e-3);  // the first frame has no period yet: a nominal one
   out.touching = r.in_contact;
   out.force = r.force;
   out.torque = (r.contact_point - f.position).cross(r.force);
