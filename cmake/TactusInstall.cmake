@@ -7,6 +7,8 @@ install(TARGETS tactus ${_libs} EXPORT TactusTargets
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tactus
   FILES_MATCHING PATTERN "*.hpp" PATTERN "app" EXCLUDE)
 install(DIRECTORY ${PROJECT_BINARY_DIR}/src/core/generated/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tactus)
+# The fabric database a cloth body reads when its scene names no other (scene/load_cloth.cpp).
+install(FILES ${PROJECT_SOURCE_DIR}/data/fabrics.toml DESTINATION ${CMAKE_INSTALL_DATADIR}/tactus)
 install(EXPORT TactusTargets NAMESPACE Tactus:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/Tactus)
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/TactusConfig.cmake.in
   ${PROJECT_BINARY_DIR}/TactusConfig.cmake INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/Tactus)

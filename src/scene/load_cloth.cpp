@@ -15,8 +15,13 @@
 namespace tactus::scene::detail {
 namespace {
 
-/// The fabric database of the source tree, where a scene names no other.
-std::filesystem::path bundled_database() { return std::filesystem::path(TACTUS_DATA_DIR) / "fabrics.toml"; }
+/// The fabric database where a scene names no other: the source tree's, else the installed one.
+std::filesystem::path bundled_database() {
+  const std::filesystem::path source = std::filesystem::path(TACTUS_DATA_DIR) / "fabrics.toml";
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(source, ec)) return source;
+  return std::filesystem::path(TACTUS_INSTALLED_DATA_DIR) / "fabrics.toml";
+}
 
 physics::KesDirection read_kes_direction(Reader& d, double tensile_max_load) {
   physics::KesDirection k;
