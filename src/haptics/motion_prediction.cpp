@@ -40,7 +40,9 @@ Vec3 MotionPredictor::predict(double horizon) const noexcept {
     rhs += basis * p_[at(k)].transpose();
   }
   const int n = degree + 1;
-  const Eigen::MatrixXd coefficients = normal.topLeftCorner(n, n).ldlt().solve(rhs.topRows(n));
+  // At most 3 × 3: fixed storage, no heap.
+  using Coefficients = Eigen::Matrix<double, Eigen::Dynamic, 3, 0, 3, 3>;
+  const Coefficients coefficients = normal.topLeftCorner(n, n).ldlt().solve(rhs.topRows(n));
   const double tau = horizon / window_;
   Vec3 out = coefficients.row(0).transpose() + tau * coefficients.row(1).transpose();
   if (degree == 2) out += tau * tau * coefficients.row(2).transpose();

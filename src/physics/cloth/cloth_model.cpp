@@ -122,7 +122,7 @@ ClothModel::ClothModel(const ClothMesh& cloth, ClothMaterial material) : materia
     if (!(b.area > 0.0 && std::isfinite(b.area))) throw InputError(where + " needs a positive area");
     if (!(b.curvature_scale > 0.0 && std::isfinite(b.curvature_scale)))
       throw InputError(where + " needs a positive curvature scale");
-    yarn_spacing_.push_back(spacing * spacing / b.curvature_scale);  // σ²/scale: K = |d| over it
+    yarn_curvature_scale_.push_back(spacing * spacing / b.curvature_scale);  // K = |a − 2b + c| over it
   }
   // Without yarn lines, one hinge per interior edge, from its half-edge whose origin is the
   // smaller vertex.
@@ -226,7 +226,7 @@ double ClothModel::hinge_curvature(const VecX& x, std::size_t h) const {
 
 double ClothModel::yarn_curvature(const VecX& x, std::size_t y) const {
   const YarnBend& b = yarns_[y];
-  return (node(x, b.a) - 2.0 * node(x, b.b) + node(x, b.c)).norm() / yarn_spacing_[y];
+  return (node(x, b.a) - 2.0 * node(x, b.b) + node(x, b.c)).norm() / yarn_curvature_scale_[y];
 }
 
 template <bool Linearize>
@@ -244,8 +244,7 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
     wu /= lu;
     wv /= lv;
     const double eu = lu - 1.0, ev = lv - 1.0;
-    const double s_raw = wu.dot(wv);
-    const double sn = std::clamp(s_raw, -kMaxShearSine, kMaxShearSine);
+    const double sn = std::clamp(wu.dot(wv), -kMaxShearSine, kMaxShearSine);
     const double c = 1.0 / std::sqrt(1.0 - sn * sn);
     const double gamma = std::asin(sn);
     const Vec3 pu = (wv - sn * wu) / lu, pv = (wu - sn * wv) / lv;
@@ -253,7 +252,7 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
     for (int n = 0; n < 3; ++n) g[n] = c * (r.a[n] * pu + r.b[n] * pv);
     const double ku = mat.warp.slope(eu), kv = mat.weft.slope(ev), ks = mat.shear.slope(gamma);
     // The tensions, looked up once for the force and the linearization alike.
-    const double tu = f || Linearize ? mat.warp.value(eu) : 0.0, tv = f || Linearize ? mat.weft.value(ev) : 0.0;
+    const double tu = mat.warp.value(eu), tv = mat.weft.value(ev);
     if (f) {
       const double ts = mat.shear.value(gamma);
       double rate_u = 0.0, rate_v = 0.0, rate_s = 0.0;
@@ -321,14 +320,13 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
     // Hessian A/σ⁴·[M'(K) d̂d̂ᵀ + M(K)/K (I − d̂d̂ᵀ)] ⊗ w wᵀ is exact (d is linear in x).
     const YarnBend& b = yarns_[y];
     const MeasuredCurve& curve = b.warp ? mat.bend_warp : mat.bend_weft;
-    const double s2 = yarn_spacing_[y];
+    const double s2 = yarn_curvature_scale_[y];
     const Vec3 d = node(x, b.a) - 2.0 * node(x, b.b) + node(x, b.c);
     const double len = d.norm(), kappa = len / s2;
     const double slope = curve.slope(kappa);
     const double secant = kappa > 0.0 ? curve.value(kappa) / kappa : slope;  // M/K, M'(0) at K = 0
     const double scale = b.area / (s2 * s2);
     const Vec3 dir = len > 0.0 ? Vec3(d / len) : Vec3::Zero();
-    Mat3 h = (scale * secant) * Mat3::Identity() + (scale * (slope - secant)) * (dir * dir.transpose());
     const double damping = mat.bend_damping * scale * slope;
     if (f) {
       Vec3 push = (scale * secant) * d;  // ∂E/∂d
@@ -337,7 +335,10 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
       node(*f, b.b) += 2.0 * push;
       node(*f, b.c) -= push;
     }
-    if constexpr (Linearize) cs.yarns[y] = YarnLinear{h, dir, damping};
+    if constexpr (Linearize) {
+      const Mat3 h = (scale * secant) * Mat3::Identity() + (scale * (slope - secant)) * (dir * dir.transpose());
+      cs.yarns[y] = YarnLinear{h, dir, damping};
+    }
   }
 }
 
@@ -357,9 +358,9 @@ void ClothModel::linearized_forces(const VecX& x, const VecX& v, const VecX&, co
 
 namespace {
 
-/// out += (c·K + b·D) in, over the triangles and hinges of a linearization.
-template <class Rest, class Triangles>
-void add_product(const Triangles& triangles, const std::vector<mesh::Triangle>& tris, const Rest& rest,
+/// out += (c·K + b·D) in, over the yarn bends, triangles and hinges of a linearization.
+void add_product(const std::vector<TriangleLinear>& triangles, const std::vector<mesh::Triangle>& tris,
+                 const std::vector<ClothModel::TriangleRest>& rest,
                  const std::vector<ClothHinge>& hinges, const std::vector<HingeLinear>& hl,
                  const std::vector<YarnBend>& yarns, const std::vector<YarnLinear>& yl, double c, double b,
                  const VecX& in, VecX& out) {

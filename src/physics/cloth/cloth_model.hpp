@@ -129,7 +129,7 @@ class ClothModel final : public ForceModel {
   std::vector<TriangleRest> rest_triangles_;
   std::vector<ClothHinge> hinges_;
   std::vector<YarnBend> yarns_;
-  std::vector<double> yarn_spacing_;
+  std::vector<double> yarn_curvature_scale_;  ///< per yarn bend σ²/curvature_scale: K = |a − 2b + c| / it
   // The assembled system's block pattern: per node its upper neighbours, and per element
   // pair its block (≥ 0: stored as (row, column); < 0: −1 − index, stored transposed).
   std::vector<std::int32_t> row_start_, column_;
