@@ -3,34 +3,6 @@
 #include <numeric>
 
 namespace tactus::haptics {
-namespace {
-
-/// The finger's signed distance from the plane of patch triangle t, positive on its side.
-double side_distance(const contact::LocalModel& local, int t, const Vec3& x, int side) {
-  const mesh::Triangle& tri = local.patch().triangles[static_cast<std::size_t>(t)];
-  const auto p = local.positions();
-  const Vec3& a = p[static_cast<std::size_t>(tri[0])];
-  const Vec3 n = (p[static_cast<std::size_t>(tri[1])] - a).cross(p[static_cast<std::size_t>(tri[2])] - a);
-  const double len = n.norm();
-  return len > 0.0 ? side * n.dot(x - a) / len : 0.0;
-}
-
-/// The patch triangle whose centroid is nearest x, or −1.
-int nearest_triangle(const contact::LocalModel& local, const Vec3& x) {
-  const contact::LocalPatch& patch = local.patch();
-  const auto p = local.positions();
-  int best = -1;
-  double best_distance = 0.0;
-  for (int t = 0; t < patch.triangle_count; ++t) {
-    const mesh::Triangle& tri = patch.triangles[static_cast<std::size_t>(t)];
-    const Vec3 c = (p[static_cast<std::size_t>(tri[0])] + p[static_cast<std::size_t>(tri[1])] + p[static_cast<std::size_t>(tri[2])]) / 3.0;
-    const double d = (c - x).squaredNorm();
-    if (best < 0 || d < best_distance) best = t, best_distance = d;
-  }
-  return best;
-}
-
-}  // namespace
 
 FabricProxyOnPatch::FabricProxyOnPatch(const contact::FabricProxyParams& params, contact::LocalModelKind kind,
                                        contact::PatchCapacity capacity, bool spread_over_disc)
@@ -58,12 +30,6 @@ void FabricProxyOnPatch::patch_replacing(PatchState& state) const {
   const contact::LocalPatch& old = s.local.patch();
   const std::int32_t t = s.proxy.triangle;
   s.surface_triangle = t >= 0 && t < old.triangle_count ? old.surface_triangle[static_cast<std::size_t>(t)] : -1;
-  s.nearest_free = -1;
-  if (!s.proxy.in_contact && s.local.valid()) {
-    const int n = nearest_triangle(s.local, s.proxy.position);
-    if (n >= 0 && side_distance(s.local, n, s.proxy.position, proxy_.params().side) > 0.0)
-      s.nearest_free = old.surface_triangle[static_cast<std::size_t>(n)];
-  }
 }
 
 void FabricProxyOnPatch::patch_replaced(PatchState& state) const {
@@ -77,22 +43,6 @@ void FabricProxyOnPatch::patch_replaced(PatchState& state) const {
     for (int t = 0; t < patch.triangle_count && found < 0; ++t)
       if (patch.surface_triangle[static_cast<std::size_t>(t)] == s.surface_triangle) found = t;
   s.proxy.triangle = found;
-  // A free finger the update moved the sheet past (the step carried the fabric through it):
-  // the proxy goes back to the finger's side of that triangle, so that its next sweep meets
-  // the sheet instead of the finger ending up behind it.
-  if (!s.proxy.in_contact && s.nearest_free >= 0)
-    for (int t = 0; t < patch.triangle_count; ++t)
-      if (patch.surface_triangle[static_cast<std::size_t>(t)] == s.nearest_free) {
-        const double d = side_distance(s.local, t, s.proxy.position, proxy_.params().side);
-        const mesh::Triangle& tri = patch.triangles[static_cast<std::size_t>(t)];
-        const auto p = s.local.positions();
-        const Vec3& a = p[static_cast<std::size_t>(tri[0])];
-        const Vec3 n = (p[static_cast<std::size_t>(tri[1])] - a).cross(p[static_cast<std::size_t>(tri[2])] - a).normalized();
-        const double reach = proxy_.params().finger.radius + (proxy_.params().finger.tip - proxy_.params().finger.base).norm();
-        if (d < 0.0 && d > -2.0 * reach)
-          s.proxy.position += (reach - d) * static_cast<double>(proxy_.params().side) * n;
-        break;
-      }
 }
 
 Rendering FabricProxyOnPatch::against(const FrameInputs& f, PatchState& state, bool trial) const {

@@ -27,9 +27,6 @@ class FabricProxyOnPatch final : public OnPatch {
     bool started = false;
     std::vector<std::int32_t> candidates;  ///< 0, 1, ... over the patch's triangles
     std::int32_t surface_triangle = -1;    ///< the body's triangle the proxy rests on, across an update
-    /// Free: the body's triangle nearest the finger at the last frame (on the finger's side),
-    /// so that a patch update that moved the sheet past the finger is caught.
-    std::int32_t nearest_free = -1;
   };
   void begin(const FrameInputs& frame, PatchState& state) const override;
   void patch_replacing(PatchState& state) const override;
