@@ -398,7 +398,6 @@ void PatchBuilder::take_body_stiffness(const Inputs& in, LocalPatch& out) {
       }
     }
   for (int p = 0; p < nodes; ++p) node_patch_[body_node(p)] = -1;
-  area_.assign(static_cast<std::size_t>(nodes), 0.0);
   finish_mass_spring(in, out);
 }
 

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "core/input_file.hpp"
 #include "mesh/io/mesh_io.hpp"
@@ -44,7 +46,7 @@ physics::KesDirection read_kes_direction(Reader& d, double tensile_max_load) {
 struct DatabaseFabric {
   physics::KesFabric kes;
   bool illustrative = false;
-  double static_friction = 0.5, kinetic_friction = 0.4;
+  std::optional<std::pair<double, double>> friction;  ///< static, kinetic; none: the scene's defaults
 };
 
 /// Fabric `key` of the database at `path`; errors point into the database file.
@@ -85,10 +87,10 @@ DatabaseFabric read_database_fabric(Reader& body, const std::filesystem::path& p
   out.kes.warp = direction("warp");
   out.kes.weft = direction("weft");
   if (auto fr = f.table("friction")) {
-    out.static_friction = fr->required_number("static", Range::positive());
-    out.kinetic_friction = fr->required_number("kinetic", Range::positive());
-    if (out.kinetic_friction > out.static_friction)
-      fr->fail("kinetic", "the kinetic friction coefficient exceeds the static one");
+    const double mu_s = fr->required_number("static", Range::positive());
+    const double mu_k = fr->required_number("kinetic", Range::positive());
+    if (mu_k > mu_s) fr->fail("kinetic", "the kinetic friction coefficient exceeds the static one");
+    out.friction = {mu_s, mu_k};
     (void)fr->number("MIU", Range::positive());
     (void)fr->string("source");
     (void)fr->boolean("illustrative", false);
@@ -142,7 +144,6 @@ void read_cloth(Reader& r, Body& b) {
   const bool named = r.table().contains("fabric"), own = r.table().contains("curves");
   if (named == own)
     r.fail_here("a cloth body takes either `fabric` (a key of the fabric database) or a `curves` table of its own");
-  double static_friction = 0.5, kinetic_friction = 0.4;
   if (named) {
     c.fabric = r.required_string("fabric");
     std::filesystem::path database;
@@ -160,31 +161,32 @@ void read_cloth(Reader& r, Body& b) {
     }
     c.fabric_source = database.generic_string();
     c.illustrative = fabric.illustrative;
-    static_friction = fabric.static_friction;
-    kinetic_friction = fabric.kinetic_friction;
+    if (fabric.friction) {
+      c.static_friction = fabric.friction->first;
+      c.kinetic_friction = fabric.friction->second;
+    }
   } else {
     Reader curves = *r.table("curves");
     c.material = read_curves(curves);
     c.fabric_source = r.context().file;
   }
+  // Damping time constants [s]: a choice, not a measurement (docs/scene-format.md).
+  physics::ClothMaterial& m = c.material;
+  m.stretch_damping = m.shear_damping = 1e-3;
+  m.bend_damping = 1e-2;
   if (auto d = r.table("damping")) {
-    c.material.stretch_damping = d->number("stretch", 1e-3, Range::non_negative());
-    c.material.shear_damping = d->number("shear", 1e-3, Range::non_negative());
-    c.material.bend_damping = d->number("bend", 1e-2, Range::non_negative());
+    m.stretch_damping = d->number("stretch", m.stretch_damping, Range::non_negative());
+    m.shear_damping = d->number("shear", m.shear_damping, Range::non_negative());
+    m.bend_damping = d->number("bend", m.bend_damping, Range::non_negative());
     d->finish();
-  } else {
-    c.material.stretch_damping = 1e-3;
-    c.material.shear_damping = 1e-3;
-    c.material.bend_damping = 1e-2;
   }
   if (auto fr = r.table("friction")) {
-    static_friction = fr->number("static", static_friction, Range::positive());
-    kinetic_friction = fr->number("kinetic", kinetic_friction, Range::positive());
-    if (kinetic_friction > static_friction) fr->fail("kinetic", "the kinetic friction coefficient exceeds the static one");
+    c.static_friction = fr->number("static", c.static_friction, Range::positive());
+    c.kinetic_friction = fr->number("kinetic", c.kinetic_friction, Range::positive());
+    if (c.kinetic_friction > c.static_friction)
+      fr->fail("kinetic", "the kinetic friction coefficient exceeds the static one");
     fr->finish();
   }
-  c.static_friction = static_friction;
-  c.kinetic_friction = kinetic_friction;
 
   const Vec3 warp = unit_axis(r, "warp_axis", -Vec3::UnitZ()), weft = unit_axis(r, "weft_axis", Vec3::UnitX());
   if (std::abs(warp.dot(weft)) > 1e-6) r.fail("weft_axis", "the weft axis must be perpendicular to the warp axis");
