@@ -123,7 +123,7 @@ Mapping vega_setup(const HangingSheet& sheet, double spacing, double dt, Tensile
     if (std::abs(area - out.area) > 1e-12 * out.area) throw std::runtime_error("the mapping needs equal triangles");
   }
   const double free_length = kSide - spacing;  // below the clamp
-  const double emt = denim().warp.emt / 100.0;
+  const double emt = m.warp.xs().back();  // the tensile curve's last point: EMT
   out.k = tensile == Tensile::tangent ? m.warp.slope(strain_at(m.warp, 0.5 * m.areal_density * kGravity * free_length))
                                       : m.warp.value(emt) / emt;
   const double root = std::sqrt(out.area);

@@ -3,12 +3,13 @@
 // bar clamp along its top edge, released from a tilt out of its plane, under gravity.
 #include <cmath>
 #include <cstdint>
-#include <cstring>
+#include <string>
 #include <vector>
 
 #include "physics/body.hpp"
-#include "physics/cloth/kes.hpp"
 #include "physics/cloth/sheet.hpp"
+#include "precompute/model_identity.hpp"
+#include "scene/scene.hpp"
 
 namespace tactus::bench_cloth {
 
@@ -17,21 +18,12 @@ inline constexpr double kGravity = 9.81;   ///< [m/s²]
 inline constexpr double kTilt = 0.3;       ///< [rad] out of plane about the clamp's lower edge
 inline constexpr double kDamping = 0.002;  ///< [s] time constant of stretch, shear and bending
 
-/// Denim as data/fabrics.toml [denim] gives it (Kumari & Khurana, Journal of Textiles 2016,
-/// Article ID 4614168, Table 5, sample B): one value per property, used for warp and weft.
-/// EMT 5.735 %, LT 0.655, WT 9.400 gf·cm/cm², B 0.144 gf·cm²/cm, G 1.538 gf/(cm·°),
-/// W 37.1 mg/cm² (the table marks W illustrative), tensile test to 500 gf/cm.
-inline physics::KesFabric denim() {
-  physics::KesFabric f;
-  f.warp = {5.735, 0.655, 9.400, 0.144, 1.538};
-  f.weft = f.warp;
-  f.w = 37.1;
-  f.tensile_max_load = 500.0;
-  return f;
-}
-
+/// Denim as the fabric database gives it (data/fabrics.toml [denim]: Kumari & Khurana,
+/// Journal of Textiles 2016, Table 5, sample B), read the way a scene reads it.
 inline physics::ClothMaterial denim_material() {
-  physics::ClothMaterial m = physics::kes_material(denim(), "denim");
+  const std::string scene = "[bodies.f]\nkind = \"cloth\"\nfabric = \"denim\"\nsize = [0.1, 0.1]\nspacing = 0.05\n";
+  physics::ClothMaterial m =
+      scene::parse_scene(scene, std::string(TACTUS_SOURCE_DIR) + "/scenes/bench.toml").bodies.at(0).cloth->material;
   m.stretch_damping = m.shear_damping = m.bend_damping = kDamping;
   return m;
 }
@@ -70,16 +62,9 @@ inline HangingSheet hanging_sheet(double spacing, physics::LinearSolver solver) 
 
 /// FNV-1a of the bytes of v: equal states, equal hashes (for bit-for-bit checks).
 inline std::uint64_t state_hash(const VecX& v) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (Eigen::Index i = 0; i < v.size(); ++i) {
-    std::uint64_t bits = 0;
-    std::memcpy(&bits, &v[i], sizeof bits);
-    for (int b = 0; b < 8; ++b) {
-      h ^= (bits >> (8 * b)) & 0xffu;
-      h *= 1099511628211ull;
-    }
-  }
-  return h;
+  precompute::Fnv1a h;
+  h.add(v.data(), sizeof(double) * static_cast<std::size_t>(v.size()));
+  return h.value();
 }
 
 }  // namespace tactus::bench_cloth
