@@ -23,7 +23,7 @@ inline constexpr double kDamping = 0.002;  ///< [s] time constant of stretch, sh
 inline physics::ClothMaterial denim_material() {
   const std::string scene = "[bodies.f]\nkind = \"cloth\"\nfabric = \"denim\"\nsize = [0.1, 0.1]\nspacing = 0.05\n";
   physics::ClothMaterial m =
-      scene::parse_scene(scene, std::string(TACTUS_SOURCE_DIR) + "/scenes/bench.toml").bodies.at(0).cloth->material;
+      scene::parse_scene(scene, std::string(TACTUS_SOURCE_DIR) + "/scenes/bench.toml").bodies.at(0).cloth->model->material();
   m.stretch_damping = m.shear_damping = m.bend_damping = kDamping;
   return m;
 }

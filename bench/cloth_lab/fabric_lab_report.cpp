@@ -19,7 +19,7 @@ ClothMaterial database_fabric(const std::string& key, bool& illustrative) {
   const std::string scene = "[bodies.f]\nkind = \"cloth\"\nfabric = \"" + key + "\"\nsize = [0.1, 0.1]\nspacing = 0.02\n";
   const scene::Model m = scene::parse_scene(scene, std::string(TACTUS_SOURCE_DIR) + "/scenes/report.toml");
   illustrative = m.bodies[0].cloth->illustrative;
-  return m.bodies[0].cloth->material;
+  return m.bodies[0].cloth->model->material();
 }
 
 void hang_table(const std::string& key, const ClothMaterial& m) {

@@ -5,7 +5,6 @@
 #include <algorithm>
 
 #include "core/error.hpp"
-#include "physics/cloth/cloth_model.hpp"
 #include "physics/fem/tet_fem.hpp"
 #include "physics/mass_spring/surface_builder.hpp"
 #include "physics/mass_spring/tet_builder.hpp"
@@ -128,11 +127,7 @@ physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
     throw InputError(fmt::format("body '{}' is embedded: it moves with its host's tetrahedra", b.name));
   if (b.kind == scene::BodyKind::cloth) {
     physics::Body body;
-    try {
-      body.model = std::make_shared<physics::ClothModel>(b.cloth->mesh, b.cloth->material);
-    } catch (const InputError& e) {
-      throw InputError(SourceLocation{model.source, {}, {}, {}}, fmt::format("body '{}': {}", b.name, e.what()));
-    }
+    body.model = b.cloth->model;  // built and checked when the scene was read
     body.gravity = model.gravity;
     body.fixed_dofs.assign(3 * body.model->node_count(), 0);
     for (const auto& f : b.fixed) body.fix_nodes(f.nodes);

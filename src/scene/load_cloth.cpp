@@ -141,6 +141,8 @@ Vec3 unit_axis(Reader& r, std::string_view key, const Vec3& fallback) {
 
 void read_cloth(Reader& r, Body& b) {
   Cloth c;
+  physics::ClothMaterial material;
+  physics::ClothMesh mesh;
   const bool named = r.table().contains("fabric"), own = r.table().contains("curves");
   if (named == own)
     r.fail_here("a cloth body takes either `fabric` (a key of the fabric database) or a `curves` table of its own");
@@ -155,7 +157,7 @@ void read_cloth(Reader& r, Body& b) {
     }
     const DatabaseFabric fabric = read_database_fabric(r, database, c.fabric);
     try {
-      c.material = physics::kes_material(fabric.kes, "fabric '" + c.fabric + "'");
+      material = physics::kes_material(fabric.kes, "fabric '" + c.fabric + "'");
     } catch (const InputError& e) {
       r.fail("fabric", e.reason());
     }
@@ -167,11 +169,11 @@ void read_cloth(Reader& r, Body& b) {
     }
   } else {
     Reader curves = *r.table("curves");
-    c.material = read_curves(curves);
+    material = read_curves(curves);
     c.fabric_source = r.context().file;
   }
   // Damping time constants [s]: a choice, not a measurement (docs/scene-format.md).
-  physics::ClothMaterial& m = c.material;
+  physics::ClothMaterial& m = material;
   m.stretch_damping = m.shear_damping = 1e-3;
   m.bend_damping = 1e-2;
   if (auto d = r.table("damping")) {
@@ -209,8 +211,8 @@ void read_cloth(Reader& r, Body& b) {
       r.fail("mesh", e.what());
     }
     if (!file.surface || file.surface->triangles.empty()) r.fail("mesh", path.generic_string() + " holds no triangles");
-    c.mesh.mesh = std::move(*file.surface);
-    for (const Vec3& p : c.mesh.mesh.vertices) c.mesh.uv.emplace_back((p - origin).dot(warp), (p - origin).dot(weft));
+    mesh.mesh = std::move(*file.surface);
+    for (const Vec3& p : mesh.mesh.vertices) mesh.uv.emplace_back((p - origin).dot(warp), (p - origin).dot(weft));
     b.mesh_source = path.generic_string();
   } else {
     const Vec2 size = r.required_vec2("size");
@@ -232,18 +234,18 @@ void read_cloth(Reader& r, Body& b) {
     }
     c.nodes_u = grid.nodes_u;
     c.nodes_v = grid.nodes_v;
-    c.mesh = std::move(grid.cloth);
+    mesh = std::move(grid.cloth);
     b.mesh_source = fmt::format("sheet {} × {} m, spacing {} m", number_text(size.x()), number_text(size.y()),
                                 number_text(spacing));
   }
   try {
-    (void)physics::ClothModel(c.mesh, c.material);  // the mesh's and the fabric's checks, now, with a location
+    c.model = std::make_shared<const physics::ClothModel>(mesh, std::move(material));
   } catch (const InputError& e) {
     if (c.nodes_u == 0) r.fail("mesh", e.reason());
     if (!c.fabric.empty()) r.fail("fabric", e.reason());
     r.fail_here(e.reason());
   }
-  b.surface = c.mesh.mesh;
+  b.surface = std::move(mesh.mesh);
   b.cloth = std::move(c);
 }
 

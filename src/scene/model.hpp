@@ -170,8 +170,8 @@ struct Cloth {
   std::string fabric;         ///< the database key, or empty for the scene's own curves
   std::string fabric_source;  ///< the database file (or the scene) the values came from
   bool illustrative = false;  ///< the database marks the values as not measured
-  physics::ClothMaterial material;
-  physics::ClothMesh mesh;    ///< rest positions, (u, v) and yarn bends
+  /// The fabric, built (and so checked) once at load: its material, rest mesh and bends.
+  std::shared_ptr<const physics::ClothModel> model;
   int nodes_u = 0, nodes_v = 0;  ///< a generated sheet's nodes along warp and weft (0: a mesh file)
   double static_friction = 0.5, kinetic_friction = 0.4;  ///< against skin
 };

@@ -84,11 +84,11 @@ std::string body_lines(const Model& model, const Body& b) {
                      b.cspace->file.string(), precompute::to_string(b.cspace->interpolation));
   } else if (b.kind != BodyKind::rigid && b.kind != BodyKind::embedded) {
     if (b.cloth) {
-      const physics::ClothMaterial& m = b.cloth->material;
+      const physics::ClothMaterial& m = b.cloth->model->material();
       s += fmt::format("    fabric: {} ({}){}; {} kg/m², bending along {}, friction against skin μs {} μk {}\n",
                        b.cloth->fabric.empty() ? "the scene's own curves" : "'" + b.cloth->fabric + "'",
                        b.cloth->fabric_source, b.cloth->illustrative ? ", illustrative values (not measured)" : "",
-                       g(m.areal_density), b.cloth->mesh.yarns.empty() ? "the edges" : "the yarns",
+                       g(m.areal_density), b.cloth->model->yarns().empty() ? "the edges" : "the yarns",
                        g(b.cloth->static_friction), g(b.cloth->kinetic_friction));
     }
     s += fmt::format("    stepping: {}, dt {} s, solver {} (tolerance {:g}, at most {} iterations), {} mass",

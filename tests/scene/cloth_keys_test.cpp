@@ -59,8 +59,8 @@ TEST(ClothScene, DatabaseFabricOnAClampedSheet) {
   // The clamp's first row is the sheet's top edge, at the origin's height.
   for (auto n : b.fixed[0].nodes) EXPECT_GE(b.surface.vertices[static_cast<std::size_t>(n)].z(), 0.29 - 1e-12);
   // Denim's KES weight W (mg/cm²) is the areal density ×100 (kg/m²).
-  EXPECT_GT(b.cloth->material.areal_density, 0.0);
-  EXPECT_FALSE(b.cloth->mesh.yarns.empty());
+  EXPECT_GT(b.cloth->model->material().areal_density, 0.0);
+  EXPECT_FALSE(b.cloth->model->yarns().empty());
   EXPECT_NE(summarize(m).find("fabric: 'denim'"), std::string::npos) << summarize(m);
 }
 
@@ -80,8 +80,8 @@ bend_weft = { curvature = [0.0, 100.0], moment = [0.0, 5e-4] }
   body += fixed.substr(fixed.find("[bodies.fabric.curves]"));
   const Model m = parse_scene(body, "x.toml");
   ASSERT_TRUE(m.bodies[0].cloth);
-  EXPECT_DOUBLE_EQ(m.bodies[0].cloth->material.areal_density, 0.2);
-  EXPECT_DOUBLE_EQ(m.bodies[0].cloth->material.warp.value(0.02), 40.0);
+  EXPECT_DOUBLE_EQ(m.bodies[0].cloth->model->material().areal_density, 0.2);
+  EXPECT_DOUBLE_EQ(m.bodies[0].cloth->model->material().warp.value(0.02), 40.0);
   EXPECT_TRUE(m.bodies[0].cloth->fabric.empty());
 }
 
