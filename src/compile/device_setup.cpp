@@ -156,6 +156,16 @@ const scene::NeedleLinePath* needle_line(const scene::Device& d) {
   return path ? std::get_if<scene::NeedleLinePath>(path) : nullptr;
 }
 
+/// The longest edge of a surface [m].
+double longest_edge(const mesh::TriMesh& surface) {
+  double longest = 0.0;
+  for (const mesh::Triangle& t : surface.triangles)
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, (surface.vertices[static_cast<std::size_t>(t[k])] -
+                                   surface.vertices[static_cast<std::size_t>(t[(k + 1) % 3])]).norm());
+  return longest;
+}
+
 DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceBodies& cspaces) {
   const scene::Device& d = m.devices[index];
   DeviceSetup s;
@@ -211,6 +221,7 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   std::optional<haptics::ContactLaw> law;
   std::optional<haptics::MultiSurfaceConfig> multi;
   std::optional<contact::FabricProxyParams> fabric;
+  std::optional<haptics::TwoFingerParams> two_fingers;
   if (const auto* fabric_params = std::get_if<scene::FabricProxyParams>(&a->params)) {
     // A sphere fingertip is a capsule of zero length; friction against the fabric it touches.
     contact::FabricProxyParams p;
@@ -225,6 +236,28 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
     p.mass = fpp.mass;
     p.damping = fpp.damping;
     fabric = p;
+    if (fpp.partner) {
+      // The partner's fingertip, a sphere like this one (the scene checks the pair).
+      const scene::Tool& other = m.tools[*fpp.partner];
+      const auto* other_sphere = std::get_if<scene::SphereTool>(&other.shape);
+      if (!other_sphere)
+        throw InputError(SourceLocation{m.source, {}, {}, {}},
+                         fmt::format("algorithm '{}': partner tool '{}' must be a sphere fingertip", a->name, other.name));
+      const scene::Algorithm* other_algorithm = algorithm_of(m, other);
+      const auto& other_params = std::get<scene::FabricProxyParams>(other_algorithm->params);
+      haptics::TwoFingerParams two;
+      two.own = p.finger;
+      two.own.pad_normal = fpp.pad_normal;
+      two.partner.base = two.partner.tip = Vec3::Zero();
+      two.partner.radius = other_sphere->radius;
+      two.partner.pad_normal = other_params.pad_normal;
+      two.finger_contact.static_friction = fpp.finger_static_friction;
+      two.finger_contact.kinetic_friction = fpp.finger_kinetic_friction;
+      two.fabric_thickness = fpp.fabric_thickness;
+      two.capture_distance = std::max(two.capture_distance, longest_edge(m.bodies[s.bodies.front()].surface));
+      two_fingers = two;
+      model.partner = static_cast<std::uint16_t>(other.devices.front());
+    }
   } else if (const auto* p = std::get_if<scene::ProxyParams>(&a->params)) {
     contact::ProxyParams pp;
     pp.radius = first.radius;
@@ -324,7 +357,7 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
       model.algorithms.push_back(std::make_shared<haptics::FieldLookup>(cspace, first.offset));
     } else if (fabric) {
       model.algorithms.push_back(
-          std::make_shared<haptics::FabricProxyOnPatch>(*fabric, s.local_model, s.patch_capacity, spread));
+          std::make_shared<haptics::FabricProxyOnPatch>(*fabric, s.local_model, s.patch_capacity, spread, two_fingers));
     } else if (proxy && on_patch) {
       model.algorithms.push_back(
           std::make_shared<haptics::ProxyOnPatch>(first, *proxy, s.local_model, s.patch_capacity, spread));

@@ -174,7 +174,8 @@ GraspResult Grasp::update(GraspState& state, const Pose& thumb_pose, const Pose&
     Vec3 tangential = Vec3::Zero();
     for (HeldParticle& h : state.held) {
       h.target = frame.to_world(h.anchor + shift);
-      const Vec3 d = h.target - positions[static_cast<std::size_t>(h.index)];
+      Vec3 d = h.target - positions[static_cast<std::size_t>(h.index)];
+      if (!p.hold_across_plane) d -= d.dot(e3) * e3;
       const double dist = d.norm();
       h.force = dist > 0.0 ? Vec3((share * hold_.force(dist) / dist) * d) : Vec3::Zero();
       tangential += h.force - h.force.dot(e3) * e3;
@@ -229,6 +230,18 @@ GraspResult Grasp::update(GraspState& state, const Pose& thumb_pose, const Pose&
     const Vec2 shift = lambda * dir.normalized();
     for (HeldParticle& h : state.held) h.anchor += shift;
     load = pull(Vec2::Zero());
+    // The slide brings the load to μ_k·F^N along its first direction; particles pulled in
+    // different directions may leave more across it. The pinch passes no more than μ_k·F^N
+    // (Coulomb): the particles' pulls along the plane are scaled down to it.
+    const double bound = p.kinetic_friction * squeeze;
+    if (load.norm() > bound) {
+      const double scale = bound / load.norm();
+      for (HeldParticle& h : state.held) {
+        const Vec3 across = h.force.dot(e3) * e3;
+        h.force = across + scale * (h.force - across);
+      }
+      load *= scale;
+    }
   }
 
   // Each pad pushes the particles on its side toward the plane and takes the reaction; both

@@ -67,6 +67,11 @@ struct GraspParams {
   /// A particle is caught when it is within this distance of both capsules (or inside
   /// them), m.
   double capture_distance = 1e-3;
+  /// Whether the hold also pulls a particle across the contact plane, into it. Off, it pulls
+  /// along the plane only: for a fabric meshed coarser than the pads' contact, caught nodes lie
+  /// up to an edge length off the plane, and pulling them in would squeeze the pads with a
+  /// force no sheet between them exerts (the squeeze law stands for that).
+  bool hold_across_plane = true;
   /// Effective coefficients of the whole pinch. A sheet held between two pads rubs on both,
   /// so with a pad–fabric coefficient μ the pinch holds 2μ times the squeeze: pass 2μ.
   double static_friction = 1.0;

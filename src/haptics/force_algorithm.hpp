@@ -31,6 +31,8 @@ struct FrameInputs {
   bool patch_fresh = false;
   const NeedleSurfaces* surfaces = nullptr;  ///< the newest ray crossings (needle, multi-surface)
   bool surfaces_fresh = false;
+  /// The partner finger's newest frame (two-finger fabric algorithms); null: no partner.
+  const PeerFinger* peer = nullptr;
   /// The step smooths force steps at model updates: report them (Rendering::model_changed).
   bool smoothing = false;
   /// Overlay stage only: the contact force after smoothing and passivity, and whether it touches.
@@ -41,7 +43,8 @@ struct FrameInputs {
 /// Something the step reports for the run's record (the loop turns it into a LoopEvent).
 struct HapticEvent {
   enum class Kind : std::uint8_t {
-    contact_begin, contact_end, force_clamped, non_finite_force, watchdog_trip, device_stall, emergency_stop, rupture
+    contact_begin, contact_end, force_clamped, non_finite_force, watchdog_trip, device_stall, emergency_stop, rupture,
+    contact_state  ///< value: the two-finger contact state, 1..9 for Table I's I..IX (contact/grasp_state.hpp)
   };
   Kind kind = Kind::contact_begin;
   double value = 0.0;
@@ -68,6 +71,11 @@ struct Rendering {
   Vec3 before = Vec3::Zero(), after = Vec3::Zero();
   bool has_event = false;
   HapticEvent event;
+  /// Two-finger algorithms: the contact state of seed 002 Table I (1..9), 0 for the others;
+  /// and what the partner finger's loop is told (PeerFinger).
+  std::uint8_t contact_state = 0;
+  bool on_fabric = false;
+  bool slipping = false;
 };
 
 /// The force that reached the hand, for the tissue's side of the contact.

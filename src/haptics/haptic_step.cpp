@@ -49,6 +49,7 @@ FrameInputs frame_of(const HapticModel& model, HapticState& s, const HapticInput
   f.patch_fresh = in.patch_fresh;
   f.surfaces = in.surfaces;
   f.surfaces_fresh = in.surfaces_fresh;
+  f.peer = in.peer;
   f.smoothing = s.smoother.enabled();
   return f;
 }
@@ -178,6 +179,11 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   out.position = f.position;
   out.frame_point = r.frame_point;
   out.tool_axis = r.tool_axis;
+  out.finger = {true, in.t, f.position, f.orientation, r.on_fabric, r.slipping};
+  if (r.contact_state != 0 && r.contact_state != s.contact_state) {
+    emit(out, Kind::contact_state, r.contact_state);
+    s.contact_state = r.contact_state;
+  }
   report_changes(s, in, out);
 }
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "haptics/device.hpp"
@@ -29,6 +30,9 @@ struct HapticModel {
   bool passivity_control = false;
   /// Spread the tissue's load over the contact disc instead of the contact triangle.
   bool spread_over_contact_disc = false;
+  /// The device of the partner finger whose frames the contact algorithm reads (two-finger
+  /// fabric algorithms); none: it has no partner.
+  std::optional<std::uint16_t> partner;
   /// Low-pass time constant of the tool velocity estimate [s].
   double velocity_filter = 0.002;
   SafetyConfig safety;
@@ -61,6 +65,7 @@ struct HapticState {
   bool in_contact = false;
   std::uint8_t last_flags = 0;
   std::uint64_t surface_version = 0;  ///< of the last live edit taken
+  std::uint8_t contact_state = 0;     ///< the last reported two-finger state (0: none yet)
 };
 
 /// A live edit of the contact's coupling (runtime/live_parameters.hpp writes it).
@@ -83,6 +88,7 @@ struct HapticInputs {
   const NeedleSurfaces* surfaces = nullptr;  ///< never null
   bool surfaces_fresh = false;
   const SurfaceEdit* edit = nullptr;  ///< null: no live edits in this run
+  const PeerFinger* peer = nullptr;   ///< the partner finger's newest frame; null: no partner
 };
 
 /// Where the step writes the force as soon as the safety layer has passed it.
@@ -99,6 +105,7 @@ struct HapticOutputs {
   Vec3 position = Vec3::Zero();     ///< the tool, scene [m]
   Vec3 frame_point = Vec3::Zero();  ///< HapticFrame::proxy
   Vec3 tool_axis = Vec3::Zero();
+  PeerFinger finger;  ///< what the partner finger's loop is told about this frame
   /// Where the step writes the tissue's load (the simulation's channel buffer); set before
   /// the first step. Only the fields the load's flags make meaningful are written.
   ContactLoad* load = nullptr;

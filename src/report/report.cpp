@@ -2,6 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
+
+#include "contact/grasp_state.hpp"
 #include "core/text.hpp"
 
 namespace tactus::report {
@@ -22,6 +26,40 @@ std::string summary_json(const LatencyHistogram& h) {
   const LatencySummary s = summarize(h);
   return fmt::format(R"({{"count": {}, "min_us": {:.3f}, "p50_us": {:.3f}, "p99_us": {:.3f}, "p999_us": {:.3f}, "max_us": {:.3f}, "mean_us": {:.3f}}})",
                      s.count, us(s.min), us(s.p50), us(s.p99), us(s.p999), us(s.max), s.mean * 1e-3);
+}
+
+/// Each device's two-finger contact states (seed 002 Table I): the states held for at least
+/// kSteadyState, in order (a contact that flickers at the simulation's updates would bury the
+/// sequence; the recording keeps every change), then the time in each.
+std::string format_contact_states(const SessionReport& r) {
+  constexpr double kSteadyState = 0.02;  // [s]
+  std::string out;
+  for (std::size_t d = 0; d < r.devices.size(); ++d) {
+    std::vector<ContactStateChange> trace;
+    for (const ContactStateChange& c : r.contact_states)
+      if (c.device == d) trace.push_back(c);
+    if (trace.empty()) continue;
+    std::array<double, 10> time_in{};
+    std::string steady;
+    std::uint8_t last_listed = 0;
+    for (std::size_t i = 0; i < trace.size(); ++i) {
+      const double end = i + 1 < trace.size() ? trace[i + 1].t : r.simulated_time;
+      const double held = std::max(0.0, end - trace[i].t);
+      if (trace[i].state < time_in.size()) time_in[trace[i].state] += held;
+      if (held >= kSteadyState && trace[i].state != last_listed) {
+        steady += fmt::format(" {} {:.3f},", contact::name(static_cast<contact::ContactState>(trace[i].state)), trace[i].t);
+        last_listed = trace[i].state;
+      }
+    }
+    out += fmt::format("contact states of {} (seed 002 Table I; {} changes, those held {:.0f} ms or more, from s):{}",
+                       r.devices[d].name, trace.size(), 1e3 * kSteadyState, steady);
+    out.back() = '\n';
+    out += "  time in each:";
+    for (std::uint8_t k = 1; k < time_in.size(); ++k)
+      if (time_in[k] > 0.0) out += fmt::format(" {} {:.3f} s,", contact::name(static_cast<contact::ContactState>(k)), time_in[k]);
+    out.back() = '\n';
+  }
+  return out;
 }
 
 }  // namespace
@@ -66,6 +104,7 @@ std::string format_report(const SessionReport& r) {
   for (const auto& note : r.realtime_notes) out += "  " + note + "\n";
   if (r.palpation) out += format_feedback(*r.palpation);
   for (const NeedleReport& n : r.needles) out += format_needle_report(n);
+  out += format_contact_states(r);
   for (const auto& note : r.cspace_notes) out += note + "\n";
   return out;
 }
@@ -109,6 +148,16 @@ std::string report_json(const SessionReport& r) {
   if (r.palpation) out += ",\n  \"palpation\": " + feedback_json(*r.palpation);
   for (std::size_t i = 0; i < r.needles.size(); ++i)
     out += (i == 0 ? ",\n  \"needles\": [" : ", ") + needle_report_json(r.needles[i]) + (i + 1 == r.needles.size() ? "]" : "");
+  if (!r.contact_states.empty()) {
+    out += ",\n  \"contact_states\": [";
+    for (std::size_t i = 0; i < r.contact_states.size(); ++i) {
+      const ContactStateChange& c = r.contact_states[i];
+      out += fmt::format("{}{{\"t\": {}, \"device\": {}, \"state\": \"{}\"}}", i == 0 ? "" : ", ", c.t,
+                         text::json_quoted(c.device < r.devices.size() ? r.devices[c.device].name : std::string("?")),
+                         contact::name(static_cast<contact::ContactState>(c.state)));
+    }
+    out += "]";
+  }
   out += "\n}\n";
   return out;
 }

@@ -21,6 +21,7 @@ EventKind event_kind(haptics::HapticEvent::Kind kind) {
     case K::device_stall: return EventKind::device_stall;
     case K::emergency_stop: return EventKind::emergency_stop;
     case K::rupture: return EventKind::rupture;
+    case K::contact_state: return EventKind::contact_state;
   }
   return EventKind::note;
 }
@@ -73,6 +74,10 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   }
   in.surfaces_fresh = channels_.needle.update();
   in.surfaces = &channels_.needle.read();
+  if (peer_) {
+    peer_->update();
+    in.peer = &peer_->read();
+  }
   in.device_alive = device_->alive();
   in.emergency_stop = emergency_stop_.load(std::memory_order_relaxed);
   out_.load = &channels_.load.write_buffer();
@@ -83,6 +88,8 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   tool.axis = out_.tool_axis;
   tool.valid = true;
   channels_.tool.publish();
+  channels_.finger.write_buffer() = out_.finger;
+  channels_.finger.publish();
   if (follows_tool_) {
     ToolState& to_simulation = channels_.tool_to_simulation.write_buffer();
     to_simulation.position = out_.position;

@@ -34,7 +34,7 @@ struct LoopEvent {
 /// Channels between one device's haptic loop and the other loops.
 struct DeviceChannels {
   explicit DeviceChannels(std::size_t ring_capacity)
-      : tool(ToolState{}), tool_to_simulation(ToolState{}), contact(LocalContact{}), load(ContactLoad{}), needle(haptics::NeedleSurfaces{}),
+      : tool(ToolState{}), tool_to_simulation(ToolState{}), finger(haptics::PeerFinger{}), contact(LocalContact{}), load(ContactLoad{}), needle(haptics::NeedleSurfaces{}),
         frames(ring_capacity), events(1024) {}
   /// Before any loop runs: the simulation publishes a patch of this kind with every step.
   void request_patches(PatchRequest request) {
@@ -44,6 +44,8 @@ struct DeviceChannels {
   }
   TripleBuffer<ToolState> tool;                ///< haptic → interaction
   TripleBuffer<ToolState> tool_to_simulation;  ///< haptic → simulation (where to cut the patch)
+  /// haptic → the partner finger's haptic loop (its one reader; HapticModel::partner)
+  TripleBuffer<haptics::PeerFinger> finger;
   TripleBuffer<LocalContact> contact;          ///< interaction → haptic
   TripleBuffer<ContactLoad> load;              ///< haptic → simulation
   TripleBuffer<haptics::NeedleSurfaces> needle; ///< interaction → haptic (needle tools)
@@ -68,6 +70,9 @@ class HapticLoop {
   void request_emergency_stop() { emergency_stop_.store(true, std::memory_order_relaxed); }
   /// Surface edits read at each frame (runtime/live_parameters.hpp); before the loop runs.
   void set_live_parameters(const LiveParameters* live) { live_ = live; }
+  /// The partner finger's channel, read at each frame (its only reader); before the loop runs.
+  void set_partner(TripleBuffer<haptics::PeerFinger>* partner) { peer_ = partner; }
+  [[nodiscard]] const haptics::HapticModel& model() const { return model_; }
   [[nodiscard]] bool finished(double t) const { return device_->finished(t); }
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
   /// Time from the pose read returning to the force written: the loop's own latency.
@@ -103,6 +108,7 @@ class HapticLoop {
   bool follows_tool_ = false;  ///< the simulation needs the tool's position
   const LiveParameters* live_ = nullptr;
   haptics::SurfaceEdit edit_;
+  TripleBuffer<haptics::PeerFinger>* peer_ = nullptr;
 };
 
 }  // namespace tactus::runtime

@@ -39,6 +39,10 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
     if (o.live) loops.haptic.back()->set_live_parameters(o.live);
   }
   if (o.live) o.live->devices_described();
+  // Two-finger algorithms read their partner's frames; each finger has one partner (the scene
+  // pairs them both ways), so each channel has one reader.
+  for (auto& h : loops.haptic)
+    if (const auto partner = h->model().partner) h->set_partner(&loops.channels[*partner]->finger);
   // The simulation publishes into a buffer pre-sized with the rest surfaces.
   loops.simulation = std::make_unique<SimulationLoop>(m, loops.channel_ptrs(), cspaces, o.live);
   loops.surfaces = std::make_unique<TripleBuffer<SurfaceSnapshot>>(loops.simulation->initial_snapshot());

@@ -50,6 +50,8 @@ bool Recorder::drain() {
     while (d->events.try_pop(e)) {
       any = true;
       ++report_.events[std::string(event_kind_name(e.kind))];
+      if (e.kind == EventKind::contact_state)
+        report_.contact_states.push_back({e.t, e.device, static_cast<std::uint8_t>(e.value)});
       if (visual_) visual_->event(e);
       if (writer_ && record_events_) writer_->append(Event{e.t, e.kind, e.device, e.value, {}});
     }

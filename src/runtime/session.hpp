@@ -96,6 +96,13 @@ struct DeviceReport {
   double passivity_energy = 0.0;
 };
 
+/// A two-finger contact state as one finger's loop classified it (seed 002 Table I).
+struct ContactStateChange {
+  double t = 0.0;          ///< when it began [s]
+  std::uint16_t device = 0;
+  std::uint8_t state = 0;  ///< 1..9: I..IX
+};
+
 struct SessionReport {
   std::string scene;
   Scheduling scheduling = Scheduling::real_time;
@@ -113,6 +120,7 @@ struct SessionReport {
   std::vector<HapticFrame> frames;  ///< only with SessionOptions::keep_frames
   std::optional<PalpationFeedback> palpation;  ///< scenes with nodules (docs/scenes.md)
   std::vector<NeedleReport> needles;           ///< one per device driving a needle
+  std::vector<ContactStateChange> contact_states;  ///< two-finger fabric scenes, in time order per device
   std::vector<std::string> cspace_notes;       ///< what on-line spaces solved during the run
 };
 

@@ -116,6 +116,22 @@ Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model)
       p.side = r.choice<int>("side", {{"front", +1}, {"back", -1}}, +1);
       p.mass = r.number("proxy_mass", p.mass, Range::positive());
       p.damping = r.number("proxy_damping", p.damping, Range::positive());
+      if (const auto partner = r.string("partner")) {
+        p.partner = resolve_name(r, "partner", *partner, model.tools, "tool");
+        if (*p.partner == a.tool) r.fail("partner", "a fingertip cannot be its own partner");
+        const auto pad = r.vec3("pad_normal");
+        if (!pad) r.fail_missing("pad_normal", "the pad's side of the fingertip in the tool frame, for the grasp");
+        if (!(pad->allFinite() && pad->norm() > 0.0)) r.fail("pad_normal", "must be finite and non-zero");
+        p.pad_normal = pad->normalized();
+        p.fabric_thickness = r.number("fabric_thickness", p.fabric_thickness, Range::positive());
+        p.finger_static_friction = r.number("finger_static_friction", p.finger_static_friction, Range::non_negative());
+        p.finger_kinetic_friction = r.number("finger_kinetic_friction", p.finger_kinetic_friction, Range::non_negative());
+        if (p.finger_kinetic_friction > p.finger_static_friction)
+          r.fail("finger_kinetic_friction", "must not exceed finger_static_friction");
+      } else {
+        for (const char* key : {"pad_normal", "fabric_thickness", "finger_static_friction", "finger_kinetic_friction"})
+          if (r.has(key)) r.fail(key, "applies to a two-finger pair only: name the other fingertip's tool as 'partner'");
+      }
       a.params = p;
       break;
     }
@@ -182,6 +198,28 @@ Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model)
   }
   r.finish();
   return a;
+}
+
+void check_partner(const Reader& r, const Model& model, std::size_t algorithm) {
+  const Algorithm& a = model.algorithms[algorithm];
+  const auto* p = std::get_if<FabricProxyParams>(&a.params);
+  if (!p || !p->partner) return;
+  const Tool& partner = model.tools[*p->partner];
+  const Algorithm* other = nullptr;
+  for (const Algorithm& b : model.algorithms)
+    if (b.tool == *p->partner && std::holds_alternative<FabricProxyParams>(b.params)) other = &b;
+  if (!other) r.fail("partner", "tool '" + partner.name + "' has no fabric_proxy algorithm");
+  const auto& q = std::get<FabricProxyParams>(other->params);
+  if (q.partner != a.tool)
+    r.fail("partner", "algorithm '" + other->name + "' of tool '" + partner.name + "' must name tool '" +
+                          model.tools[a.tool].name + "' as its partner");
+  if (q.side == p->side)
+    r.fail("partner", "the two fingers touch opposite sides of the fabric (the thumb the front, the index the back)");
+  if (!other->enabled || !a.enabled) r.fail("partner", "both fingers of a pair must be enabled");
+  const Tool& own = model.tools[a.tool];
+  if (own.devices.size() != 1 || partner.devices.size() != 1 || own.devices.front() == partner.devices.front())
+    r.fail("partner", "each finger of a pair is driven by its own single device");
+  if (other->bodies != a.bodies) r.fail("partner", "both fingers of a pair touch the same fabric bodies");
 }
 
 }  // namespace tactus::scene::detail

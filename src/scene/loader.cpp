@@ -121,8 +121,11 @@ Model read_model(Reader& root, const std::string& source_name) {
     for (auto& [name, r] : t->named_tables()) m.devices.push_back(detail::read_device(r, name));
   if (auto t = root.table("tools"))
     for (auto& [name, r] : t->named_tables()) m.tools.push_back(detail::read_tool(r, name, m));
-  if (auto t = root.table("algorithms"))
-    for (auto& [name, r] : t->named_tables()) m.algorithms.push_back(detail::read_algorithm(r, name, m));
+  if (auto t = root.table("algorithms")) {
+    auto tables = t->named_tables();
+    for (auto& [name, r] : tables) m.algorithms.push_back(detail::read_algorithm(r, name, m));
+    for (std::size_t i = 0; i < tables.size(); ++i) detail::check_partner(tables[i].second, m, i);
+  }
   m.recording = read_recording(root);
   m.feedback = detail::read_feedback(root);
   m.static_solve = read_static_solve(root);

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "contact/fabric_proxy.hpp"
+#include "contact/finger_contact.hpp"
+#include "contact/grasp.hpp"
 #include "contact/hertz.hpp"
 #include "contact/local_model_kind.hpp"
 #include "contact/proxy.hpp"
@@ -376,6 +378,16 @@ struct FabricProxyParams {
   int side = +1;             ///< +1: the front, where the fabric's normals point (thumb); −1: the back (index)
   double mass = contact::FabricProxyParams{}.mass;        ///< the proxy's while it slides [kg]
   double damping = contact::FabricProxyParams{}.damping;  ///< [N·s/m]
+  /// The other fingertip of a two-finger pair (seed 002 §V: thumb and index), an index into
+  /// Model::tools; its own fabric_proxy algorithm names this one's tool back, on the other
+  /// side. With a partner the fingers also touch each other and grasp the fabric between them.
+  std::optional<std::size_t> partner;
+  /// The pad's side of the fingertip in the tool frame (the grasp takes the pad as flat).
+  Vec3 pad_normal = Vec3::Zero();
+  double fabric_thickness = contact::GraspParams{}.fabric_thickness;  ///< squeezed once the pads are closer [m]
+  /// Skin on skin, fingers touching without fabric between them (μs, μk).
+  double finger_static_friction = contact::FingerContactParams{}.static_friction;
+  double finger_kinetic_friction = contact::FingerContactParams{}.kinetic_friction;
 };
 /// Rectangular pulse wave from point sources along a body (an artery).
 struct PulseParams {

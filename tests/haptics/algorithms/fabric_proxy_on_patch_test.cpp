@@ -1,11 +1,14 @@
 // A fingertip resting on a fabric's patch keeps its contact, and its force, when the
 // simulation publishes a new patch whose triangles are numbered otherwise: the proxy finds
-// the material point it rests on again by the body's triangle.
+// the material point it rests on again by the body's triangle. A thumb–index pair, each on
+// its own haptic step and reading the other's frames, feels the fingers meet (Table I, II
+// and III) and the fabric squeezed between them (VIII, IX) with the laws' own numbers.
 #include "haptics/algorithms/fabric_proxy_on_patch.hpp"
 
 #include <gtest/gtest.h>
 
 #include "../fixtures/step_rig.hpp"
+#include "contact/grasp_state.hpp"
 #include "mesh/generators.hpp"
 
 namespace tactus::haptics {
@@ -46,6 +49,106 @@ TEST(FabricProxyOnPatch, KeepsItsContactAcrossAPatchNumberedOtherwise) {
   rig.hold(Vec3(0.003, 0.002, 0.007), 1, 0.055);
   EXPECT_TRUE(rig.out.touching);
   EXPECT_LT((rig.sink.force - before).norm(), 1e-9);
+}
+
+/// A thumb and an index, spheres of 9 and 8 mm, each its own haptic step. The sheet's front
+/// faces +z: the thumb comes from above, its pad facing −z, the index from below.
+struct Pair {
+  explicit Pair(const contact::PatchCapacity& capacity, contact::LocalModelKind kind)
+      : thumb(test::model_of({algorithm(+1, 0.009, 0.008, capacity, kind)})),
+        index(test::model_of({algorithm(-1, 0.008, 0.009, capacity, kind)})) {
+    thumb.peer = &index_frame;
+    index.peer = &thumb_frame;
+  }
+  static std::shared_ptr<const FabricProxyOnPatch> algorithm(int side, double own_radius, double partner_radius,
+                                                             const contact::PatchCapacity& capacity,
+                                                             contact::LocalModelKind kind) {
+    contact::FabricProxyParams p;
+    p.finger.base = p.finger.tip = Vec3::Zero();
+    p.finger.radius = own_radius;
+    p.stiffness = 190.0;
+    p.side = side;
+    TwoFingerParams two;
+    two.own = p.finger;
+    two.own.pad_normal = Vec3(0, 0, -side);
+    two.partner.base = two.partner.tip = Vec3::Zero();
+    two.partner.radius = partner_radius;
+    two.partner.pad_normal = Vec3(0, 0, side);
+    return std::make_shared<FabricProxyOnPatch>(p, kind, capacity, false, two);
+  }
+  /// One frame of each, the thumb first, each reading the other's newest frame.
+  void step(double t, const Vec3& thumb_at, const Vec3& index_at) {
+    thumb.step(t, thumb_at);
+    thumb_frame = thumb.out.finger;
+    index.step(t, index_at);
+    index_frame = index.out.finger;
+  }
+  test::StepRig thumb, index;
+  PeerFinger thumb_frame, index_frame;
+};
+
+std::uint8_t state_of(const test::StepRig& rig) { return rig.state.contact_state; }
+
+TEST(FabricProxyOnPatch, FingersMeetingWithoutFabricFeelThePadLawEqualAndOpposite) {
+  Pair pair({48, 128, 240}, contact::LocalModelKind::compliance);
+  // Centres 16.1 mm apart, radii 9 + 8 mm: the pads overlap by 0.9 mm; no fabric anywhere.
+  const Vec3 thumb_at(0, 0, 0.0085), index_at(0, 0, -0.0076);
+  for (int k = 0; k < 50; ++k) pair.step(1e-3 * k, thumb_at, index_at);
+  const double expected = contact::FingerpadLaw{}.force(0.9e-3);  // (b/m)(e^{m·d} − 1), eq. 1
+  EXPECT_NEAR(pair.thumb.sink.force.z(), expected, 1e-9);
+  EXPECT_LT((pair.thumb.sink.force + pair.index.sink.force).norm(), 1e-12);
+  EXPECT_EQ(state_of(pair.thumb), static_cast<std::uint8_t>(contact::ContactState::II));
+  EXPECT_EQ(state_of(pair.index), static_cast<std::uint8_t>(contact::ContactState::II));
+  EXPECT_FALSE(pair.thumb.load.active);  // no fabric takes any of it
+
+  // The index slides along the thumb: the anchor spring drags until μs·F^N, then slips.
+  double t = 0.05;
+  for (int k = 0; k < 400 && state_of(pair.index) != static_cast<std::uint8_t>(contact::ContactState::III); ++k, t += 1e-3)
+    pair.step(t, thumb_at, index_at + Vec3(2e-5 * k, 0, 0));
+  EXPECT_EQ(state_of(pair.index), static_cast<std::uint8_t>(contact::ContactState::III));
+  const double mu_s = contact::FingerContactParams{}.static_friction;
+  EXPECT_LE(std::abs(pair.index.sink.force.x()), mu_s * expected * 1.001);
+}
+
+TEST(FabricProxyOnPatch, FabricSqueezedBetweenThePairIsGraspedWithTheSqueezeLaw) {
+  const mesh::TriMesh plate = mesh::grid_plate(0.1, 0.1, 20, 20);  // z = 0, normals +z, a node at the origin
+  const contact::PatchCapacity capacity{48, 128, 240};
+  contact::PatchBuilder builder(plate.vertices.size(), plate.triangles, capacity);
+  contact::PatchBuilder::Inputs in;
+  in.kind = contact::LocalModelKind::compliance;
+  in.body = 0;
+  in.radius = 0.02;
+  in.surface = plate.vertices;
+  in.rigid = true;
+  in.center = Vec3::Zero();
+  contact::LocalPatch patch(in.kind, capacity);
+  builder.build(in, patch);
+
+  Pair pair(capacity, in.kind);
+  pair.thumb.patch = pair.index.patch = &patch;
+  pair.thumb.patch_fresh = pair.index.patch_fresh = true;
+  // The thumb's pad 0.5 mm past the sheet, the index's 0.4 mm: the pads 0.9 mm into each
+  // other through the sheet, which lies in the shared contact plane.
+  const Vec3 thumb_at(0, 0, 0.0085), index_at(0, 0, -0.0076);
+  for (int k = 0; k < 50; ++k) pair.step(1e-3 * k, thumb_at, index_at);
+  const double squeeze = contact::FingerpadLaw{}.force(0.5e-3 + 0.9e-3);  // thickness − gap
+  EXPECT_EQ(state_of(pair.thumb), static_cast<std::uint8_t>(contact::ContactState::VIII));
+  EXPECT_EQ(state_of(pair.index), static_cast<std::uint8_t>(contact::ContactState::VIII));
+  EXPECT_NEAR(pair.thumb.sink.force.z(), squeeze, 1e-9);
+  EXPECT_NEAR(pair.index.sink.force.z(), -squeeze, 1e-9);
+  EXPECT_LT(Vec3(pair.thumb.sink.force.x(), pair.thumb.sink.force.y(), 0).norm(), 1e-12);
+  EXPECT_TRUE(pair.thumb.load.active);  // the fabric takes the finger's reaction
+  EXPECT_NEAR(pair.thumb.load.force.z(), -squeeze, 1e-9);
+
+  // Both fingers pull along the rigid sheet: the held particles drag until the pinch slips,
+  // and the pull stays within the Coulomb bound of both pads, 2·μ times the squeeze.
+  double t = 0.05;
+  for (int k = 0; k < 400 && state_of(pair.thumb) != static_cast<std::uint8_t>(contact::ContactState::IX); ++k, t += 1e-3)
+    pair.step(t, thumb_at + Vec3(2e-5 * k, 0, 0), index_at + Vec3(2e-5 * k, 0, 0));
+  EXPECT_EQ(state_of(pair.thumb), static_cast<std::uint8_t>(contact::ContactState::IX));
+  const double pull = -(pair.thumb.sink.force.x() + pair.index.sink.force.x());
+  EXPECT_GT(pull, 0.0);
+  EXPECT_LE(pull, 2.0 * 0.5 * squeeze * 1.001);  // μs of the pads on the fabric, doubled
 }
 
 }  // namespace
