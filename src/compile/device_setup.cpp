@@ -160,7 +160,7 @@ const scene::NeedleLinePath* needle_line(const scene::Device& d) {
 double longest_edge(const mesh::TriMesh& surface) {
   double longest = 0.0;
   for (const mesh::Triangle& t : surface.triangles)
-    for (int k = 0; k < 3; ++k)
+    for (std::size_t k = 0; k < 3; ++k)
       longest = std::max(longest, (surface.vertices[static_cast<std::size_t>(t[k])] -
                                    surface.vertices[static_cast<std::size_t>(t[(k + 1) % 3])]).norm());
   return longest;
@@ -254,7 +254,6 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
       two.finger_contact.static_friction = fpp.finger_static_friction;
       two.finger_contact.kinetic_friction = fpp.finger_kinetic_friction;
       two.fabric_thickness = fpp.fabric_thickness;
-      two.capture_distance = std::max(two.capture_distance, longest_edge(m.bodies[s.bodies.front()].surface));
       two_fingers = two;
       model.partner = static_cast<std::uint16_t>(other.devices.front());
     }
@@ -326,6 +325,9 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   // The patch covers the tool and where it can move until the next simulation step (seed 002
   // §IV: the cursor's position and its finite velocity bound the contact region).
   s.patch_radius = extent + a->max_tool_speed / m.rates.simulation;
+  // A two-finger grasp holds the fabric at the pads' centre, on this fingertip's surface: the
+  // patch must keep whole the triangles around that point, up to an edge length further.
+  if (two_fingers) s.patch_radius += longest_edge(m.bodies[s.bodies.front()].surface);
   // Sized to the surface: a patch cut short of its radius leaves the tool at the patch's open
   // rim between steps, where the proxy slips off the edge and the force jumps.
   if (s.local_model != contact::LocalModelKind::plane)

@@ -174,8 +174,7 @@ GraspResult Grasp::update(GraspState& state, const Pose& thumb_pose, const Pose&
     Vec3 tangential = Vec3::Zero();
     for (HeldParticle& h : state.held) {
       h.target = frame.to_world(h.anchor + shift);
-      Vec3 d = h.target - positions[static_cast<std::size_t>(h.index)];
-      if (!p.hold_across_plane) d -= d.dot(e3) * e3;
+      const Vec3 d = h.target - positions[static_cast<std::size_t>(h.index)];
       const double dist = d.norm();
       h.force = dist > 0.0 ? Vec3((share * hold_.force(dist) / dist) * d) : Vec3::Zero();
       tangential += h.force - h.force.dot(e3) * e3;
@@ -230,18 +229,6 @@ GraspResult Grasp::update(GraspState& state, const Pose& thumb_pose, const Pose&
     const Vec2 shift = lambda * dir.normalized();
     for (HeldParticle& h : state.held) h.anchor += shift;
     load = pull(Vec2::Zero());
-    // The slide brings the load to μ_k·F^N along its first direction; particles pulled in
-    // different directions may leave more across it. The pinch passes no more than μ_k·F^N
-    // (Coulomb): the particles' pulls along the plane are scaled down to it.
-    const double bound = p.kinetic_friction * squeeze;
-    if (load.norm() > bound) {
-      const double scale = bound / load.norm();
-      for (HeldParticle& h : state.held) {
-        const Vec3 across = h.force.dot(e3) * e3;
-        h.force = across + scale * (h.force - across);
-      }
-      load *= scale;
-    }
   }
 
   // Each pad pushes the particles on its side toward the plane and takes the reaction; both
@@ -274,6 +261,79 @@ GraspResult Grasp::update(GraspState& state, const Pose& thumb_pose, const Pose&
   out.force_on_thumb = thumb;
   out.force_on_index = index;
   out.held = state.held;
+  return out;
+}
+
+PointGrasp::PointGrasp(const GraspParams& params, double hold_stiffness)
+    : grasp_(params), squeeze_(params.squeeze_law), hold_stiffness_(hold_stiffness) {
+  require(std::isfinite(hold_stiffness) && hold_stiffness > 0.0, "hold_stiffness", hold_stiffness,
+          "positive and finite");
+}
+
+void PointGrasp::move_hold(PointGraspState& state, const Vec3& from, const Vec3& to) noexcept {
+  if (!state.active || !from.allFinite() || !to.allFinite()) return;
+  state.anchor += (state.frame.to_local(to) - state.frame.to_local(from)).head<2>();
+}
+
+PointGraspResult PointGrasp::update(PointGraspState& state, const Pose& thumb_pose, const Pose& index_pose,
+                                    const Vec3& point, bool may_start) const noexcept {
+  PointGraspResult out;
+  const auto let_go = [&] {
+    state = PointGraspState{};
+    return out;
+  };
+  if (!finite_pose(thumb_pose) || !finite_pose(index_pose)) {
+    out.input_rejected = true;
+    return let_go();
+  }
+  Pose tp = thumb_pose, ip = index_pose;
+  tp.orientation.normalize();
+  ip.orientation.normalize();
+  const GraspParams& p = grasp_.params();
+  const CapsulePair pads = capsule_capsule(posed(p.thumb, tp), posed(p.index, ip));
+  const double depth = p.fabric_thickness - pads.signed_distance;
+  if (!(depth > 0.0) || !point.allFinite() || !(state.active || may_start)) return let_go();
+
+  // The frame, with the hysteresis of Grasp's parallel rule and the anchor carried over when
+  // the rule changes, so the target never jumps.
+  const double sine = std::sin(p.parallel_angle);
+  const double threshold = state.active && state.frame.parallel ? 1.5 * sine : sine;
+  const SharedFrame frame = shared_frame(p.thumb, tp, p.index, ip, threshold);
+  if (!state.active)
+    state.anchor = frame.to_local(point).head<2>();  // held where it projects onto the plane
+  else if (frame.parallel != state.frame.parallel)
+    state.anchor = frame.to_local(state.frame.to_world(state.anchor)).head<2>();
+
+  const double squeeze = squeeze_.force(depth);
+  const Vec3 e3 = frame.normal();
+  Vec3 target = frame.to_world(state.anchor);
+  Vec3 hold = hold_stiffness_ * (target - point);
+  Vec3 tangential = hold - hold.dot(e3) * e3;
+  const double mu = state.active && state.friction == FrictionState::slip ? p.kinetic_friction : p.static_friction;
+  FrictionState friction = FrictionState::stick;
+  if (tangential.norm() > mu * squeeze) {
+    // Slip: the anchor slides toward the point until the pull along the plane is μ_k·F^N.
+    friction = FrictionState::slip;
+    const Vec3 along = tangential.normalized();
+    const Vec3 on_plane = target - (target - point).dot(along) * along;  // the target with no pull along `along`
+    target = on_plane + (p.kinetic_friction * squeeze / hold_stiffness_) * along;
+    state.anchor = frame.to_local(target).head<2>();
+    target = frame.to_world(state.anchor);
+    hold = hold_stiffness_ * (target - point);
+  }
+
+  state.active = true;
+  state.friction = friction;
+  state.frame = frame;
+  out.active = true;
+  out.friction = friction;
+  out.frame = frame;
+  out.squeeze_depth = depth;
+  out.squeeze_force = squeeze;
+  out.target = target;
+  out.hold = hold;
+  out.force_on_thumb = -squeeze * pads.normal - 0.5 * hold;
+  out.force_on_index = squeeze * pads.normal - 0.5 * hold;
   return out;
 }
 

@@ -67,11 +67,6 @@ struct GraspParams {
   /// A particle is caught when it is within this distance of both capsules (or inside
   /// them), m.
   double capture_distance = 1e-3;
-  /// Whether the hold also pulls a particle across the contact plane, into it. Off, it pulls
-  /// along the plane only: for a fabric meshed coarser than the pads' contact, caught nodes lie
-  /// up to an edge length off the plane, and pulling them in would squeeze the pads with a
-  /// force no sheet between them exerts (the squeeze law stands for that).
-  bool hold_across_plane = true;
   /// Effective coefficients of the whole pinch. A sheet held between two pads rubs on both,
   /// so with a pad–fabric coefficient μ the pinch holds 2μ times the squeeze: pass 2μ.
   double static_friction = 1.0;
@@ -133,6 +128,62 @@ class Grasp {
   GraspParams params_;
   FingerpadLaw squeeze_;
   FingerpadLaw hold_;
+};
+
+/// The grasp on a fabric meshed coarser than the pads' contact (the fabric scene's 5 mm
+/// against a lens of pad overlap a few millimetres wide, where Grasp would catch its nodes one
+/// at a time): one material point of the fabric, the one between the pads when the grasp
+/// starts, stands for the particles between them (seed 002 §V-D). It is held at its
+/// projection onto the shared contact plane, stored in the shared frame so it moves with the
+/// fingers, by a linear spring; the tangential part of the spring's pull stays within
+/// μ_s·F^N while the grasp sticks, and beyond it the anchor slides so the pull is μ_k·F^N.
+/// The pads squeeze each other with the squeeze law; each takes half the reaction of the
+/// hold. update() allocates nothing and throws nothing.
+struct PointGraspState {
+  bool active = false;
+  FrictionState friction = FrictionState::none;
+  Vec2 anchor = Vec2::Zero();  ///< the held point's target in the shared frame (e1, e2), m
+  SharedFrame frame;           ///< of the last step
+};
+
+struct PointGraspResult {
+  bool active = false;
+  FrictionState friction = FrictionState::none;
+  SharedFrame frame;
+  double squeeze_depth = 0.0;  ///< fabric thickness minus the capsules' gap, m
+  double squeeze_force = 0.0;  ///< F^N, N
+  Vec3 target = Vec3::Zero();  ///< where the held point is pulled, m
+  Vec3 hold = Vec3::Zero();    ///< the spring's force on the fabric, N
+  Vec3 force_on_thumb = Vec3::Zero();  ///< N
+  Vec3 force_on_index = Vec3::Zero();  ///< N
+  bool input_rejected = false;
+};
+
+class PointGrasp {
+ public:
+  /// `params` as for Grasp (its shapes, squeeze law, thickness, friction and frame rule; the
+  /// hold law, capture distance and capacity play no part); `hold_stiffness` of the spring,
+  /// N/m. Throws InputError naming what is out of range.
+  PointGrasp(const GraspParams& params, double hold_stiffness);
+
+  [[nodiscard]] const GraspParams& params() const { return grasp_.params(); }
+  [[nodiscard]] double hold_stiffness() const { return hold_stiffness_; }
+
+  /// One step with the held material point at `point`. An inactive grasp starts when
+  /// `may_start` (the caller knows the fabric lies between the pads) and the pads squeeze
+  /// (depth > 0), holding the point where it projects onto the contact plane; an active one
+  /// lets go when the pads open (depth ≤ 0) or the point is not finite (lost).
+  [[nodiscard]] PointGraspResult update(PointGraspState& state, const Pose& thumb, const Pose& index,
+                                        const Vec3& point, bool may_start) const noexcept;
+  /// Holds `to` instead of `from` with the same pull along the plane: the target moves by
+  /// the in-plane part of to − from. A slipping pinch passes over new material: the caller
+  /// moves the hold to the point now between the pads, so that it stays there.
+  static void move_hold(PointGraspState& state, const Vec3& from, const Vec3& to) noexcept;
+
+ private:
+  Grasp grasp_;  ///< validates the shared parameters
+  FingerpadLaw squeeze_;
+  double hold_stiffness_;
 };
 
 }  // namespace tactus::contact

@@ -216,9 +216,6 @@ void check_partner(const Reader& r, const Model& model, std::size_t algorithm) {
   if (q.side == p->side)
     r.fail("partner", "the two fingers touch opposite sides of the fabric (the thumb the front, the index the back)");
   if (!other->enabled || !a.enabled) r.fail("partner", "both fingers of a pair must be enabled");
-  const Tool& own = model.tools[a.tool];
-  if (own.devices.size() != 1 || partner.devices.size() != 1 || own.devices.front() == partner.devices.front())
-    r.fail("partner", "each finger of a pair is driven by its own single device");
   if (other->bodies != a.bodies) r.fail("partner", "both fingers of a pair touch the same fabric bodies");
 }
 

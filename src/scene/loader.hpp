@@ -17,7 +17,7 @@ Device read_device(Reader& r, const std::string& name);
 Tool read_tool(Reader& r, const std::string& name, const Model& model);
 Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model);
 /// Once every algorithm is read: a two-finger fabric algorithm's partner names it back, on
-/// the other side of the fabric, with its own device (`r` is the algorithm's table).
+/// the other side of the fabric (`r` is the algorithm's table; the tools have their own devices).
 void check_partner(const Reader& r, const Model& model, std::size_t algorithm);
 precompute::SpaceSettings read_precompute(Reader& r, const Model& model);
 /// An interpolation method by name (`trilinear`, default, `rbf_cubic`, `rbf_thin_plate`, `polynomial`).

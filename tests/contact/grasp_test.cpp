@@ -2,7 +2,10 @@
 // right-handed, along the pads' intersection line, parallel pads handled), equal and
 // opposite finger forces when a flat patch is squeezed, momentum balance, particles held in
 // the shared frame until the tangential load reaches μ_s times the squeeze and sliding at μ_k
-// beyond it, and targets that stay continuous when the frame changes rule.
+// beyond it, and targets that stay continuous when the frame changes rule. The one-point grasp
+// of coarse meshes: the squeeze law, the hold at the point's projection moving with the
+// fingers, stick below μ_s·F^N and the pull at μ_k·F^N when it slips, the hold carried to
+// another point unchanged, and letting go when the pads open.
 #include "contact/grasp.hpp"
 
 #include <gtest/gtest.h>
@@ -416,6 +419,66 @@ TEST(Grasp, RejectsBadParametersAndInput) {
   const GraspResult r = pinch.step();
   EXPECT_TRUE(r.input_rejected);
   EXPECT_TRUE(pinch.state.active);  // left as it was
+}
+
+TEST(PointGrasp, HoldsThePointAtItsProjectionSticksThenSlidesAtMuK) {
+  const GraspParams params = pinch_params();
+  const double k = 190.0;
+  const PointGrasp grasp(params, k);
+  PointGraspState state;
+  const double squeeze_mm = 0.8, gap = params.fabric_thickness - 0.8e-3;
+  Pose thumb, index;
+  thumb.position = Vec3(0, 0, -(kRadius + 0.5 * gap));
+  index.position = Vec3(0, 0, kRadius + 0.5 * gap);
+  const Vec3 point(0.001, 0.0, 0.0002);  // 0.2 mm above the contact plane z = 0
+
+  // Not started without the caller's word that the fabric lies between the pads.
+  EXPECT_FALSE(grasp.update(state, thumb, index, point, false).active);
+  PointGraspResult r = grasp.update(state, thumb, index, point, true);
+  ASSERT_TRUE(r.active);
+  const double fn = pawluk_howe_newtons(squeeze_mm);
+  EXPECT_NEAR(r.squeeze_force, fn, 1e-9 * fn);
+  EXPECT_NEAR((r.target - Vec3(0.001, 0.0, 0.0)).norm(), 0.0, 1e-12);  // its projection
+  EXPECT_NEAR((r.hold - Vec3(0, 0, -k * 0.0002)).norm(), 0.0, 1e-12);  // pulled into the plane
+  EXPECT_NEAR((r.force_on_thumb + r.force_on_index + r.hold).norm(), 0.0, 1e-12);  // balance
+  EXPECT_EQ(r.friction, FrictionState::stick);
+
+  // The fingers move along x while the fabric stays: the target rides with them, the pull
+  // grows as k·offset up to μ_s·F^N, then the pinch slips and pulls with μ_k·F^N.
+  const double stick_limit = params.static_friction * fn / k;  // [m]
+  double moved = 0.0;
+  for (; moved < 0.5 * stick_limit; moved += 1e-5) {
+    Pose t = thumb, i = index;
+    t.position.x() += moved;
+    i.position.x() += moved;
+    r = grasp.update(state, t, i, point, true);
+    ASSERT_EQ(r.friction, FrictionState::stick) << moved;
+    EXPECT_NEAR(r.hold.x(), k * moved, 1e-9);
+  }
+  for (; r.friction == FrictionState::stick && moved < 3.0 * stick_limit; moved += 1e-5) {
+    Pose t = thumb, i = index;
+    t.position.x() += moved;
+    i.position.x() += moved;
+    r = grasp.update(state, t, i, point, true);
+  }
+  ASSERT_EQ(r.friction, FrictionState::slip);
+  EXPECT_NEAR(r.hold.x(), params.kinetic_friction * fn, 1e-9);
+  EXPECT_GT(moved, stick_limit * (1.0 - 1e-3));
+
+  // Holding another point with the same pull (a slipping pinch moves on to new material).
+  const Vec3 other = point + Vec3(0.002, 0.0, 0.0);
+  PointGrasp::move_hold(state, point, other);
+  Pose t = thumb, i = index;
+  t.position.x() += moved;
+  i.position.x() += moved;
+  const PointGraspResult carried = grasp.update(state, t, i, other, true);
+  EXPECT_NEAR((carried.hold - r.hold).norm(), 0.0, 1e-9);
+
+  // The pads open: it lets go.
+  t.position.z() -= 1e-3;
+  EXPECT_FALSE(grasp.update(state, t, i, other, true).active);
+  EXPECT_FALSE(state.active);
+  EXPECT_THROW(PointGrasp(params, 0.0), InputError);
 }
 
 }  // namespace

@@ -182,5 +182,63 @@ side = "back"
   EXPECT_NE(error("side = \"back\"", "static_friction = 0.5").find("give both friction coefficients"), std::string::npos);
 }
 
+TEST(ClothScene, TwoFingersNameEachOtherOnOppositeSidesWithTheirOwnDevices) {
+  const std::string pair = kCloth + R"([devices.thumb]
+type = "scripted"
+trajectory = { type = "press", position = [0.1, -0.02, 0.25], direction = [0, 1, 0], depth = 0.01 }
+[devices.index]
+type = "scripted"
+trajectory = { type = "press", position = [0.1, 0.02, 0.25], direction = [0, -1, 0], depth = 0.01 }
+[tools.thumb]
+type = "sphere"
+device = "thumb"
+radius = 0.009
+[tools.index]
+type = "sphere"
+device = "index"
+radius = 0.008
+[algorithms.thumb_on_fabric]
+type = "fabric_proxy"
+tool = "thumb"
+bodies = ["fabric"]
+side = "front"
+partner = "index"
+pad_normal = [0, 2, 0]
+fabric_thickness = 0.001
+[algorithms.index_on_fabric]
+type = "fabric_proxy"
+tool = "index"
+bodies = ["fabric"]
+side = "back"
+partner = "thumb"
+pad_normal = [0, -1, 0]
+)";
+  const std::string path = std::string(TACTUS_SOURCE_DIR) + "/scenes/x.toml";
+  const Model m = parse_scene(pair, path);
+  const auto& thumb = std::get<FabricProxyParams>(m.algorithms.at(0).params);
+  ASSERT_TRUE(thumb.partner.has_value());
+  EXPECT_EQ(m.tools.at(*thumb.partner).name, "index");
+  EXPECT_EQ(thumb.pad_normal, Vec3(0, 1, 0));  // normalized
+  EXPECT_EQ(thumb.fabric_thickness, 0.001);
+  auto error = [&](const std::string& from, const std::string& to) {
+    std::string text = pair;
+    text.replace(text.find(from), from.size(), to);
+    return error_of(text);
+  };
+  // The partner must name this tool back and touch the other side; each finger has its own device.
+  EXPECT_NE(error("partner = \"thumb\"\npad_normal = [0, -1, 0]", "").find("must name tool 'thumb' as its partner"),
+            std::string::npos);
+  EXPECT_NE(error("side = \"back\"", "side = \"front\"").find("opposite sides"), std::string::npos);
+  EXPECT_NE(error("device = \"index\"", "device = \"thumb\"").find("already drives tool 'thumb'"), std::string::npos);
+  EXPECT_NE(error("partner = \"index\"", "partner = \"ring\"").find("algorithms.thumb_on_fabric.partner"),
+            std::string::npos);
+  EXPECT_NE(error("pad_normal = [0, 2, 0]", "").find("pad_normal"), std::string::npos);
+  EXPECT_NE(error("pad_normal = [0, 2, 0]", "pad_normal = [0, 0, 0]").find("non-zero"), std::string::npos);
+  // The pair's keys mean nothing without a partner.
+  EXPECT_NE(error("partner = \"index\"\npad_normal = [0, 2, 0]\nfabric_thickness = 0.001", "fabric_thickness = 0.001")
+                .find("two-finger pair only"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace tactus::scene

@@ -2,7 +2,10 @@
 
 #include <limits>
 #include <numeric>
+#include <tuple>
+#include <utility>
 
+#include "contact/closest_point.hpp"
 #include "contact/grasp_state.hpp"
 
 namespace tactus::haptics {
@@ -16,29 +19,32 @@ contact::GraspParams grasp_params(const contact::FabricProxyParams& params, cons
   g.thumb = is_thumb ? two.own : two.partner;
   g.index = is_thumb ? two.partner : two.own;
   g.fabric_thickness = two.fabric_thickness;
-  g.capture_distance = two.capture_distance;
-  g.hold_across_plane = false;  // nodes caught up to an edge length off the plane (capture_distance)
   g.static_friction = 2.0 * params.static_friction;
   g.kinetic_friction = 2.0 * params.kinetic_friction;
   return g;
 }
 
-/// The patch triangle whose centroid lies nearest `point` (−1 for an empty patch).
-std::int32_t nearest_triangle(const contact::LocalPatch& patch, std::span<const Vec3> positions, const Vec3& point) {
+/// The point of the patch nearest `point`: its triangle (−1 for an empty patch) and
+/// barycentric coordinates. Both fingers' loops find the same material point there, whichever
+/// of the triangles around it each patch lists first.
+std::pair<std::int32_t, Vec3> nearest_point(const contact::LocalPatch& patch, std::span<const Vec3> positions,
+                                            const Vec3& point) {
   std::int32_t best = -1;
+  Vec3 barycentric = Vec3::Zero();
   double best_distance = std::numeric_limits<double>::infinity();
   for (int t = 0; t < patch.triangle_count; ++t) {
     const mesh::Triangle& tri = patch.triangles[static_cast<std::size_t>(t)];
-    const Vec3 centroid = (positions[static_cast<std::size_t>(tri[0])] + positions[static_cast<std::size_t>(tri[1])] +
-                           positions[static_cast<std::size_t>(tri[2])]) /
-                          3.0;
-    const double d = (centroid - point).squaredNorm();
+    const contact::TrianglePoint q = contact::closest_point_on_triangle(
+        point, positions[static_cast<std::size_t>(tri[0])], positions[static_cast<std::size_t>(tri[1])],
+        positions[static_cast<std::size_t>(tri[2])]);
+    const double d = (q.point - point).squaredNorm();
     if (d < best_distance) {
       best_distance = d;
       best = t;
+      barycentric = q.barycentric;
     }
   }
-  return best;
+  return {best, barycentric};
 }
 
 }  // namespace
@@ -50,25 +56,19 @@ FabricProxyOnPatch::FabricProxyOnPatch(const contact::FabricProxyParams& params,
   if (two_fingers) {
     const auto& two = *two_fingers;
     fingers_.emplace(is_thumb_ ? two.own : two.partner, is_thumb_ ? two.partner : two.own, two.finger_contact);
-    grasp_.emplace(grasp_params(params, two));
+    // The hold is the V-proxy's own coupling, finger and fabric in series: the grasp takes
+    // over from the two proxies without a change of stiffness.
+    grasp_.emplace(grasp_params(params, two), params.stiffness);
   }
 }
 
-FabricProxyOnPatch::State::State(contact::LocalModelKind kind, const contact::PatchCapacity& capacity,
-                                 const contact::Grasp* grasp_law)
-    : PatchState(kind, capacity),
-      candidates(static_cast<std::size_t>(capacity.triangles)),
-      nodes(static_cast<std::size_t>(capacity.nodes)) {
+FabricProxyOnPatch::State::State(contact::LocalModelKind kind, const contact::PatchCapacity& capacity)
+    : PatchState(kind, capacity), candidates(static_cast<std::size_t>(capacity.triangles)) {
   std::iota(candidates.begin(), candidates.end(), 0);
-  std::iota(nodes.begin(), nodes.end(), 0);
-  if (grasp_law) {
-    grasp = grasp_law->make_state();
-    trial_grasp = grasp_law->make_state();
-  }
 }
 
 std::unique_ptr<AlgorithmState> FabricProxyOnPatch::make_state() const {
-  return std::make_unique<State>(kind(), capacity(), grasp());
+  return std::make_unique<State>(kind(), capacity());
 }
 
 void FabricProxyOnPatch::begin(const FrameInputs& f, PatchState& state) const {
@@ -84,14 +84,15 @@ void FabricProxyOnPatch::patch_replacing(PatchState& state) const {
   const contact::LocalPatch& old = s.local.patch();
   const std::int32_t t = s.proxy.triangle;
   s.surface_triangle = t >= 0 && t < old.triangle_count ? old.surface_triangle[static_cast<std::size_t>(t)] : -1;
+  const std::int32_t h = s.held_triangle;
+  s.held_surface_triangle = h >= 0 && h < old.triangle_count ? old.surface_triangle[static_cast<std::size_t>(h)] : -1;
 }
 
 void FabricProxyOnPatch::patch_replaced(PatchState& state) const {
   // The proxy rests on a material point of a triangle named by its patch index: found again
   // in the new patch, the proxy is carried by the fabric's motion over the simulation step
   // (its surface point is where that point was in the old patch); lost, it keeps its place.
-  // The grasp holds particles by their patch index too, but re-catches them every frame from
-  // the new patch's nodes: it keeps its frame and targets, which ride with the fingers.
+  // The grasp's held point is found again the same way (lost: the grasp lets go).
   auto& s = static_cast<State&>(state);
   const contact::LocalPatch& patch = s.local.patch();
   std::int32_t found = -1;
@@ -99,6 +100,11 @@ void FabricProxyOnPatch::patch_replaced(PatchState& state) const {
     for (int t = 0; t < patch.triangle_count && found < 0; ++t)
       if (patch.surface_triangle[static_cast<std::size_t>(t)] == s.surface_triangle) found = t;
   s.proxy.triangle = found;
+  std::int32_t held = -1;
+  if (s.held_surface_triangle >= 0)
+    for (int t = 0; t < patch.triangle_count && held < 0; ++t)
+      if (patch.surface_triangle[static_cast<std::size_t>(t)] == s.held_surface_triangle) held = t;
+  s.held_triangle = held;
 }
 
 Rendering FabricProxyOnPatch::against(const FrameInputs& f, PatchState& state, bool trial) const {
@@ -150,36 +156,61 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
     const contact::Pose& thumb = is_thumb_ ? own : other;
     const contact::Pose& index = is_thumb_ ? other : own;
     const contact::GraspParams& gp = grasp_->params();
-    contact::GraspState& held = trial ? (s.trial_grasp = s.grasp) : s.grasp;  // the copy reuses reserved storage
-    // The fabric is squeezed only once the pads come within its thickness of each other.
-    const double gap =
-        contact::capsule_capsule(contact::posed(gp.thumb, thumb), contact::posed(gp.index, index)).signed_distance;
-    if (s.local.valid() && (held.active || gap < gp.fabric_thickness)) {
-      const auto nodes = std::span<const std::int32_t>(s.nodes).first(static_cast<std::size_t>(s.local.patch().node_count));
-      const contact::GraspResult g = grasp_->update(held, thumb, index, s.local.positions(), nodes);
-      if (g.active) {
-        grasping = true;
-        out = Rendering{};
-        out.force = is_thumb_ ? g.force_on_thumb : g.force_on_index;
-        out.touching = true;
-        out.on_fabric = true;
-        out.slipping = g.friction == contact::FrictionState::slip;
-        out.point = g.frame.origin;
-        // The fabric takes the pull of the held particles, through this finger's share, at the
-        // patch triangle nearest the grasp's centre; its stiffness is the hold's first slope.
-        const double magnitude = out.force.norm();
-        out.law_force = magnitude;
-        const std::int32_t t = nearest_triangle(s.local.patch(), s.local.positions(), g.frame.origin);
-        if (t >= 0)
-          out.on_patch = {t, Vec3::Constant(1.0 / 3.0), magnitude > 0.0 ? Vec3(out.force / magnitude) : g.frame.normal(),
-                          magnitude, gp.hold_law.b, disc_radius(0.0)};
-        // The V-proxy lets go: after the grasp it starts afresh at the finger.
-        proxy = contact::make_fabric_proxy_state(f.position);
+    contact::PointGraspState copy;
+    contact::PointGraspState& held = trial ? (copy = s.grasp) : s.grasp;
+    // The grasp starts where both fingers touch the fabric, each on its side, and their pads
+    // close on it: it holds the fabric's point nearest the pads' centre.
+    std::int32_t triangle = s.held_triangle;
+    Vec3 barycentric = s.held_barycentric;
+    if (!held.active && s.local.valid() && out.on_fabric && peer->on_fabric) {
+      const contact::CapsulePair pads =
+          contact::capsule_capsule(contact::posed(gp.thumb, thumb), contact::posed(gp.index, index));
+      if (pads.signed_distance < gp.fabric_thickness)
+        std::tie(triangle, barycentric) =
+            nearest_point(s.local.patch(), s.local.positions(), 0.5 * (pads.on_first + pads.on_second));
+    }
+    Vec3 point = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+    if (s.local.valid() && triangle >= 0 && triangle < s.local.patch().triangle_count) {
+      const mesh::Triangle& tri = s.local.patch().triangles[static_cast<std::size_t>(triangle)];
+      const std::span<const Vec3> x = s.local.positions();
+      point = barycentric.x() * x[static_cast<std::size_t>(tri[0])] + barycentric.y() * x[static_cast<std::size_t>(tri[1])] +
+              barycentric.z() * x[static_cast<std::size_t>(tri[2])];
+    }
+    const contact::PointGraspResult g = grasp_->update(held, thumb, index, point, out.on_fabric && peer->on_fabric);
+    if (!trial && g.active && g.friction == contact::FrictionState::slip) {
+      // The pinch slides over the fabric: it holds the material now between the pads.
+      const auto [moved_to, moved_barycentric] = nearest_point(s.local.patch(), s.local.positions(), g.frame.origin);
+      if (moved_to >= 0) {
+        const mesh::Triangle& tri = s.local.patch().triangles[static_cast<std::size_t>(moved_to)];
+        const std::span<const Vec3> x = s.local.positions();
+        contact::PointGrasp::move_hold(held, point,
+                                       moved_barycentric.x() * x[static_cast<std::size_t>(tri[0])] +
+                                           moved_barycentric.y() * x[static_cast<std::size_t>(tri[1])] +
+                                           moved_barycentric.z() * x[static_cast<std::size_t>(tri[2])]);
+        triangle = moved_to;
+        barycentric = moved_barycentric;
       }
-    } else if (held.active) {  // no patch any more: the grasp lets go
-      held.active = false;
-      held.held.clear();
-      held.friction = contact::FrictionState::none;
+    }
+    if (!trial) {
+      s.held_triangle = g.active ? triangle : -1;
+      s.held_barycentric = barycentric;
+    }
+    if (g.active) {
+      grasping = true;
+      out = Rendering{};
+      out.force = is_thumb_ ? g.force_on_thumb : g.force_on_index;
+      out.touching = true;
+      out.on_fabric = true;
+      out.slipping = g.friction == contact::FrictionState::slip;
+      out.point = point;
+      // The fabric takes this finger's share at the held point (the two shares' squeezes
+      // cancel there, leaving the hold); its stiffness is the hold's.
+      const double magnitude = out.force.norm();
+      out.law_force = magnitude;
+      out.on_patch = {triangle, barycentric, magnitude > 0.0 ? Vec3(out.force / magnitude) : g.frame.normal(), magnitude,
+                      grasp_->hold_stiffness(), disc_radius(0.0)};
+      // The V-proxy lets go: after the grasp it starts afresh at the finger.
+      proxy = contact::make_fabric_proxy_state(f.position);
     }
     contact::FingerContactState finger_copy;
     contact::FingerContactState& touch = trial ? (finger_copy = s.fingers) : s.fingers;
@@ -211,13 +242,13 @@ void FabricProxyOnPatch::advance(const FrameInputs& f, const Rendering& /*render
                                  bool /*on*/, const contact::PatchContact& on_patch, PatchState& state,
                                  ContactLoad& /*load*/) const {
   // The patch moves under the force sent; the proxy follows the material point it rests on
-  // at its next update (FabricProxyState keeps it). A grasp holds the patch's particles
-  // where the fingers take them: the patch is not dented by the squeeze (the other pad
-  // pushes back on it, which this finger's patch does not know); the simulation gets the
-  // pull (OnPatch::react has set the load).
+  // at its next update (FabricProxyState keeps it). In a grasp the patch keeps the shape the
+  // simulation published: this finger's share, mostly the squeeze, would dent it alone (the
+  // other pad pushes back on the same point in its own patch), and left without a contact
+  // its free nodes run away within milliseconds of an update. The simulation gets the share
+  // (OnPatch::react has set the load), and the two shares leave the hold.
   auto& s = static_cast<State&>(state);
-  contact::PatchContact none;
-  state.local.advance(s.grasping ? none : on_patch, f.dt);
+  if (!s.grasping) state.local.advance(on_patch, f.dt);
 }
 
 }  // namespace tactus::haptics

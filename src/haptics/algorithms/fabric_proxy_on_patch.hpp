@@ -28,10 +28,6 @@ struct TwoFingerParams {
   contact::CapsuleShape partner;  ///< the other one, in its own frame
   contact::FingerContactParams finger_contact;  ///< skin on skin (eq. 1, eq. 2)
   double fabric_thickness = contact::GraspParams{}.fabric_thickness;  ///< [m]
-  /// A particle within this distance of both pads is caught by the grasp [m]. The pads' overlap
-  /// is a lens a few millimetres wide: on a fabric meshed coarser than that, the nodes of the
-  /// triangles between the pads lie up to one edge length away, so take that length.
-  double capture_distance = contact::GraspParams{}.capture_distance;
 };
 
 class FabricProxyOnPatch final : public OnPatch {
@@ -45,19 +41,22 @@ class FabricProxyOnPatch final : public OnPatch {
   [[nodiscard]] const contact::FabricProxyParams& params() const { return proxy_.params(); }
   /// The grasp's laws (pad–fabric friction doubled: the sheet rubs on both pads); null
   /// without a partner.
-  [[nodiscard]] const contact::Grasp* grasp() const { return grasp_ ? &*grasp_ : nullptr; }
+  [[nodiscard]] const contact::PointGrasp* grasp() const { return grasp_ ? &*grasp_ : nullptr; }
 
  private:
   struct State final : PatchState {
-    State(contact::LocalModelKind kind, const contact::PatchCapacity& capacity, const contact::Grasp* grasp);
+    State(contact::LocalModelKind kind, const contact::PatchCapacity& capacity);
     contact::FabricProxyState proxy;
     bool started = false;
     std::vector<std::int32_t> candidates;  ///< 0, 1, ... over the patch's triangles
-    std::vector<std::int32_t> nodes;       ///< 0, 1, ... over the patch's nodes
     std::int32_t surface_triangle = -1;    ///< the body's triangle the proxy rests on, across an update
     contact::FingerContactState fingers;
-    contact::GraspState grasp, trial_grasp;  ///< the trial's copy reuses its reserved storage
-    bool grasping = false;                   ///< the last frame rendered the grasp
+    contact::PointGraspState grasp;
+    bool grasping = false;  ///< the last frame rendered the grasp
+    /// The material point the grasp holds: patch triangle, barycentric, the body's triangle.
+    std::int32_t held_triangle = -1;
+    Vec3 held_barycentric = Vec3::Zero();
+    std::int32_t held_surface_triangle = -1;
   };
   void begin(const FrameInputs& frame, PatchState& state) const override;
   void patch_replacing(PatchState& state) const override;
@@ -75,7 +74,7 @@ class FabricProxyOnPatch final : public OnPatch {
   contact::FabricProxy proxy_;
   bool is_thumb_ = true;  ///< touches the front (side +1)
   std::optional<contact::FingerContact> fingers_;
-  std::optional<contact::Grasp> grasp_;
+  std::optional<contact::PointGrasp> grasp_;
 };
 
 }  // namespace tactus::haptics

@@ -127,9 +127,9 @@ TEST(FabricProxyOnPatch, FabricSqueezedBetweenThePairIsGraspedWithTheSqueezeLaw)
   Pair pair(capacity, in.kind);
   pair.thumb.patch = pair.index.patch = &patch;
   pair.thumb.patch_fresh = pair.index.patch_fresh = true;
-  // The thumb's pad 0.5 mm past the sheet, the index's 0.4 mm: the pads 0.9 mm into each
-  // other through the sheet, which lies in the shared contact plane.
-  const Vec3 thumb_at(0, 0, 0.0085), index_at(0, 0, -0.0076);
+  // Each pad 0.45 mm past the sheet: the pads 0.9 mm into each other through the sheet, which
+  // lies in the shared contact plane (where the pads are equally far).
+  const Vec3 thumb_at(0, 0, 0.00855), index_at(0, 0, -0.00755);
   for (int k = 0; k < 50; ++k) pair.step(1e-3 * k, thumb_at, index_at);
   const double squeeze = contact::FingerpadLaw{}.force(0.5e-3 + 0.9e-3);  // thickness − gap
   EXPECT_EQ(state_of(pair.thumb), static_cast<std::uint8_t>(contact::ContactState::VIII));
@@ -144,7 +144,7 @@ TEST(FabricProxyOnPatch, FabricSqueezedBetweenThePairIsGraspedWithTheSqueezeLaw)
   // and the pull stays within the Coulomb bound of both pads, 2·μ times the squeeze.
   double t = 0.05;
   for (int k = 0; k < 400 && state_of(pair.thumb) != static_cast<std::uint8_t>(contact::ContactState::IX); ++k, t += 1e-3)
-    pair.step(t, thumb_at + Vec3(2e-5 * k, 0, 0), index_at + Vec3(2e-5 * k, 0, 0));
+    pair.step(t, thumb_at + Vec3(5e-5 * k, 0, 0), index_at + Vec3(5e-5 * k, 0, 0));
   EXPECT_EQ(state_of(pair.thumb), static_cast<std::uint8_t>(contact::ContactState::IX));
   const double pull = -(pair.thumb.sink.force.x() + pair.index.sink.force.x());
   EXPECT_GT(pull, 0.0);
