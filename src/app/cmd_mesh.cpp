@@ -45,6 +45,7 @@ struct MeshOptions {
   double smooth = 0.0;
   std::vector<double> spacing;
   std::size_t min_voxels = 8;
+  double sliver_bound = 5.0;
 };
 
 /// "L=SIZE" of --cell-size-label.
@@ -86,6 +87,7 @@ int mesh_labels(const MeshOptions& o) {
   mo.facet_distance = o.facet_distance;
   mo.smooth_sigma_voxels = o.smooth;
   mo.min_voxels = o.min_voxels;
+  mo.sliver_bound_deg = o.sliver_bound;
   mo.progress = true;  // Progress itself stays quiet under CI
   const auto start = std::chrono::steady_clock::now();
   const mesh::TetMesh tets = imaging::mesh_label_image(image, mo);
@@ -207,6 +209,9 @@ Action add_mesh(CLI::App& app) {
   app.add_option("--spacing", o->spacing, "--labels with PNG slices: voxel spacing SX,SY,SZ [m]")->delimiter(',');
   app.add_option("--min-voxels", o->min_voxels, "--labels: refuse a label with fewer voxels (default 8)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000'000}));
+  app.add_option("--sliver-bound", o->sliver_bound,
+                 "--labels: smallest dihedral angle [°] the optimizers aim for (default 5; 8 takes ten times longer)")
+      ->check(CLI::Range(0.0, 15.0));
   app.footer(
       "Without tetrahedralization options the input is converted (a volume stays a volume).\n"
       "Tetrahedralization stops at --timeout (and --max-memory) with an error naming the option.\n"
