@@ -2,6 +2,7 @@
 // mesh label images.
 #include <chrono>
 #include <climits>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <map>
@@ -103,11 +104,18 @@ int mesh_labels(const MeshOptions& o) {
   }
   const auto counts = imaging::count_labels(image);
   std::printf("%8s %10s %12s %14s %14s\n", "label", "voxels", "tetrahedra", "volume [m³]", "voxels [m³]");
+  std::string lost;
   for (const auto& c : counts) {
     const auto& entry = by_label[c.label];
-    std::printf("%8d %10zu %12zu %14.6g %14.6g\n", c.label, c.voxels, entry.first, entry.second,
-                static_cast<double>(c.voxels) * image.voxel_volume());
+    const double voxels = static_cast<double>(c.voxels) * image.voxel_volume();
+    std::printf("%8d %10zu %12zu %14.6g %14.6g\n", c.label, c.voxels, entry.first, entry.second, voxels);
+    // A label thinner than the cells (a sheet one voxel thick) can be meshed to a sliver of itself.
+    if (std::abs(entry.second / voxels - 1.0) > 0.25)
+      lost.append(fmt::format("{}{} ({:.0f}%)", lost.empty() ? "" : ", ", c.label, 100.0 * entry.second / voxels));
   }
+  if (!lost.empty())
+    std::fprintf(stderr, "tactus: %s: warning: meshed volume far from the voxels' for label %s; give the label a "
+                 "smaller --cell-size-label, or less --smooth\n", o.labels.c_str(), lost.c_str());
   return 0;
 }
 
@@ -203,8 +211,8 @@ Action add_mesh(CLI::App& app) {
                  "smallest voxel spacing)")
       ->check(CLI::PositiveNumber);
   app.add_option("--smooth", o->smooth,
-                 "--labels: Gaussian smoothing of the label boundaries, sigma in voxels (0: none; 1 removes the "
-                 "voxel staircase)")
+                 "--labels: Gaussian smoothing of the label boundaries, sigma in units of the smallest voxel "
+                 "spacing (0: none; 0.75 to 1 removes the voxel staircase)")
       ->check(CLI::Range(0.0, 20.0));
   app.add_option("--spacing", o->spacing, "--labels with PNG slices: voxel spacing SX,SY,SZ [m]")->delimiter(',');
   app.add_option("--min-voxels", o->min_voxels, "--labels: refuse a label with fewer voxels (default 8)")

@@ -137,9 +137,16 @@ mesh::TetMesh mesh_label_image(const LabelImage& image, const LabelMeshOptions& 
   const int label_count = static_cast<int>(counts.size()) + 1;
   std::unordered_map<std::int32_t, std::uint8_t> compact_of;
   for (std::size_t c = 0; c < counts.size(); ++c) compact_of[counts[c].label] = static_cast<std::uint8_t>(c + 1);
-  std::vector<std::uint8_t> compact(image.labels.size());
-  for (std::size_t v = 0; v < compact.size(); ++v)
-    compact[v] = image.labels[v] == 0 ? 0 : compact_of.at(image.labels[v]);
+  // One voxel of background around the image: a label that touches the image's edge ends
+  // at the outer face of its last voxel, as inside, instead of at that voxel's centre.
+  const std::array<std::size_t, 3> padded{image.size[0] + 2, image.size[1] + 2, image.size[2] + 2};
+  std::vector<std::uint8_t> compact(padded[0] * padded[1] * padded[2], 0);
+  for (std::size_t k = 0; k < image.size[2]; ++k)
+    for (std::size_t j = 0; j < image.size[1]; ++j)
+      for (std::size_t i = 0; i < image.size[0]; ++i) {
+        const std::int32_t label = image.labels[image.index(i, j, k)];
+        if (label != 0) compact[(i + 1) + padded[0] * ((j + 1) + padded[1] * (k + 1))] = compact_of.at(label);
+      }
 
   Complex c3t3;
   constexpr std::size_t kPhases = 5;
@@ -151,11 +158,12 @@ mesh::TetMesh mesh_label_image(const LabelImage& image, const LabelMeshOptions& 
 
   CGAL::get_default_random() = CGAL::Random(options.seed);
   CGAL::Random rng(options.seed);
-  const CGAL::Image_3 labels_image = byte_image(compact, image.size, voxel_units);
+  const CGAL::Image_3 labels_image = byte_image(compact, padded, voxel_units);
   CGAL::Image_3 weights_image;
   if (options.smooth_sigma_voxels > 0.0)
     weights_image =
-        byte_image(detail::label_weights(compact, image.size, label_count, options.smooth_sigma_voxels), image.size,
+        byte_image(detail::label_weights(compact, padded, voxel_units, label_count, options.smooth_sigma_voxels),
+                   padded,
                    voxel_units);
   phase_done(1);
   namespace p = CGAL::parameters;
@@ -177,7 +185,7 @@ mesh::TetMesh mesh_label_image(const LabelImage& image, const LabelMeshOptions& 
   const CellCriteria cells(options.radius_edge_ratio, sizes);
   const Criteria criteria(facets, cells);
 
-  seed_boundaries(c3t3, domain, compact, image.size, voxel_units, label_count);
+  seed_boundaries(c3t3, domain, compact, padded, voxel_units, label_count);
   phase_done(2);
   CGAL::refine_mesh_3(c3t3, domain, criteria, p::no_perturb(), p::no_exude());
   phase_done(3);
@@ -200,7 +208,7 @@ mesh::TetMesh mesh_label_image(const LabelImage& image, const LabelMeshOptions& 
     const auto [it, inserted] = vertex_index.emplace(v, static_cast<int>(out.vertices.size()));
     if (inserted) {
       const auto& q = v->point();
-      out.vertices.push_back(image.origin + to_world * Vec3(q.x(), q.y(), q.z()));
+      out.vertices.push_back(image.origin + to_world * (Vec3(q.x(), q.y(), q.z()) - voxel_units));  // unpad
     }
     return it->second;
   };

@@ -22,8 +22,9 @@ struct LabelMeshOptions {
   std::optional<double> facet_distance;
   double facet_angle_deg = 25.0;  ///< smallest facet angle (CGAL keeps it below 30°)
   double radius_edge_ratio = 3.0;
-  /// Gaussian smoothing of the label boundaries, standard deviation in voxels; 0: none
-  /// (the boundaries follow the voxels' trilinear interpolation).
+  /// Gaussian smoothing of the label boundaries, standard deviation in units of the
+  /// smallest voxel spacing (the same length along every axis); 0: none (the boundaries
+  /// follow the voxels' trilinear interpolation).
   double smooth_sigma_voxels = 0.0;
   /// A label with fewer voxels is refused: too small to mesh at any useful size.
   std::size_t min_voxels = 8;
@@ -44,9 +45,10 @@ mesh::TetMesh mesh_label_image(const LabelImage& image, const LabelMeshOptions& 
 namespace detail {
 /// Per-voxel weights (0..255) for CGAL's weighted labelled domain: the largest of each
 /// label's Gaussian-smoothed indicator (Stalling et al. 1998; CGAL's
-/// generate_label_weights does the same with ITK). `compact` holds labels 0..label_count-1.
+/// generate_label_weights does the same with ITK). `compact` holds labels 0..label_count-1;
+/// `voxel_units`, the spacing over the smallest spacing; `sigma` in smallest spacings.
 std::vector<std::uint8_t> label_weights(const std::vector<std::uint8_t>& compact, const std::array<std::size_t, 3>& size,
-                                        int label_count, double sigma_voxels);
+                                        const Vec3& voxel_units, int label_count, double sigma);
 }  // namespace detail
 
 }  // namespace tactus::imaging

@@ -40,16 +40,23 @@ void blur_axis(std::vector<float>& f, const std::array<std::size_t, 3>& size, co
 }  // namespace
 
 std::vector<std::uint8_t> label_weights(const std::vector<std::uint8_t>& compact, const std::array<std::size_t, 3>& size,
-                                        int label_count, double sigma_voxels) {
-  const auto radius = static_cast<std::size_t>(std::ceil(3.0 * sigma_voxels));
-  std::vector<float> kernel(2 * radius + 1);
-  float total = 0.0f;
-  for (std::size_t i = 0; i < kernel.size(); ++i) {
-    const double x = static_cast<double>(i) - static_cast<double>(radius);
-    kernel[i] = static_cast<float>(std::exp(-0.5 * x * x / (sigma_voxels * sigma_voxels)));
-    total += kernel[i];
+                                        const Vec3& voxel_units, int label_count, double sigma) {
+  // One Gaussian in space: along an axis of longer voxels it spans fewer of them.
+  std::array<std::vector<float>, 3> kernels;
+  std::array<std::size_t, 3> radii{};
+  for (int a = 0; a < 3; ++a) {
+    const double s = sigma / voxel_units[a];
+    radii[a] = static_cast<std::size_t>(std::ceil(3.0 * s));
+    auto& kernel = kernels[a];
+    kernel.resize(2 * radii[a] + 1);
+    float total = 0.0f;
+    for (std::size_t i = 0; i < kernel.size(); ++i) {
+      const double x = static_cast<double>(i) - static_cast<double>(radii[a]);
+      kernel[i] = static_cast<float>(std::exp(-0.5 * x * x / (s * s)));
+      total += kernel[i];
+    }
+    for (float& k : kernel) k /= total;
   }
-  for (float& k : kernel) k /= total;
 
   std::vector<float> best(compact.size(), 0.0f), indicator(compact.size());
   for (int label = 0; label < label_count; ++label) {
@@ -68,15 +75,16 @@ std::vector<std::uint8_t> label_weights(const std::vector<std::uint8_t>& compact
           }
     if (hi[0] == 0) continue;
     for (int a = 0; a < 3; ++a) {
-      lo[a] = lo[a] > radius ? lo[a] - radius : 0;
-      hi[a] = std::min(size[a], hi[a] + radius);
+      lo[a] = lo[a] > radii[a] ? lo[a] - radii[a] : 0;
+      hi[a] = std::min(size[a], hi[a] + radii[a]);
     }
     for (std::size_t k = lo[2]; k < hi[2]; ++k)
       for (std::size_t j = lo[1]; j < hi[1]; ++j) {
         const std::size_t row = size[0] * (j + size[1] * k);
         for (std::size_t i = lo[0]; i < hi[0]; ++i) indicator[row + i] = compact[row + i] == label ? 255.0f : 0.0f;
       }
-    for (int axis = 0; axis < 3; ++axis) blur_axis(indicator, size, lo, hi, axis, kernel);
+    for (int axis = 0; axis < 3; ++axis)
+      if (radii[axis] > 0) blur_axis(indicator, size, lo, hi, axis, kernels[axis]);
     for (std::size_t k = lo[2]; k < hi[2]; ++k)
       for (std::size_t j = lo[1]; j < hi[1]; ++j) {
         const std::size_t row = size[0] * (j + size[1] * k);
