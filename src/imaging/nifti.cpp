@@ -89,10 +89,13 @@ double metres_per_unit(const Header& h) {
 }  // namespace
 
 LabelImage read_nifti(const std::filesystem::path& path) {
-  const std::string file = path.string();
-  std::string data = read_input_file(path);
   const std::string name = path.filename().string();
-  if (name.size() > 3 && name.compare(name.size() - 3, 3, ".gz") == 0) data = detail::gunzip(data, file, 0);
+  const bool gz = name.size() > 3 && name.compare(name.size() - 3, 3, ".gz") == 0;
+  return detail::parse_nifti(read_input_file(path), path.string(), gz);
+}
+
+LabelImage detail::parse_nifti(std::string data, const std::string& file, bool gz) {
+  if (gz) data = detail::gunzip(data, file, 0);
   if (data.size() < kHeaderBytes)
     throw InputError(SourceLocation{file, {}, {}, data.size()},
                      fmt::format("{} bytes, shorter than the 348-byte NIfTI-1 header", data.size()));

@@ -98,9 +98,10 @@ detail::VoxelType voxel_type(const Reader& r) {
 
 }  // namespace
 
-LabelImage read_nrrd(const std::filesystem::path& path) {
+LabelImage read_nrrd(const std::filesystem::path& path) { return detail::parse_nrrd(read_input_file(path), path); }
+
+LabelImage detail::parse_nrrd(std::string_view data, const std::filesystem::path& path) {
   const std::string file = path.string();
-  const std::string data = read_input_file(path);
   if (data.compare(0, 4, "NRRD") != 0)
     throw InputError(SourceLocation{file, 1, {}, {}}, "the first line does not start with 'NRRD': not a NRRD file");
 
@@ -238,7 +239,7 @@ LabelImage read_nrrd(const std::filesystem::path& path) {
   } else {
     if (!blank_seen)
       throw InputError(SourceLocation{file, {}, {}, data.size()}, "the header has no blank line before the data");
-    payload = std::string_view(data).substr(pos);
+    payload = data.substr(pos);
     payload_offset = pos;
   }
   std::string inflated;

@@ -1,6 +1,7 @@
 #pragma once
 // Internal to src/imaging: gzip, and turning a file's voxel bytes into labels.
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -24,6 +25,11 @@ std::size_t voxel_bytes(VoxelType type);
 std::vector<std::int32_t> decode_labels(std::string_view data, VoxelType type, bool big_endian, std::size_t count,
                                         const std::string& file, std::uint64_t data_offset,
                                         double slope = 1.0, double intercept = 0.0);
+
+/// The readers' parsers, from memory (the fuzz target calls them). `gz`: the data is a gzip
+/// stream. A NRRD's detached data file is looked up beside `path`.
+LabelImage parse_nifti(std::string data, const std::string& file, bool gz);
+LabelImage parse_nrrd(std::string_view data, const std::filesystem::path& path);
 
 /// Refuses a placement that cannot be meshed: a size of zero, a spacing that is not
 /// finite and positive, axes that are not independent. `where` names the field.
