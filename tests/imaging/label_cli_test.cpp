@@ -12,6 +12,7 @@
 #include "imaging/label_image.hpp"
 #include "mesh/io/mesh_io.hpp"
 #include "phantom.hpp"
+#include "png_slices.hpp"
 
 namespace tactus::imaging {
 namespace {
@@ -71,6 +72,30 @@ TEST_F(LabelCli, WritesRegionsToVtuAndMsh) {
     const std::set<int> regions(file.volume->tet_regions.begin(), file.volume->tet_regions.end());
     EXPECT_EQ(regions, (std::set<int>{1, 2})) << out;
   }
+}
+
+TEST_F(LabelCli, PngSlicesNeedTheirSpacing) {
+  // A 12 x 12 x 8 block of label 3 in 16 x 16 slices, 0.5 mm pixels, 1 mm apart.
+  fs::create_directories(dir_ / "slices");
+  for (int k = 0; k < 10; ++k) {
+    std::vector<int> px(256, 0);
+    for (int j = 2; j < 14; ++j)
+      for (int i = 2; i < 14; ++i) px[static_cast<std::size_t>(j * 16 + i)] = k >= 1 && k < 9 ? 3 : 0;
+    std::string name = "z";
+    name.append(std::to_string(10 + k)).append(".png");
+    std::ofstream(dir_ / "slices" / name, std::ios::binary) << test::gray_png(16, 16, px, 8);
+  }
+  std::string args = "mesh --labels '";
+  args.append((dir_ / "slices").string()).append("/*.png' -o '").append((dir_ / "block.vtu").string());
+  args.append("' --cell-size 2e-3");
+  expect_refused(args, "slices/*.png: a PNG slice stack needs --spacing SX,SY,SZ (metres)");
+  const Result r = run(args.append(" --spacing 0.5e-3,0.5e-3,1e-3"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto file = mesh::read_mesh(dir_ / "block.vtu");
+  ASSERT_TRUE(file.volume);
+  // 6 x 6 x 8 mm of voxels; the interpolated boundary rounds the block's edges and corners.
+  EXPECT_NEAR(file.volume->volume(), 6e-3 * 6e-3 * 8e-3, 0.1 * 6e-3 * 6e-3 * 8e-3);
+  EXPECT_EQ(std::set<int>(file.volume->tet_regions.begin(), file.volume->tet_regions.end()), std::set<int>{3});
 }
 
 TEST_F(LabelCli, BadInputsAreOneLocatedLine) {

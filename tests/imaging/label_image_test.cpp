@@ -1,6 +1,5 @@
 // The label image readers: round trips, known placements, and located refusals.
 #include <gtest/gtest.h>
-#include <zlib.h>
 
 #include <cstring>
 #include <filesystem>
@@ -10,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/png.hpp"
 #include "imaging/label_image.hpp"
+#include "png_slices.hpp"
 
 namespace tactus::imaging {
 namespace {
@@ -158,45 +158,10 @@ TEST_F(LabelImageFiles, NrrdLpsSpaceBecomesRas) {
   EXPECT_EQ(image.labels.back(), 3);
 }
 
-/// A minimal grayscale PNG (8 or 16 bit), so that the test needs no PNG library.
-std::string gray_png(int w, int h, const std::vector<int>& values, int bits) {
-  auto be32 = [](std::uint32_t v) {
-    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
-                       static_cast<char>(v)};
-  };
-  auto chunk = [&](const std::string& type, const std::string& data) {
-    const std::string body = type + data;
-    const auto crc = static_cast<std::uint32_t>(
-        crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size())));
-    return be32(static_cast<std::uint32_t>(data.size())) + body + be32(crc);
-  };
-  std::string raw;
-  for (int y = 0; y < h; ++y) {
-    raw.push_back('\0');
-    for (int x = 0; x < w; ++x) {
-      const int v = values[static_cast<std::size_t>(y * w + x)];
-      if (bits == 16) raw.push_back(static_cast<char>(v >> 8));
-      raw.push_back(static_cast<char>(v & 0xff));
-    }
-  }
-  uLongf size = compressBound(static_cast<uLong>(raw.size()));
-  std::string z(size, '\0');
-  compress(reinterpret_cast<Bytef*>(z.data()), &size, reinterpret_cast<const Bytef*>(raw.data()),
-           static_cast<uLong>(raw.size()));
-  z.resize(size);
-  std::string ihdr = be32(static_cast<std::uint32_t>(w)) + be32(static_cast<std::uint32_t>(h));
-  ihdr.append({static_cast<char>(bits), 0, 0, 0, 0});
-  std::string png("\x89PNG\r\n\x1a\n", 8);
-  png.append(chunk("IHDR", ihdr));
-  png.append(chunk("IDAT", z));
-  png.append(chunk("IEND", ""));
-  return png;
-}
-
 TEST_F(LabelImageFiles, PngStackInNameOrder) {
   fs::create_directories(dir_ / "slices");
-  spit(dir_ / "slices" / "s10.png", gray_png(3, 2, {0, 0, 0, 0, 0, 9}, 8));
-  spit(dir_ / "slices" / "s00.png", gray_png(3, 2, {1, 0, 0, 0, 0, 0}, 8));
+  spit(dir_ / "slices" / "s10.png", test::gray_png(3, 2, {0, 0, 0, 0, 0, 9}, 8));
+  spit(dir_ / "slices" / "s00.png", test::gray_png(3, 2, {1, 0, 0, 0, 0, 0}, 8));
   spit(dir_ / "slices" / "notes.txt", "ignored");
   const Vec3 spacing(1e-3, 1e-3, 2e-3);
   LabelImage image = read_label_image(dir_ / "slices", spacing);
@@ -205,7 +170,7 @@ TEST_F(LabelImageFiles, PngStackInNameOrder) {
   EXPECT_EQ(image.labels.back(), 9);
   EXPECT_TRUE(image.spacing.isApprox(spacing));
 
-  spit(dir_ / "slices" / "s20.png", gray_png(3, 2, {0, 0, 0, 0, 0, 1000}, 16));
+  spit(dir_ / "slices" / "s20.png", test::gray_png(3, 2, {0, 0, 0, 0, 0, 1000}, 16));
   image = read_label_image(dir_ / "slices" / "s*.png", spacing);
   EXPECT_EQ(image.size[2], 3u);
   EXPECT_EQ(image.labels.back(), 1000);
@@ -216,7 +181,7 @@ TEST_F(LabelImageFiles, PngStackInNameOrder) {
             std::string::npos)
       << error_of(dir_ / "slices", spacing);
   fs::remove(dir_ / "slices" / "s30.png");
-  spit(dir_ / "slices" / "s40.png", gray_png(2, 2, {0, 0, 0, 0}, 8));
+  spit(dir_ / "slices" / "s40.png", test::gray_png(2, 2, {0, 0, 0, 0}, 8));
   EXPECT_NE(error_of(dir_ / "slices", spacing).find("s40.png: byte 0: slice is 2x2; the first slice"),
             std::string::npos);
 }
