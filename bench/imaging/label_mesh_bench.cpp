@@ -41,7 +41,7 @@ void BM_MeshLabels256(benchmark::State& state) {
   imaging::LabelMeshOptions o;
   o.cell_size = 4e-3;
   o.cell_size_by_label[3] = 1.5e-3;  // the vessel
-  o.smooth_sigma_voxels = static_cast<double>(state.range(0)) / 10.0;
+  o.smooth_sigma = static_cast<double>(state.range(0)) / 10.0;
   o.progress = false;
   std::size_t tets = 0;
   for (auto _ : state) {

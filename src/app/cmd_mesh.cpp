@@ -86,7 +86,7 @@ int mesh_labels(const MeshOptions& o) {
     mo.cell_size_by_label[entry.first] = entry.second;
   }
   mo.facet_distance = o.facet_distance;
-  mo.smooth_sigma_voxels = o.smooth;
+  mo.smooth_sigma = o.smooth;
   mo.min_voxels = o.min_voxels;
   mo.sliver_bound_deg = o.sliver_bound;
   mo.progress = true;  // Progress itself stays quiet under CI

@@ -160,16 +160,15 @@ mesh::TetMesh mesh_label_image(const LabelImage& image, const LabelMeshOptions& 
   CGAL::Random rng(options.seed);
   const CGAL::Image_3 labels_image = byte_image(compact, padded, voxel_units);
   CGAL::Image_3 weights_image;
-  if (options.smooth_sigma_voxels > 0.0)
+  if (options.smooth_sigma > 0.0)
     weights_image =
-        byte_image(detail::label_weights(compact, padded, voxel_units, label_count, options.smooth_sigma_voxels),
-                   padded,
+        byte_image(detail::label_weights(compact, padded, voxel_units, label_count, options.smooth_sigma), padded,
                    voxel_units);
   phase_done(1);
   namespace p = CGAL::parameters;
   // The boundary is found by bisection to this fraction of the image's diagonal.
   const double relative_error = 1e-6;
-  Domain domain = options.smooth_sigma_voxels > 0.0
+  Domain domain = options.smooth_sigma > 0.0
                       ? Domain::create_labeled_image_mesh_domain(labels_image, p::weights = weights_image,
                                                                   p::relative_error_bound = relative_error,
                                                                   p::p_rng = &rng)

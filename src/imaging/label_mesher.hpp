@@ -25,7 +25,7 @@ struct LabelMeshOptions {
   /// Gaussian smoothing of the label boundaries, standard deviation in units of the
   /// smallest voxel spacing (the same length along every axis); 0: none (the boundaries
   /// follow the voxels' trilinear interpolation).
-  double smooth_sigma_voxels = 0.0;
+  double smooth_sigma = 0.0;
   /// A label with fewer voxels is refused: too small to mesh at any useful size.
   std::size_t min_voxels = 8;
   bool optimize = true;  ///< sliver perturbation and exudation after the refinement

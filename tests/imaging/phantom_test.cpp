@@ -60,7 +60,7 @@ LabelMeshOptions phantom_options() {
   LabelMeshOptions o;
   o.cell_size = 2e-3;
   o.facet_distance = 0.2 * kVoxel;
-  o.smooth_sigma_voxels = 0.75;
+  o.smooth_sigma = 0.75;
   o.progress = false;
   return o;
 }
