@@ -127,8 +127,8 @@ std::vector<std::int32_t> decode_labels(std::string_view data, VoxelType type, b
   const std::size_t bytes = voxel_bytes(type);
   if (data.size() / bytes < count)
     throw InputError(SourceLocation{file, {}, {}, data_offset + data.size()},
-                     fmt::format("voxel data ends early: {} bytes for {} voxels of {} bytes", data.size(), count,
-                                 bytes));
+                     fmt::format("voxel data ends early: {} bytes for {} voxels of {} byte{}", data.size(), count,
+                                 bytes, bytes == 1 ? "" : "s"));
   const bool swap = big_endian != (std::endian::native == std::endian::big);
   const bool identity = slope == 1.0 && intercept == 0.0;
   std::vector<std::int32_t> labels(count);

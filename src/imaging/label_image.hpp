@@ -60,11 +60,11 @@ LabelImage read_nrrd(const std::filesystem::path& path);
 /// `pattern`: a directory (every *.png in it) or a glob.
 LabelImage read_png_stack(const std::filesystem::path& pattern, const Vec3& spacing);
 
-/// Writers (voxels as int16 when the labels fit, else int32; metres written as mm).
-/// NIfTI: gzip when the name ends in .gz; the placement goes into the sform and the qform
-/// (the qform only when the direction is a rotation).
+/// Writers (metres written as mm). NIfTI: int16 voxels when the labels fit, else int32;
+/// gzip when the name ends in .gz; the placement goes into the sform and, when the
+/// direction is a rotation (possibly mirrored), the qform too.
 void write_nifti(const std::filesystem::path& path, const LabelImage& image);
-/// NRRD in RAS space; gzip encoding when `gzip`.
+/// NRRD: int32 voxels in RAS space; gzip encoding when `gzip`.
 void write_nrrd(const std::filesystem::path& path, const LabelImage& image, bool gzip = true);
 
 }  // namespace tactus::imaging

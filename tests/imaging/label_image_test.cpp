@@ -207,7 +207,7 @@ TEST_F(LabelImageFiles, EachBadInputIsLocated) {
   h.put<float>(84, std::nanf(""));
   EXPECT_EQ(nifti_error(h), f + ": byte 84: pixdim[2] (voxel spacing) is nan; it must be finite and positive");
   h = NiftiHeader();
-  EXPECT_EQ(nifti_error(h, std::string(3, '\1')), f + ": byte 355: voxel data ends early: 3 bytes for 8 voxels of 1 bytes");
+  EXPECT_EQ(nifti_error(h, std::string(3, '\1')), f + ": byte 355: voxel data ends early: 3 bytes for 8 voxels of 1 byte");
   h.put<std::int16_t>(70, 16);  // float labels must be integers
   h.put<std::int16_t>(72, 32);
   float values[8] = {0, 1, 2.5f, 0, 0, 0, 0, 0};
