@@ -149,11 +149,13 @@ mesh::TetMesh mesh_label_image(const LabelImage& image, const LabelMeshOptions& 
       }
 
   Complex c3t3;
-  constexpr std::size_t kPhases = 5;
+  // CGAL reports nothing while it works, so the bar moves at the end of each phase, by the
+  // phase's usual share of the time: weights, seeds, refinement, perturbation, exudation.
+  constexpr std::array<std::size_t, 6> kPercentAfterPhase{0, 10, 15, 75, 95, 100};
   std::optional<Progress> progress;
-  if (options.progress) progress.emplace("meshing labels", kPhases);
-  auto phase_done = [&](std::size_t done) {
-    if (progress) progress->update(done);
+  if (options.progress) progress.emplace("meshing labels", 100);
+  auto phase_done = [&](std::size_t phase) {
+    if (progress) progress->update(kPercentAfterPhase[phase]);
   };
 
   CGAL::get_default_random() = CGAL::Random(options.seed);
