@@ -19,10 +19,11 @@ if(TACTUS_BUILD_FUZZ AND NOT TACTUS_SANITIZE STREQUAL "address")
   # The fuzz targets run under ASan+UBSan, so everything they link is built with them.
   list(APPEND _san -fsanitize=address,undefined -fno-omit-frame-pointer)
 endif()
-# The libraries holding the readers the fuzz targets drive (text, meshes, scenes, packets,
-# recordings) carry libFuzzer's coverage instrumentation; the fuzz targets add its main.
+# The libraries holding the readers the fuzz targets drive (text, meshes, label images,
+# scenes, packets, recordings) carry libFuzzer's coverage instrumentation; the fuzz targets
+# add its main.
 # Linked into an ordinary test the instrumentation calls the sanitizer runtime's empty hooks.
-set(TACTUS_FUZZED_LIBRARIES core mesh scene haptics runtime_recording)
+set(TACTUS_FUZZED_LIBRARIES core mesh imaging scene haptics runtime_recording)
 if(_san)
   # Tests use it to shrink or skip accuracy studies that take minutes under sanitizers.
   target_compile_definitions(tactus_options INTERFACE TACTUS_SANITIZED=1)

@@ -1,5 +1,11 @@
-// `tactus mesh`: convert between formats, generate shapes, tetrahedralize closed surfaces.
+// `tactus mesh`: convert between formats, generate shapes, tetrahedralize closed surfaces,
+// mesh label images.
+#include <chrono>
+#include <climits>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <map>
 #include <optional>
 
 #include <fmt/format.h>
@@ -8,6 +14,8 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "imaging/label_image.hpp"
+#include "imaging/label_mesher.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/io/mesh_io.hpp"
 #include "mesh/tet_topology.hpp"
@@ -30,7 +38,86 @@ struct MeshOptions {
   bool boundary = false;
   double timeout = 300.0;
   double max_memory_gib = 0.0;
+  // --labels
+  std::string labels;
+  std::optional<double> cell_size;
+  std::vector<std::string> cell_size_label;
+  std::optional<double> facet_distance;
+  double smooth = 0.0;
+  std::vector<double> spacing;
+  std::size_t min_voxels = 8;
+  double sliver_bound = 5.0;
 };
+
+/// "L=SIZE" of --cell-size-label.
+std::pair<std::int32_t, double> label_size(const std::string& text) {
+  const auto eq = text.find('=');
+  const std::string bad = "--cell-size-label '" + text + "': expected LABEL=SIZE, e.g. 3=0.002";
+  if (eq == std::string::npos) throw InputError(bad);
+  try {
+    std::size_t used = 0;
+    const long label = std::stol(text.substr(0, eq), &used);
+    if (used != eq || label == 0 || label < INT32_MIN || label > INT32_MAX) throw InputError(bad);
+    const std::string size_text = text.substr(eq + 1);
+    const double size = std::stod(size_text, &used);
+    if (used != size_text.size() || !(size > 0.0)) throw InputError(bad);
+    return {static_cast<std::int32_t>(label), size};
+  } catch (const std::logic_error&) {
+    throw InputError(bad);
+  }
+}
+
+int mesh_labels(const MeshOptions& o) {
+  if (!o.cell_size) throw InputError("--labels needs --cell-size (metres)");
+  std::optional<Vec3> spacing;
+  if (!o.spacing.empty()) {
+    if (o.spacing.size() != 3) throw InputError("--spacing: expected SX,SY,SZ (metres)");
+    spacing = Vec3(o.spacing[0], o.spacing[1], o.spacing[2]);
+  }
+  const auto format = mesh::format_from_path(o.output);
+  if (format != mesh::MeshFormat::vtu && format != mesh::MeshFormat::vtk && format != mesh::MeshFormat::msh &&
+      format != mesh::MeshFormat::tetgen)
+    throw InputError(SourceLocation{o.output, {}, {}, {}}, "a labelled mesh is written as .vtu, .vtk, .msh or TetGen");
+  const imaging::LabelImage image = imaging::read_label_image(o.labels, spacing);
+  imaging::LabelMeshOptions mo;
+  mo.cell_size = *o.cell_size;
+  for (const auto& text : o.cell_size_label) {
+    const auto entry = label_size(text);
+    mo.cell_size_by_label[entry.first] = entry.second;
+  }
+  mo.facet_distance = o.facet_distance;
+  mo.smooth_sigma = o.smooth;
+  mo.min_voxels = o.min_voxels;
+  mo.sliver_bound_deg = o.sliver_bound;
+  mo.progress = true;  // Progress itself stays quiet under CI
+  const auto start = std::chrono::steady_clock::now();
+  const mesh::TetMesh tets = imaging::mesh_label_image(image, mo);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  mesh::write_mesh(o.output, tets, mesh::WriteOptions{o.binary, o.msh_version});
+  std::printf("%s: %zu nodes, %zu tetrahedra, %.1f s\n", o.output.c_str(), tets.vertices.size(), tets.tets.size(),
+              seconds);
+  std::map<int, std::pair<std::size_t, double>> by_label;
+  for (std::size_t t = 0; t < tets.tets.size(); ++t) {
+    auto& entry = by_label[tets.tet_regions[t]];
+    ++entry.first;
+    entry.second += tets.tet_volume(t);
+  }
+  const auto counts = imaging::count_labels(image);
+  std::printf("%8s %10s %12s %14s %14s\n", "label", "voxels", "tetrahedra", "volume [m³]", "voxels [m³]");
+  std::string lost;
+  for (const auto& c : counts) {
+    const auto& entry = by_label[c.label];
+    const double voxels = static_cast<double>(c.voxels) * image.voxel_volume();
+    std::printf("%8d %10zu %12zu %14.6g %14.6g\n", c.label, c.voxels, entry.first, entry.second, voxels);
+    // A label thinner than the cells (a sheet one voxel thick) can be meshed to a sliver of itself.
+    if (std::abs(entry.second / voxels - 1.0) > 0.25)
+      lost.append(fmt::format("{}{} ({:.0f}%)", lost.empty() ? "" : ", ", c.label, 100.0 * entry.second / voxels));
+  }
+  if (!lost.empty())
+    std::fprintf(stderr, "tactus: %s: warning: meshed volume far from the voxels' for label %s; give the label a "
+                 "smaller --cell-size-label, or less --smooth\n", o.labels.c_str(), lost.c_str());
+  return 0;
+}
 
 mesh::TetGenBudget budget(const MeshOptions& o) {
   mesh::TetGenBudget b;
@@ -113,6 +200,26 @@ Action add_mesh(CLI::App& app) {
   app.add_flag("--binary", o->binary, "STL and PLY: write binary (little endian)");
   app.add_option("--msh-version", o->msh_version, "Gmsh output version: 22 or 41")->check(CLI::IsMember({22, 41}));
   app.add_flag("--boundary", o->boundary, "Write the boundary surface of a volume mesh");
+  app.add_option("--labels", o->labels,
+                 "Mesh a label image: .nii, .nii.gz, .nrrd, or a directory/glob of PNG slices; every nonzero "
+                 "label becomes a region (tet_regions) of one tetrahedral mesh");
+  app.add_option("--cell-size", o->cell_size, "--labels: largest tetrahedron circumradius [m]")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--cell-size-label", o->cell_size_label, "--labels: LABEL=SIZE, that label's cell size [m]; repeat");
+  app.add_option("--facet-distance", o->facet_distance,
+                 "--labels: largest distance from a boundary facet to the label boundary [m] (default: half the "
+                 "smallest voxel spacing)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--smooth", o->smooth,
+                 "--labels: Gaussian smoothing of the label boundaries, sigma in units of the smallest voxel "
+                 "spacing (0: none; 0.75 to 1 removes the voxel staircase)")
+      ->check(CLI::Range(0.0, 20.0));
+  app.add_option("--spacing", o->spacing, "--labels with PNG slices: voxel spacing SX,SY,SZ [m]")->delimiter(',');
+  app.add_option("--min-voxels", o->min_voxels, "--labels: refuse a label with fewer voxels (default 8)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000'000}));
+  app.add_option("--sliver-bound", o->sliver_bound,
+                 "--labels: smallest dihedral angle [°] the optimizers aim for (default 5; 8 takes ten times longer)")
+      ->check(CLI::Range(0.0, 15.0));
   app.footer(
       "Without tetrahedralization options the input is converted (a volume stays a volume).\n"
       "Tetrahedralization stops at --timeout (and --max-memory) with an error naming the option.\n"
@@ -120,9 +227,16 @@ Action add_mesh(CLI::App& app) {
       "Examples:\n"
       "  tactus mesh --generate organ --size 0.22 -o organ.stl\n"
       "  tactus mesh organ.stl -o organ.msh --max-volume 2e-7 --quality 1.4\n"
-      "  tactus mesh organ.msh -o organ.vtu");
+      "  tactus mesh organ.msh -o organ.vtu\n"
+      "  tactus mesh --labels segmentation.nii.gz -o tissue.vtu --cell-size 0.002 --smooth 1\n"
+      "  tactus mesh --labels 'slices/*.png' --spacing 5e-4,5e-4,1e-3 -o tissue.msh --cell-size 0.003");
 
   return [o] {
+    if (!o->labels.empty()) {
+      if (!o->input.empty() || !o->generate.empty())
+        throw InputError("give either --labels IMAGE, an input mesh or --generate SHAPE");
+      return mesh_labels(*o);
+    }
     if (o->input.empty() && o->generate.empty()) throw InputError("give an input mesh or --generate SHAPE");
     if (!o->input.empty() && !o->generate.empty())
       throw InputError("give either an input mesh or --generate SHAPE, not both");
