@@ -326,8 +326,9 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   // §IV: the cursor's position and its finite velocity bound the contact region).
   s.patch_radius = extent + a->max_tool_speed / m.rates.simulation;
   // A two-finger grasp holds the fabric at the pads' centre, on this fingertip's surface: the
-  // patch must keep whole the triangles around that point, up to an edge length further.
-  if (two_fingers) s.patch_radius += longest_edge(m.bodies[s.bodies.front()].surface);
+  // patch keeps whole every triangle with a corner in its sphere, and a point of a triangle
+  // lies within (its longest edge)/√3 of one of its corners (the circumradius bounds it).
+  if (two_fingers) s.patch_radius += longest_edge(m.bodies[s.bodies.front()].surface) / std::sqrt(3.0);
   // Sized to the surface: a patch cut short of its radius leaves the tool at the patch's open
   // rim between steps, where the proxy slips off the edge and the force jumps.
   if (s.local_model != contact::LocalModelKind::plane)
