@@ -173,16 +173,19 @@ std::optional<double> scripted_length(const scene::Model& m) {
   return longest;
 }
 
-/// --trace DIR: the force magnitudes per frame and the ruptures as CSV, and their plot through
-/// scripts/plot_forces.py when matplotlib is there (seed 003 Figs. 7–8).
+/// --trace DIR: the force magnitudes per frame, the ruptures and the two-finger contact states
+/// as CSV, and their plot through scripts/plot_forces.py when matplotlib is there (seed 003
+/// Figs. 7–8).
 void write_trace(const RunFlags& f, const scene::Model& model, const runtime::SessionReport& report) {
   namespace fs = std::filesystem;
   fs::create_directories(f.trace);
   const fs::path forces = fs::path(f.trace) / (model.name + "_forces.csv");
   const fs::path ruptures = fs::path(f.trace) / (model.name + "_ruptures.csv");
+  const fs::path states = fs::path(f.trace) / (model.name + "_states.csv");
   write_text(forces.string(), report::force_trace_csv(model, report));
   write_text(ruptures.string(), report::rupture_csv(report));
-  std::printf("force trace: %s, %s\n", forces.c_str(), ruptures.c_str());
+  write_text(states.string(), report::contact_state_csv(model, report));
+  std::printf("force trace: %s, %s, %s\n", forces.c_str(), ruptures.c_str(), states.c_str());
   const fs::path script = f.scene.empty() ? fs::path("scripts/plot_forces.py")
                                           : fs::path(f.scene).parent_path() / ".." / "scripts" / "plot_forces.py";
   const std::string python = curves::find_matplotlib_python();
@@ -192,6 +195,7 @@ void write_trace(const RunFlags& f, const scene::Model& model, const runtime::Se
     return;
   }
   const std::string command = fmt::format("'{}' '{}' '{}' '{}'", python, script.string(), f.trace, model.name);
+  std::fflush(stdout);  // our lines first, then the script's
   if (std::system(command.c_str()) != 0) throw std::runtime_error("the force plot failed: " + command);
 }
 

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
+#include <vector>
 
 #include "core/error.hpp"
 #include "physics/fem/tet_fem.hpp"
@@ -13,7 +15,7 @@
 namespace tactus::compile {
 namespace {
 
-std::shared_ptr<const physics::ForceModel> fem_model(const scene::Body& b, const scene::Material& m) {
+physics::FemMaterial fem_material(const scene::Material& m) {
   if (!m.law) throw InputError("a mass_spring material cannot drive a FEM body");
   physics::FemMaterial fm;
   fm.law = *m.law;
@@ -41,8 +43,35 @@ std::shared_ptr<const physics::ForceModel> fem_model(const scene::Body& b, const
       fm.prony_relaxes_bulk = true;
       break;
   }
+  return fm;
+}
+
+/// The body's FEM: one material, or its regions' (Body::region_materials; the scene has
+/// checked that they share the law, damping and viscoelasticity).
+std::shared_ptr<const physics::ForceModel> fem_model(const scene::Model& model, const scene::Body& b) {
+  std::vector<physics::FemMaterial> materials{fem_material(model.materials[*b.material])};
+  std::vector<std::int32_t> element_material;
+  if (!b.region_materials.empty()) {
+    std::vector<std::size_t> used{*b.material};  // scene material of each FEM material
+    std::map<int, std::int32_t> of_tag;
+    for (const auto& [tag, m] : b.region_materials) {
+      auto it = std::find(used.begin(), used.end(), m);
+      if (it == used.end()) {
+        used.push_back(m);
+        materials.push_back(fem_material(model.materials[m]));
+        it = used.end() - 1;
+      }
+      of_tag[tag] = static_cast<std::int32_t>(it - used.begin());
+    }
+    element_material.reserve(b.volume->tets.size());
+    for (const int tag : b.volume->tet_regions) {
+      const auto it = of_tag.find(tag);
+      element_material.push_back(it == of_tag.end() ? 0 : it->second);
+    }
+  }
   return std::make_shared<physics::TetFem>(
-      *b.volume, fm, b.mass_matrix == scene::MassMatrix::consistent ? physics::FemMass::consistent : physics::FemMass::lumped);
+      *b.volume, materials, element_material,
+      b.mass_matrix == scene::MassMatrix::consistent ? physics::FemMass::consistent : physics::FemMass::lumped);
 }
 
 /// Maxwell arms relative to the long-term stiffness from a scene's viscoelastic table (whose
@@ -150,7 +179,7 @@ physics::Body make_physics_body(const scene::Model& model, std::size_t index) {
   physics::Body body;
   try {
     switch (b.kind) {
-      case scene::BodyKind::fem: body.model = fem_model(b, m); break;
+      case scene::BodyKind::fem: body.model = fem_model(model, b); break;
       case scene::BodyKind::tet_mass_spring: body.model = tet_spring_model(b, m); break;
       case scene::BodyKind::surface_mass_spring: body.model = surface_spring_model(b, m); break;
       case scene::BodyKind::rigid:

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "contact/grasp_state.hpp"
+
 namespace tactus::report {
 
 // A report reads what a run left: its loops' statistics, frames and events.
@@ -66,6 +68,15 @@ std::string force_trace_csv(const scene::Model& model, const SessionReport& repo
   for (const HapticFrame& f : report.frames) {
     const std::string& device = f.device < model.devices.size() ? model.devices[f.device].name : std::string("?");
     csv += fmt::format("{:.4f},{},{:.5f},{}\n", f.t, device, f.force.norm(), int(f.contact));
+  }
+  return csv;
+}
+
+std::string contact_state_csv(const scene::Model& model, const SessionReport& report) {
+  std::string csv = "t,device,state\n";
+  for (const ContactStateChange& c : report.contact_states) {
+    const std::string& device = c.device < model.devices.size() ? model.devices[c.device].name : std::string("?");
+    csv += fmt::format("{:.4f},{},{}\n", c.t, device, contact::name(static_cast<contact::ContactState>(c.state)));
   }
   return csv;
 }

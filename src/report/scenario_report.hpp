@@ -23,4 +23,8 @@ namespace tactus::report {
 /// One row per needle rupture: `t,device,layer,force,threshold`.
 [[nodiscard]] std::string rupture_csv(const runtime::SessionReport& report);
 
+/// One row per two-finger contact state that begins: `t,device,state` with the state's
+/// numeral of seed 002 Table I (I–IX).
+[[nodiscard]] std::string contact_state_csv(const scene::Model& model, const runtime::SessionReport& report);
+
 }  // namespace tactus::report

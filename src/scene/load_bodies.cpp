@@ -1,5 +1,6 @@
 // bodies.<name>: kind, material, mesh (file or generator), fixed regions, time stepping.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <map>
 #include <set>
@@ -18,6 +19,53 @@
 namespace tactus::scene::detail {
 
 namespace {
+
+/// Whether two materials behave alike but for their elastic constants and density: the same
+/// law, damping and viscoelasticity (what the regions of one FEM body share).
+bool same_behaviour(const Material& a, const Material& b) {
+  const auto& va = a.viscoelastic;
+  const auto& vb = b.viscoelastic;
+  bool same = a.law == b.law && a.damping.rayleigh_alpha == b.damping.rayleigh_alpha &&
+              a.damping.rayleigh_beta == b.damping.rayleigh_beta && va.model == vb.model && va.tau == vb.tau &&
+              va.long_term_fraction == vb.long_term_fraction && va.prony.size() == vb.prony.size();
+  for (std::size_t k = 0; same && k < va.prony.size(); ++k)
+    same = va.prony[k].g == vb.prony[k].g && va.prony[k].tau == vb.prony[k].tau;
+  return same;
+}
+
+/// bodies.<name>.regions: region tag = "material", for the volume mesh's tagged tetrahedra.
+void read_region_materials(Reader& r, Body& b, const Model& model) {
+  if (b.kind != BodyKind::fem)
+    r.fail_here("regions give a 'fem' body's tagged tetrahedra their own materials; a '" +
+                std::string(to_string(b.kind)) + "' body takes one material");
+  if (!b.volume || b.volume->tet_regions.empty())
+    r.fail_here("the mesh " + b.mesh_source + " tags no regions (Gmsh physical tags, VTK cell data 'region', "
+                "TetGen region attributes, or `tactus mesh --labels`)");
+  const std::set<int> present(b.volume->tet_regions.begin(), b.volume->tet_regions.end());
+  std::vector<std::string> keys;
+  for (auto&& [key, node] : r.table()) keys.emplace_back(key.str());
+  for (const std::string& key : keys) {
+    int tag = 0;
+    const auto [end, error] = std::from_chars(key.data(), key.data() + key.size(), tag);
+    if (error != std::errc() || end != key.data() + key.size())
+      r.fail(key, "a region is named by its integer tag in the mesh, not '" + key + "'");
+    if (!present.count(tag)) {
+      std::string tags;
+      for (const int t : present) tags += (tags.empty() ? "" : ", ") + std::to_string(t);
+      r.fail(key, fmt::format("the mesh {} has no region {} (its regions: {})", b.mesh_source, tag, tags));
+    }
+    const std::string name = r.required_string(key);
+    const std::size_t m = resolve_name(r, key, name, model.materials, "material");
+    if (!model.materials[m].law)
+      r.fail(key, "material '" + name + "' has model 'mass_spring'; a 'fem' body's region needs a continuum model");
+    if (!same_behaviour(model.materials[m], model.materials[*b.material]))
+      r.fail(key, "material '" + name + "' differs from the body's material '" + model.materials[*b.material].name +
+                      "' in its model, damping or viscoelasticity; the regions of one body share those and differ in "
+                      "elastic constants and density");
+    b.region_materials.emplace_back(tag, m);
+  }
+  r.finish();
+}
 
 struct LoadedMesh {
   std::optional<mesh::TriMesh> surface;
@@ -461,6 +509,7 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
   }
 
   if (b.kind != BodyKind::cloth) attach_mesh(r, b, read_mesh_key(r, b.volumetric()));
+  if (auto regions = r.table("regions")) read_region_materials(*regions, b, model);
 
   if (rigid) {
     if (r.table().contains("fixed")) r.fail("fixed", "a rigid body does not move; it takes no fixed regions");

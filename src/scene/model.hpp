@@ -183,6 +183,10 @@ struct Body {
   BodyKind kind = BodyKind::fem;
   /// Index into Model::materials; empty only for a rigid body given no material.
   std::optional<std::size_t> material;
+  /// fem bodies: the materials of the volume mesh's regions (its tet_regions tags, e.g. a
+  /// label image's labels), tag → index into Model::materials; tags not listed take
+  /// `material`. The regions share the law, damping and viscoelasticity (checked at load).
+  std::vector<std::pair<int, std::size_t>> region_materials;
   /// Where the mesh came from: the resolved file path or the generator call.
   std::string mesh_source;
 

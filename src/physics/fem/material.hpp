@@ -19,6 +19,7 @@ std::string_view to_string(FemLaw law);
 struct PronyTerm {
   double weight = 0.0;  ///< g_i, normalized (0, 1); the weights sum below 1
   double tau = 1.0;     ///< relaxation time tau_i [s]
+  friend bool operator==(const PronyTerm&, const PronyTerm&) = default;
 };
 
 struct FemMaterial {

@@ -7,6 +7,8 @@
 #include <span>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "core/error.hpp"
 #include "core/parallel.hpp"
 #include "physics/fem/polar.hpp"
@@ -120,8 +122,30 @@ struct StoreColumns {
 }  // namespace
 
 TetFem::TetFem(const mesh::TetMesh& mesh, const FemMaterial& material, FemMass mass)
-    : material_(material), law_(LawParams::from(material)), mass_kind_(mass) {
-  material_.validate();
+    : TetFem(mesh, std::span<const FemMaterial>(&material, 1), {}, mass) {}
+
+TetFem::TetFem(const mesh::TetMesh& mesh, std::span<const FemMaterial> materials,
+               std::span<const std::int32_t> element_material, FemMass mass)
+    : material_(materials.empty() ? FemMaterial{} : materials.front()), mass_kind_(mass) {
+  if (materials.empty()) throw InputError("a FEM body needs at least one material");
+  if (!element_material.empty() && element_material.size() != mesh.tets.size())
+    throw InputError(fmt::format("{} element materials given for {} tetrahedra", element_material.size(),
+                                 mesh.tets.size()));
+  // One law, damping and relaxation for the whole body (they shape the system and its
+  // internal variables); each region its own elastic constants and density.
+  for (std::size_t k = 0; k < materials.size(); ++k) {
+    const FemMaterial& m = materials[k];
+    m.validate();
+    if (k > 0 && (m.law != material_.law || m.rayleigh_mass != material_.rayleigh_mass ||
+                  m.rayleigh_stiffness != material_.rayleigh_stiffness || m.prony != material_.prony ||
+                  m.prony_relaxes_bulk != material_.prony_relaxes_bulk || m.project_tangent != material_.project_tangent))
+      throw InputError(fmt::format("material {} of a FEM body differs from the first in its law, damping or relaxation; "
+                                   "the regions of one body share those and differ in elastic constants and density",
+                                   k));
+    laws_.push_back(LawParams::from(m));
+    densities_.push_back(m.density);
+  }
+  law_ = laws_.front();
   const auto n = static_cast<Eigen::Index>(mesh.vertices.size());
   rest_.resize(3 * n);
   for (Eigen::Index i = 0; i < n; ++i) rest_.segment<3>(3 * i) = mesh.vertices[static_cast<std::size_t>(i)];
@@ -134,6 +158,12 @@ TetFem::TetFem(const mesh::TetMesh& mesh, const FemMaterial& material, FemMass m
       if (v < 0 || v >= n)
         throw InputError("tet " + std::to_string(t) + " refers to vertex " + std::to_string(v) + ", out of range");
       el.nodes[static_cast<std::size_t>(a)] = v;
+    }
+    if (!element_material.empty()) {
+      el.material = element_material[t];
+      if (el.material < 0 || static_cast<std::size_t>(el.material) >= materials.size())
+        throw InputError(fmt::format("tet {} has material {}, out of range (the body has {})", t, el.material,
+                                     materials.size()));
     }
     const Vec3 x0 = rest_.segment<3>(3 * el.nodes[0]);
     Mat3 Dm;
@@ -152,7 +182,7 @@ TetFem::TetFem(const mesh::TetMesh& mesh, const FemMaterial& material, FemMass m
     for (int a = 1; a < 4; ++a) el.grad.col(a) = inv.row(a - 1).transpose();
     el.grad.col(0) = -(el.grad.col(1) + el.grad.col(2) + el.grad.col(3));
     el.sgrad = std::sqrt(el.volume) * el.grad;
-    const double m = material_.density * el.volume / 4.0;  // lumped: a quarter per node
+    const double m = density_of(el) * el.volume / 4.0;  // lumped: a quarter per node
     for (int a = 0; a < 4; ++a) mass_.segment<3>(3 * el.nodes[static_cast<std::size_t>(a)]).array() += m;
     elements_.push_back(el);
   }
@@ -338,11 +368,12 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
       const Mat34& g = c.rotated_grad[e];
       Mat3 D = -std::sqrt(el.volume) * Mat3::Identity();
       for (int a = 0; a < 4; ++a) D.noalias() += x.segment<3>(node(a)) * g.col(a).transpose();
-      Mat3 S = hooke_of_gradient(law_.lambda, law_.mu, D);
+      const LawParams& law = law_of(el);
+      Mat3 S = hooke_of_gradient(law.lambda, law.mu, D);
       if (damped) {
         Mat3 Dv = Mat3::Zero();
         for (int a = 0; a < 4; ++a) Dv.noalias() += v.segment<3>(node(a)) * g.col(a).transpose();
-        S += beta * hooke_of_gradient(law_.lambda, law_.mu, Dv);
+        S += beta * hooke_of_gradient(law.lambda, law.mu, Dv);
       }
       if (viscous) {
         // Branch stresses live in the corotated frame: V R s g_a = sqrt(V) (R s R^T) g^R_a.
@@ -354,21 +385,22 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
       return;
     }
     const Mat3 F = gradient_of(x, el);
+    const LawParams& law = law_of(el);
     Mat3 P;
     if (hyper) {
-      hyperelastic_stress_tangent(law_, F, P, nullptr);
+      hyperelastic_stress_tangent(law, F, P, nullptr);
       // Branch stresses are second Piola-Kirchhoff stresses: P = F (S0 + offset).
       if (viscous) P += F * prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
       if (damped) {
         const Mat3& R = c.rotation[e];
-        P += R * (beta * hooke_of_gradient(law_.lambda, law_.mu, R.transpose() * gradient_of(v, el)));
+        P += R * (beta * hooke_of_gradient(law.lambda, law.mu, R.transpose() * gradient_of(v, el)));
       }
     } else {
       // Linear law: small-strain stress of the displacement gradient F - I.
       Mat3 H = F;
       H.diagonal().array() -= 1.0;
-      P = hooke_of_gradient(law_.lambda, law_.mu, H);
-      if (damped) P += beta * hooke_of_gradient(law_.lambda, law_.mu, gradient_of(v, el));
+      P = hooke_of_gradient(law.lambda, law.mu, H);
+      if (damped) P += beta * hooke_of_gradient(law.lambda, law.mu, gradient_of(v, el));
       if (viscous) P += prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
     }
     P *= el.volume;
@@ -403,7 +435,6 @@ void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, cons
   const double beta = material_.rayleigh_stiffness;
   const bool damped = beta > 0.0 && v.size() == x.size();
   const bool viscous = q_stride_ > 0 && static_cast<std::size_t>(q.size()) == internal_size();
-  const double lambda = law_.lambda, mu = law_.mu;
   auto kernel = [&](std::size_t begin, std::size_t end, auto sink) {
     Columns out;
     for (std::size_t e = begin; e < end; ++e) {
@@ -421,7 +452,7 @@ void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, cons
       difference_gradient(d, g, D);
       const double root_volume = std::sqrt(el.volume);
       for (int i = 0; i < 3; ++i) D[i][i] -= root_volume;
-      hooke_columns(D, g, lambda, mu, -1.0, out);
+      hooke_columns(D, g, law_of(el).lambda, law_of(el).mu, -1.0, out);
       if (viscous) {
         // Branch stresses in the corotated frame, as in forces().
         Mat3 offset = prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
@@ -462,7 +493,7 @@ void TetFem::linearize_tangent(const VecX& x, const VecX&, const VecX& q, Scratc
     Mat3 P;
     for (std::size_t e = begin; e < end; ++e) {
       Mat9& A = c.tangent[e];
-      hyperelastic_stress_tangent(law_, gradient_of(x, elements_[e]), P, &A);
+      hyperelastic_stress_tangent(law_of(elements_[e]), gradient_of(x, elements_[e]), P, &A);
       if (viscous) {
         // d(F O)/dF for the branches' constant offset O: dP_ij/dF_kl = delta_ik O_lj (a
         // geometric stiffness, like the one of the elastic stress).
@@ -482,7 +513,6 @@ void TetFem::rest_stiffness_columns(const VecX& dx, double scale, std::size_t be
   // (R K0 R^T dx)_a = V R hooke(R^T dF) g_a with dF = sum_b dx_b g_b^T. Since
   // R hooke(R^T dF) g_a = hooke(D) R g_a with D = sum_b dx_b (R g_b)^T, the rotated element
   // is the linear kernel on rotated gradients: about 90 flops per element, no 12x12 block.
-  const double lambda = scale * law_.lambda, mu = scale * law_.mu;
   Columns out;
   for (std::size_t e = begin; e < end; ++e) {
     const TetElement& el = elements_[e];
@@ -490,7 +520,7 @@ void TetFem::rest_stiffness_columns(const VecX& dx, double scale, std::size_t be
     double d[3][3] = {}, D[3][3];
     add_differences(dx.data(), node_offsets(el), 1.0, d);
     difference_gradient(d, g, D);
-    hooke_columns(D, g, lambda, mu, 1.0, out);
+    hooke_columns(D, g, scale * law_of(el).lambda, scale * law_of(el).mu, 1.0, out);
     sink(e, out);
   }
 }
@@ -499,7 +529,6 @@ template <class Sink>
 void TetFem::tangent_columns(const VecX& dx, double c_tangent, double b_rest, std::size_t begin, std::size_t end,
                              const Cache& c, Sink sink) const {
   // c·(tangent) dx plus, when b_rest != 0, b_rest·(rotated rest stiffness) dx.
-  const double lambda = b_rest * law_.lambda, mu = b_rest * law_.mu;
   Columns out, rest;
   for (std::size_t e = begin; e < end; ++e) {
     const TetElement& el = elements_[e];
@@ -513,7 +542,7 @@ void TetFem::tangent_columns(const VecX& dx, double c_tangent, double b_rest, st
       double d[3][3] = {}, D[3][3];
       add_differences(dx.data(), node_offsets(el), 1.0, d);
       difference_gradient(d, c.rotated_grad[e], D);
-      hooke_columns(D, c.rotated_grad[e], lambda, mu, 1.0, rest);
+      hooke_columns(D, c.rotated_grad[e], b_rest * law_of(el).lambda, b_rest * law_of(el).mu, 1.0, rest);
       for (std::size_t a = 0; a < 4; ++a)
         for (std::size_t i = 0; i < 3; ++i) out[a][i] += rest[a][i];
     }
@@ -546,12 +575,11 @@ void TetFem::add_consistent_mass(double scale, const VecX& in, VecX& out) const 
   if (mass_kind_ != FemMass::consistent) return;
   // Serial, in element order: the sums are the same whatever the thread count.
   out += scale * consistent_own_.cwiseProduct(in);
-  const double per_volume = scale * material_.density / 20.0;
   for (const TetElement& el : elements_) {
     const auto n = node_offsets(el);
     Vec3 sum = Vec3::Zero();
     for (std::size_t a = 0; a < 4; ++a) sum += in.segment<3>(n[a]);
-    sum *= per_volume * el.volume;
+    sum *= (scale * density_of(el) / 20.0) * el.volume;
     for (std::size_t a = 0; a < 4; ++a) out.segment<3>(n[a]) += sum;
   }
 }
@@ -572,7 +600,7 @@ void TetFem::add_mass_triplets(double scale, std::vector<Triplet>& out) const {
   // no element uses keep their lumped mass.
   out.reserve(out.size() + 48 * elements_.size() + static_cast<std::size_t>(mass_.size()));
   for (const TetElement& el : elements_) {
-    const double m = scale * material_.density * el.volume / 20.0;
+    const double m = scale * density_of(el) * el.volume / 20.0;
     for (std::size_t a = 0; a < 4; ++a)
       for (std::size_t b = 0; b < 4; ++b)
         for (int i = 0; i < 3; ++i)
@@ -603,8 +631,9 @@ void TetFem::add_diagonal(double a, double b, VecX& out, const Scratch& s) const
       auto d = out.segment<3>(3 * el.nodes[static_cast<std::size_t>(n)]);
       if (rest_weight != 0.0) {
         const Vec3 rg = rotated() ? Vec3(c.rotation[e] * g) : g;
+        const LawParams& law = law_of(el);
         d.array() += rest_weight * el.volume *
-                     (law_.mu * g.squaredNorm() + (law_.lambda + law_.mu) * rg.array().square());
+                     (law.mu * g.squaredNorm() + (law.lambda + law.mu) * rg.array().square());
       }
       if (hyper && a != 0.0) {
         // K_aa(i, i) = V sum_jl A(i + 3j, i + 3l) g_j g_l.
@@ -633,8 +662,7 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
   // Element block (a, b) of R K0 R^T: lambda r_a r_b^T + mu r_b r_a^T + mu (r_a . r_b) I with
   // r = sqrt(V) R g (the columns of the rotated gradients). Computed from local copies into a
   // local block, so the compiler need not reload anything after each store into the matrix.
-  const double lambda = stiffness * law_.lambda, mu = stiffness * law_.mu;
-  auto add_block = [lambda, mu](const double (&ra)[3], const double (&rb)[3], double* out) {
+  auto add_block = [](double lambda, double mu, const double (&ra)[3], const double (&rb)[3], double* out) {
     double block[9];
     const double diagonal = mu * (ra[0] * rb[0] + ra[1] * rb[1] + ra[2] * rb[2]);
     for (int j = 0; j < 3; ++j)
@@ -644,6 +672,10 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
   };
   const bool consistent = mass_kind_ == FemMass::consistent && mass != 0.0;
   auto gradients = [&](std::size_t e) { return rotated() ? cc.rotated_grad[e].data() : elements_[e].sgrad.data(); };
+  // One region: its constants once, not looked up per block (the row-by-row path visits each
+  // element's blocks from several rows).
+  const bool one_region = laws_.size() == 1;
+  const double lambda_one = stiffness * law_.lambda, mu_one = stiffness * law_.mu;
   if (thread_count() > 1 && elements_.size() >= 2 * kElementGrain) {
     // Row by row on every thread: each diagonal and upper block gathers its elements' terms
     // in element order, so the sums are the serial loop's, bit for bit.
@@ -655,7 +687,8 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
           const auto slot = static_cast<std::size_t>(node_slot_[static_cast<std::size_t>(k)]);
           const double* g = gradients(slot / 4) + 3 * (slot % 4);
           for (int c = 0; c < 3; ++c) ra[c] = g[c];
-          add_block(ra, ra, d);
+          const LawParams& law = law_of(elements_[slot / 4]);
+          add_block(one_region ? lambda_one : stiffness * law.lambda, one_region ? mu_one : stiffness * law.mu, ra, ra, d);
         }
         for (auto k = block_row_start_[i]; k < block_row_start_[i + 1]; ++k) {
           double* out = K.upper[static_cast<std::size_t>(k)].data();
@@ -664,7 +697,7 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
             const auto code = static_cast<std::size_t>(stored >= 0 ? stored : -1 - stored);
             const std::size_t e = code / 6, p = code % 6;
             if (consistent) {
-              const double m = mass * material_.density * elements_[e].volume / 20.0;
+              const double m = mass * density_of(elements_[e]) * elements_[e].volume / 20.0;
               for (int c = 0; c < 3; ++c) out[4 * c] += m;
             }
             const double* g = gradients(e);
@@ -672,10 +705,13 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
               ra[c] = g[3 * kPairs[p][0] + static_cast<std::size_t>(c)];
               rb[c] = g[3 * kPairs[p][1] + static_cast<std::size_t>(c)];
             }
+            const LawParams& law = law_of(elements_[e]);
+            const double lambda = one_region ? lambda_one : stiffness * law.lambda;
+            const double mu = one_region ? mu_one : stiffness * law.mu;
             if (stored >= 0)
-              add_block(ra, rb, out);
+              add_block(lambda, mu, ra, rb, out);
             else
-              add_block(rb, ra, out);
+              add_block(lambda, mu, rb, ra, out);
           }
         }
       }
@@ -687,7 +723,7 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
     const TetElement& el = elements_[e];
     if (consistent) {
       // The consistent mass's off-diagonal blocks rho V/20 I (the diagonal ones are in mass_diagonal_).
-      const double m = mass * material_.density * el.volume / 20.0;
+      const double m = mass * density_of(el) * el.volume / 20.0;
       for (std::size_t p = 0; p < kPairs.size(); ++p) {
         const std::int32_t index = pair_block_[e][p];
         double* block = K.upper[static_cast<std::size_t>(index >= 0 ? index : -1 - index)].data();
@@ -696,16 +732,18 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
     }
     const double* g = gradients(e);  // column a at g + 3 a
     for (int k = 0; k < 12; ++k) r[k / 3][k % 3] = g[k];
-    for (std::size_t n = 0; n < 4; ++n) add_block(r[n], r[n], K.diagonal[static_cast<std::size_t>(el.nodes[n])].data());
+    const double lambda = stiffness * law_of(el).lambda, mu = stiffness * law_of(el).mu;
+    for (std::size_t n = 0; n < 4; ++n)
+      add_block(lambda, mu, r[n], r[n], K.diagonal[static_cast<std::size_t>(el.nodes[n])].data());
     for (std::size_t p = 0; p < kPairs.size(); ++p) {
       const std::int32_t index = pair_block_[e][p];
       const auto& ra = r[kPairs[p][0]];
       const auto& rb = r[kPairs[p][1]];
       // Block (b, a) is the transpose of (a, b): swap the roles where the pair is stored transposed.
       if (index >= 0)
-        add_block(ra, rb, K.upper[static_cast<std::size_t>(index)].data());
+        add_block(lambda, mu, ra, rb, K.upper[static_cast<std::size_t>(index)].data());
       else
-        add_block(rb, ra, K.upper[static_cast<std::size_t>(-1 - index)].data());
+        add_block(lambda, mu, rb, ra, K.upper[static_cast<std::size_t>(-1 - index)].data());
     }
   }
   return &K;
@@ -724,7 +762,8 @@ void TetFem::element_matrix(std::size_t e, double a, double b, const Cache& c, M
     Mat3 S = Mat3::Zero();
     // The linear (rest) stiffness only where it contributes: a hyperelastic tangent without
     // stiffness-proportional damping (static solves) never reads it.
-    auto rest = [&] { return Mat3(R * hooke_of_gradient(law_.lambda, law_.mu, R.transpose() * dF)); };
+    const LawParams& law = law_of(el);
+    auto rest = [&] { return Mat3(R * hooke_of_gradient(law.lambda, law.mu, R.transpose() * dF)); };
     if (hyper) {
       // dF has one nonzero row, so dP = tangent · vec(dF) takes three of the tangent's
       // columns (vec is column-major: entry (dir, m) is dir + 3m).
@@ -780,7 +819,7 @@ void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) cons
           continue;
         }
         Mat3 P;
-        hyperelastic_stress_tangent(law_, F, P, nullptr);
+        hyperelastic_stress_tangent(law_of(elements_[e]), F, P, nullptr);
         const Mat3 F_inv = F.inverse();
         Mat3 S0 = F_inv * P;
         S0 = 0.5 * (S0 + S0.transpose());  // symmetric in exact arithmetic
@@ -795,8 +834,9 @@ void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) cons
       Mat3 grad = corot ? Mat3(c.rotation[e].transpose() * F) : F;
       grad.diagonal().array() -= 1.0;
       const Mat3 eps = 0.5 * (grad + grad.transpose());
+      const LawParams& law = law_of(elements_[e]);
       const Mat3 sbar =
-          material_.prony_relaxes_bulk ? hooke(law_.lambda, law_.mu, eps) : Mat3(2.0 * law_.mu * deviator(eps));
+          material_.prony_relaxes_bulk ? hooke(law.lambda, law.mu, eps) : Mat3(2.0 * law.mu * deviator(eps));
       prony_update(material_.prony, sbar, dt, qe);
     }
   }, kElementGrain);
@@ -804,7 +844,7 @@ void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) cons
 
 double TetFem::elastic_energy(const VecX& x, const VecX&) const {
   double energy = 0.0;
-  for (const TetElement& el : elements_) energy += el.volume * strain_energy_density(law_, gradient_of(x, el));
+  for (const TetElement& el : elements_) energy += el.volume * strain_energy_density(law_of(el), gradient_of(x, el));
   return energy;
 }
 

@@ -1,8 +1,9 @@
 #pragma once
-// Linear tetrahedral (P1) finite elements as a ForceModel: one material over a TetMesh,
+// Linear tetrahedral (P1) finite elements as a ForceModel: one material, or one per region,
 // lumped or consistent mass, Rayleigh damping and optional Prony relaxation.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "mesh/tet_mesh.hpp"
@@ -18,6 +19,7 @@ struct TetElement {
   Eigen::Matrix<double, 3, 4> grad;   ///< shape-function gradients g_a = grad N_a (columns)
   Eigen::Matrix<double, 3, 4> sgrad;  ///< sqrt(volume) * grad, for the stiffness kernel
   double volume = 0.0;                ///< rest volume [m^3]
+  std::int32_t material = 0;          ///< index into the body's materials (its region's)
 };
 
 /// Lumped: ρV/4 on each node of an element. Consistent: the P1 mass matrix
@@ -29,6 +31,12 @@ class TetFem final : public ForceModel {
   /// Throws InputError for an invalid material, an out-of-range node index, or an inverted
   /// or zero-volume rest element (named by its index).
   TetFem(const mesh::TetMesh& mesh, const FemMaterial& material, FemMass mass = FemMass::lumped);
+  /// Regions of one body: element t takes materials[element_material[t]] (all the first when
+  /// element_material is empty). The materials share the law, damping, relaxation and tangent
+  /// projection and differ in elastic constants and density; InputError otherwise, or for an
+  /// index out of range.
+  TetFem(const mesh::TetMesh& mesh, std::span<const FemMaterial> materials,
+         std::span<const std::int32_t> element_material, FemMass mass = FemMass::lumped);
 
   [[nodiscard]] std::size_t node_count() const override { return static_cast<std::size_t>(rest_.size() / 3); }
   [[nodiscard]] const VecX& rest_positions() const override { return rest_; }
@@ -70,6 +78,7 @@ class TetFem final : public ForceModel {
   /// +infinity (their forces stay bounded through an inversion).
   [[nodiscard]] double min_volume_ratio(const VecX& x) const override;
 
+  /// The first region's material (the law, damping and relaxation are every region's).
   [[nodiscard]] const FemMaterial& material() const { return material_; }
   [[nodiscard]] const LawParams& law() const { return law_; }
   [[nodiscard]] const std::vector<TetElement>& elements() const { return elements_; }
@@ -103,6 +112,8 @@ class TetFem final : public ForceModel {
   void gather(const Cache& c, double mass_scale, const VecX& in, VecX& out) const;
   void element_matrix(std::size_t e, double a, double b, const Cache& c, Eigen::Matrix<double, 12, 12>& k) const;
   [[nodiscard]] bool rotated() const { return law_.law != FemLaw::linear; }
+  [[nodiscard]] const LawParams& law_of(const TetElement& el) const { return laws_[static_cast<std::size_t>(el.material)]; }
+  [[nodiscard]] double density_of(const TetElement& el) const { return densities_[static_cast<std::size_t>(el.material)]; }
   [[nodiscard]] bool hyperelastic() const { return law_.law != FemLaw::linear && law_.law != FemLaw::corotational; }
   /// The share of a mass term accumulate() adds node by node: all of it for the lumped mass;
   /// none for the consistent one, which add_mass_product() adds after the element pass.
@@ -111,7 +122,9 @@ class TetFem final : public ForceModel {
   void add_consistent_mass(double scale, const VecX& in, VecX& out) const;
 
   FemMaterial material_;
-  LawParams law_;
+  LawParams law_;  ///< the first region's
+  std::vector<LawParams> laws_;   ///< per region
+  std::vector<double> densities_; ///< per region [kg/m^3]
   FemMass mass_kind_ = FemMass::lumped;
   std::vector<TetElement> elements_;
   VecX rest_, mass_;
