@@ -31,6 +31,15 @@ ModelIdentity identify(const physics::Body& body, const SpaceSettings& settings,
                      m.bulk_modulus.value_or(-1.0), m.inversion_threshold})
       model.add_value(v);
     model.add_value(m.project_tangent);
+    // Regions (a single-region body hashes as before, so its files stay valid): each
+    // region's constants and each element's region.
+    if (fem->materials().size() > 1) {
+      for (const auto& r : fem->materials())
+        for (double v : {r.young_modulus, r.poisson_ratio, r.density, r.c10.value_or(-1.0), r.c01.value_or(-1.0),
+                         r.bulk_modulus.value_or(-1.0), r.inversion_threshold})
+          model.add_value(v);
+      for (const auto& e : fem->elements()) model.add_value(e.material);
+    }
   }
   model.add(body.fixed_dofs.data(), body.fixed_dofs.size());
   if (settings.gravity) model.add(body.gravity.data(), 3 * sizeof(double));

@@ -76,6 +76,39 @@ TEST(SpaceFile, RefusesAnotherMesh) {
   fs::remove_all(path.parent_path());
 }
 
+TEST(SpaceFile, RegionsOfTheBodyArePartOfItsIdentity) {
+  // The block with its upper layer a second, stiffer region: a space built for it must not be
+  // taken for the one-region block, nor for the same regions with another stiffness or
+  // another split; the one-region block keeps the identity it always had.
+  const physics::Body plain = testing::block_body();
+  const SpaceSettings s = testing::block_settings(plain);
+  const Grid grid = Grid::through(plain.model->rest_positions().segment<3>(3 * s.contact_node), s.bounds_min,
+                                  s.bounds_max, s.spacing);
+  const auto layered = [&](double upper_young, double split_z) {
+    const mesh::TetMesh mesh = mesh::box_volume(Vec3(0.04, 0.04, 0.02), 4, 4, 2);
+    const auto* fem = dynamic_cast<const physics::TetFem*>(plain.model.get());
+    std::vector<physics::FemMaterial> materials{fem->material(), fem->material()};
+    materials[1].young_modulus = upper_young;
+    std::vector<std::int32_t> region;
+    for (const auto& t : mesh.tets) {
+      double z = 0.0;
+      for (const auto v : t) z += 0.25 * mesh.vertices[static_cast<std::size_t>(v)].z();
+      region.push_back(z > split_z ? 1 : 0);
+    }
+    physics::Body body = plain;
+    body.model = std::make_shared<physics::TetFem>(mesh, materials, region);
+    return identify(body, s, grid);
+  };
+  const ModelIdentity one = identify(plain, s, grid);
+  const ModelIdentity two = layered(2e4, 0.0);
+  EXPECT_EQ(two.mesh_hash, one.mesh_hash);
+  EXPECT_NE(two.model_hash, one.model_hash);
+  EXPECT_NE(layered(3e4, 0.0).model_hash, two.model_hash);
+  EXPECT_NE(layered(2e4, -0.009).model_hash, two.model_hash);
+  EXPECT_EQ(layered(2e4, 0.0).model_hash, two.model_hash);
+  EXPECT_THROW(check_identity(two, one, "block.h5"), InputError);
+}
+
 TEST(SpaceFile, MalformedFilesAreInputErrors) {
   const fs::path path = temp_file("bad.h5");
   std::ofstream(path) << "not hdf5";

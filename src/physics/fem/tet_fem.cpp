@@ -142,6 +142,7 @@ TetFem::TetFem(const mesh::TetMesh& mesh, std::span<const FemMaterial> materials
       throw InputError(fmt::format("material {} of a FEM body differs from the first in its law, damping or relaxation; "
                                    "the regions of one body share those and differ in elastic constants and density",
                                    k));
+    materials_.push_back(m);
     laws_.push_back(LawParams::from(m));
     densities_.push_back(m.density);
   }

@@ -80,6 +80,8 @@ class TetFem final : public ForceModel {
 
   /// The first region's material (the law, damping and relaxation are every region's).
   [[nodiscard]] const FemMaterial& material() const { return material_; }
+  /// Every region's material, in the order the elements' `material` indices count.
+  [[nodiscard]] const std::vector<FemMaterial>& materials() const { return materials_; }
   [[nodiscard]] const LawParams& law() const { return law_; }
   [[nodiscard]] const std::vector<TetElement>& elements() const { return elements_; }
   /// F = sum_a x_a g_a^T of element e at positions x.
@@ -123,6 +125,7 @@ class TetFem final : public ForceModel {
 
   FemMaterial material_;
   LawParams law_;  ///< the first region's
+  std::vector<FemMaterial> materials_;  ///< per region
   std::vector<LawParams> laws_;   ///< per region
   std::vector<double> densities_; ///< per region [kg/m^3]
   FemMass mass_kind_ = FemMass::lumped;
