@@ -321,6 +321,10 @@ PointGraspResult PointGrasp::update(PointGraspState& state, const Pose& thumb_po
     target = frame.to_world(state.anchor);
     hold = hold_stiffness_ * (target - point);
   }
+  // Across the plane a pad pushes the fabric with at most the squeeze: the hold into the
+  // plane is bounded by F^N, so it fades with the squeeze as the pads open.
+  const double across = hold.dot(e3);
+  if (std::abs(across) > squeeze) hold -= (across - std::copysign(squeeze, across)) * e3;
 
   state.active = true;
   state.friction = friction;

@@ -136,7 +136,9 @@ class Grasp {
 /// starts, stands for the particles between them (seed 002 §V-D). It is held at its
 /// projection onto the shared contact plane, stored in the shared frame so it moves with the
 /// fingers, by a linear spring; the tangential part of the spring's pull stays within
-/// μ_s·F^N while the grasp sticks, and beyond it the anchor slides so the pull is μ_k·F^N.
+/// μ_s·F^N while the grasp sticks, and beyond it the anchor slides so the pull is μ_k·F^N;
+/// across the plane it is bounded by F^N (a pad pushes no harder than the squeeze), so the
+/// whole hold fades with the squeeze as the pads open.
 /// The pads squeeze each other with the squeeze law; each takes half the reaction of the
 /// hold. update() allocates nothing and throws nothing.
 struct PointGraspState {

@@ -474,6 +474,20 @@ TEST(PointGrasp, HoldsThePointAtItsProjectionSticksThenSlidesAtMuK) {
   const PointGraspResult carried = grasp.update(state, t, i, other, true);
   EXPECT_NEAR((carried.hold - r.hold).norm(), 0.0, 1e-9);
 
+  // Across the plane the hold is bounded by the squeeze: with the pads barely closing and the
+  // point 5 mm off the plane (k·5 mm = 0.95 N), the pull into the plane is F^N.
+  {
+    PointGraspState light;
+    Pose lt = thumb, li = index;
+    lt.position.z() -= 0.5 * 0.75e-3;  // the gap grows by 0.75 mm: depth 0.05 mm
+    li.position.z() += 0.5 * 0.75e-3;
+    const PointGraspResult bounded = grasp.update(light, lt, li, Vec3(0.001, 0.0, 0.005), true);
+    ASSERT_TRUE(bounded.active);
+    const double squeeze = pawluk_howe_newtons(0.05);
+    EXPECT_NEAR(bounded.squeeze_force, squeeze, 1e-9 * squeeze);
+    EXPECT_NEAR(bounded.hold.z(), -squeeze, 1e-12);
+  }
+
   // The pads open: it lets go.
   t.position.z() -= 1e-3;
   EXPECT_FALSE(grasp.update(state, t, i, other, true).active);
