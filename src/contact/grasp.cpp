@@ -14,6 +14,36 @@ bool finite_pose(const Pose& p) {
   return p.position.allFinite() && p.orientation.coeffs().allFinite() && p.orientation.norm() > 0.0;
 }
 
+/// Both fingers with unit orientations, their capsules, and how deep their pads squeeze the
+/// fabric (its thickness minus the capsules' gap).
+struct Pads {
+  Pose thumb, index;
+  Capsule thumb_capsule, index_capsule;
+  CapsulePair pair;
+  double depth = 0.0;
+};
+
+Pads pads_of(const GraspParams& p, const Pose& thumb_pose, const Pose& index_pose) {
+  Pads pads;
+  pads.thumb = thumb_pose;
+  pads.index = index_pose;
+  pads.thumb.orientation.normalize();
+  pads.index.orientation.normalize();
+  pads.thumb_capsule = posed(p.thumb, pads.thumb);
+  pads.index_capsule = posed(p.index, pads.index);
+  pads.pair = capsule_capsule(pads.thumb_capsule, pads.index_capsule);
+  pads.depth = p.fabric_thickness - pads.pair.signed_distance;
+  return pads;
+}
+
+/// The shared frame, with hysteresis on the parallel rule: a grasp that uses it leaves it only
+/// beyond 1.5 times the threshold, so the frame does not flip back and forth.
+SharedFrame frame_of(const GraspParams& p, const Pads& pads, bool active, const SharedFrame& last) {
+  const double sine = std::sin(p.parallel_angle);
+  const double threshold = active && last.parallel ? 1.5 * sine : sine;
+  return shared_frame(p.thumb, pads.thumb, p.index, pads.index, threshold);
+}
+
 Vec3 axis_direction(const Capsule& c) {
   const Vec3 d = c.tip - c.base;
   const double len = d.norm();
@@ -108,13 +138,12 @@ GraspResult Grasp::update(GraspState& state, const Pose& thumb_pose, const Pose&
     out.input_rejected = true;
     return out;
   }
-  Pose tp = thumb_pose, ip = index_pose;
-  tp.orientation.normalize();
-  ip.orientation.normalize();
   const GraspParams& p = params_;
-  const Capsule ct = posed(p.thumb, tp), ci = posed(p.index, ip);
-  const CapsulePair pads = capsule_capsule(ct, ci);
-  const double depth = p.fabric_thickness - pads.signed_distance;
+  const Pads both = pads_of(p, thumb_pose, index_pose);
+  const Capsule& ct = both.thumb_capsule;
+  const Capsule& ci = both.index_capsule;
+  const CapsulePair& pads = both.pair;
+  const double depth = both.depth;
 
   const auto let_go = [&] {
     state.active = false;
@@ -125,11 +154,9 @@ GraspResult Grasp::update(GraspState& state, const Pose& thumb_pose, const Pose&
   };
   if (!(depth > 0.0)) return let_go();
 
-  // Hysteresis on the parallel rule, and targets carried over when the rule changes (the
-  // rules give frames turned about e3), so the targets never jump.
-  const double sine = std::sin(p.parallel_angle);
-  const double threshold = state.active && state.frame.parallel ? 1.5 * sine : sine;
-  const SharedFrame frame = shared_frame(p.thumb, tp, p.index, ip, threshold);
+  // Targets carried over when the frame's rule changes (the rules give frames turned about
+  // e3), so the targets never jump.
+  const SharedFrame frame = frame_of(p, both, state.active, state.frame);
   if (state.active && frame.parallel != state.frame.parallel)
     for (HeldParticle& h : state.held) h.anchor = frame.to_local(state.frame.to_world(h.anchor)).head<2>();
 
@@ -286,19 +313,14 @@ PointGraspResult PointGrasp::update(PointGraspState& state, const Pose& thumb_po
     out.input_rejected = true;
     return let_go();
   }
-  Pose tp = thumb_pose, ip = index_pose;
-  tp.orientation.normalize();
-  ip.orientation.normalize();
   const GraspParams& p = grasp_.params();
-  const CapsulePair pads = capsule_capsule(posed(p.thumb, tp), posed(p.index, ip));
-  const double depth = p.fabric_thickness - pads.signed_distance;
+  const Pads both = pads_of(p, thumb_pose, index_pose);
+  const CapsulePair& pads = both.pair;
+  const double depth = both.depth;
   if (!(depth > 0.0) || !point.allFinite() || !(state.active || may_start)) return let_go();
 
-  // The frame, with the hysteresis of Grasp's parallel rule and the anchor carried over when
-  // the rule changes, so the target never jumps.
-  const double sine = std::sin(p.parallel_angle);
-  const double threshold = state.active && state.frame.parallel ? 1.5 * sine : sine;
-  const SharedFrame frame = shared_frame(p.thumb, tp, p.index, ip, threshold);
+  // The anchor carried over when the frame's rule changes, so the target never jumps.
+  const SharedFrame frame = frame_of(p, both, state.active, state.frame);
   if (!state.active)
     state.anchor = frame.to_local(point).head<2>();  // held where it projects onto the plane
   else if (frame.parallel != state.frame.parallel)
