@@ -65,7 +65,6 @@ struct ContactLoad {
 /// and the index, each on its own device): its pose and its side of the contact.
 struct PeerFinger {
   bool valid = false;             ///< published at least once
-  double t = 0.0;                 ///< loop time of the frame [s]
   Vec3 position = Vec3::Zero();   ///< tool frame origin, scene [m]
   Quat orientation = Quat::Identity();
   bool on_fabric = false;         ///< its V-proxy touches the fabric, or it holds it in the grasp

@@ -179,7 +179,7 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   out.position = f.position;
   out.frame_point = r.frame_point;
   out.tool_axis = r.tool_axis;
-  out.finger = {true, in.t, f.position, f.orientation, r.on_fabric, r.slipping};
+  out.finger = {true, f.position, f.orientation, r.on_fabric, r.slipping};
   if (r.contact_state != 0 && r.contact_state != s.contact_state) {
     emit(out, Kind::contact_state, r.contact_state);
     s.contact_state = r.contact_state;

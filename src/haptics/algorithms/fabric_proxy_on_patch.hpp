@@ -39,9 +39,6 @@ class FabricProxyOnPatch final : public OnPatch {
 
   [[nodiscard]] std::unique_ptr<AlgorithmState> make_state() const override;
   [[nodiscard]] const contact::FabricProxyParams& params() const { return proxy_.params(); }
-  /// The grasp's laws (pad–fabric friction doubled: the sheet rubs on both pads); null
-  /// without a partner.
-  [[nodiscard]] const contact::PointGrasp* grasp() const { return grasp_ ? &*grasp_ : nullptr; }
 
  private:
   struct State final : PatchState {

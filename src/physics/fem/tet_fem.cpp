@@ -126,7 +126,7 @@ TetFem::TetFem(const mesh::TetMesh& mesh, const FemMaterial& material, FemMass m
 
 TetFem::TetFem(const mesh::TetMesh& mesh, std::span<const FemMaterial> materials,
                std::span<const std::int32_t> element_material, FemMass mass)
-    : material_(materials.empty() ? FemMaterial{} : materials.front()), mass_kind_(mass) {
+    : mass_kind_(mass) {
   if (materials.empty()) throw InputError("a FEM body needs at least one material");
   if (!element_material.empty() && element_material.size() != mesh.tets.size())
     throw InputError(fmt::format("{} element materials given for {} tetrahedra", element_material.size(),
@@ -136,9 +136,10 @@ TetFem::TetFem(const mesh::TetMesh& mesh, std::span<const FemMaterial> materials
   for (std::size_t k = 0; k < materials.size(); ++k) {
     const FemMaterial& m = materials[k];
     m.validate();
-    if (k > 0 && (m.law != material_.law || m.rayleigh_mass != material_.rayleigh_mass ||
-                  m.rayleigh_stiffness != material_.rayleigh_stiffness || m.prony != material_.prony ||
-                  m.prony_relaxes_bulk != material_.prony_relaxes_bulk || m.project_tangent != material_.project_tangent))
+    const FemMaterial& first = materials.front();
+    if (k > 0 && (m.law != first.law || m.rayleigh_mass != first.rayleigh_mass ||
+                  m.rayleigh_stiffness != first.rayleigh_stiffness || m.prony != first.prony ||
+                  m.prony_relaxes_bulk != first.prony_relaxes_bulk || m.project_tangent != first.project_tangent))
       throw InputError(fmt::format("material {} of a FEM body differs from the first in its law, damping or relaxation; "
                                    "the regions of one body share those and differ in elastic constants and density",
                                    k));
@@ -146,7 +147,6 @@ TetFem::TetFem(const mesh::TetMesh& mesh, std::span<const FemMaterial> materials
     laws_.push_back(LawParams::from(m));
     densities_.push_back(m.density);
   }
-  law_ = laws_.front();
   const auto n = static_cast<Eigen::Index>(mesh.vertices.size());
   rest_.resize(3 * n);
   for (Eigen::Index i = 0; i < n; ++i) rest_.segment<3>(3 * i) = mesh.vertices[static_cast<std::size_t>(i)];
@@ -202,7 +202,7 @@ TetFem::TetFem(const mesh::TetMesh& mesh, std::span<const FemMaterial> materials
   for (Eigen::Index i = 0; i < mass_.size(); ++i)
     if (!(mass_[i] > 0.0)) mass_[i] = mean > 0.0 ? mean : 1.0;
   if (mass_kind_ == FemMass::lumped) mass_diagonal_ = mass_;
-  q_stride_ = prony_size(material_.prony.size());
+  q_stride_ = prony_size(material().prony.size());
   node_start_.assign(static_cast<std::size_t>(n) + 1, 0);
   for (const auto& el : elements_)
     for (auto v : el.nodes) ++node_start_[static_cast<std::size_t>(v) + 1];
@@ -259,9 +259,9 @@ std::unique_ptr<Scratch> TetFem::make_scratch() const {
     c->rotated_grad.reserve(elements_.size());
     for (const auto& el : elements_) c->rotated_grad.push_back(el.sgrad);
   }
-  if (law_.law != FemLaw::linear && law_.law != FemLaw::corotational) c->tangent.assign(elements_.size(), Mat9::Zero());
+  if (law().law != FemLaw::linear && law().law != FemLaw::corotational) c->tangent.assign(elements_.size(), Mat9::Zero());
   c->columns.assign(4 * elements_.size(), Vec3::Zero());
-  if (law_.law == FemLaw::linear || law_.law == FemLaw::corotational) {
+  if (law().law == FemLaw::linear || law().law == FemLaw::corotational) {
     c->system.diagonal.assign(node_count(), Mat3::Zero());
     c->system.row_start = block_row_start_;
     c->system.column = block_column_;
@@ -354,9 +354,9 @@ void TetFem::gather(const Cache& c, double mass_scale, const VecX& in, VecX& out
 void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratch& s) const {
   Cache& c = cache(s);
   f.setZero(x.size());
-  const double beta = material_.rayleigh_stiffness;
-  const bool corot = law_.law == FemLaw::corotational;
-  const bool hyper = !corot && law_.law != FemLaw::linear;
+  const double beta = material().rayleigh_stiffness;
+  const bool corot = law().law == FemLaw::corotational;
+  const bool hyper = !corot && law().law != FemLaw::linear;
   const bool damped = beta > 0.0 && v.size() == x.size();
   if (corot || (hyper && damped)) ensure_rotations(x, c);
   const bool viscous = q_stride_ > 0 && static_cast<std::size_t>(q.size()) == internal_size();
@@ -379,7 +379,7 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
       if (viscous) {
         // Branch stresses live in the corotated frame: V R s g_a = sqrt(V) (R s R^T) g^R_a.
         const Mat3& R = c.rotation[e];
-        const Mat3 offset = prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
+        const Mat3 offset = prony_offset(material().prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
         S += std::sqrt(el.volume) * (R * offset * R.transpose());
       }
       for (int a = 0; a < 4; ++a) Eigen::Map<Vec3>(out[static_cast<std::size_t>(a)].data()) = -(S * g.col(a));
@@ -391,7 +391,7 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
     if (hyper) {
       hyperelastic_stress_tangent(law, F, P, nullptr);
       // Branch stresses are second Piola-Kirchhoff stresses: P = F (S0 + offset).
-      if (viscous) P += F * prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
+      if (viscous) P += F * prony_offset(material().prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
       if (damped) {
         const Mat3& R = c.rotation[e];
         P += R * (beta * hooke_of_gradient(law.lambda, law.mu, R.transpose() * gradient_of(v, el)));
@@ -402,13 +402,13 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
       H.diagonal().array() -= 1.0;
       P = hooke_of_gradient(law.lambda, law.mu, H);
       if (damped) P += beta * hooke_of_gradient(law.lambda, law.mu, gradient_of(v, el));
-      if (viscous) P += prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
+      if (viscous) P += prony_offset(material().prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
     }
     P *= el.volume;
     for (int a = 0; a < 4; ++a) Eigen::Map<Vec3>(out[static_cast<std::size_t>(a)].data()) = -(P * el.grad.col(a));
   };
-  const bool mass_damped = material_.rayleigh_mass > 0.0 && v.size() == x.size();
-  accumulate(c, mass_damped ? nodal_mass_scale(-material_.rayleigh_mass) : 0.0, mass_damped ? v : x, f,
+  const bool mass_damped = material().rayleigh_mass > 0.0 && v.size() == x.size();
+  accumulate(c, mass_damped ? nodal_mass_scale(-material().rayleigh_mass) : 0.0, mass_damped ? v : x, f,
              [&](std::size_t begin, std::size_t end, auto sink) {
                Columns out;
                for (std::size_t e = begin; e < end; ++e) {
@@ -416,13 +416,13 @@ void TetFem::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratc
                  sink(e, out);
                }
              });
-  if (mass_damped) add_consistent_mass(-material_.rayleigh_mass, v, f);
+  if (mass_damped) add_consistent_mass(-material().rayleigh_mass, v, f);
 }
 
 void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
                                Scratch& s) const {
-  const bool corot = law_.law == FemLaw::corotational;
-  if (!corot && law_.law != FemLaw::linear) {
+  const bool corot = law().law == FemLaw::corotational;
+  if (!corot && law().law != FemLaw::linear) {
     ForceModel::linearized_forces(x, v, q, dx, f, s);
     return;
   }
@@ -433,7 +433,7 @@ void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, cons
     c.rotation.resize(elements_.size());
     c.rotated_grad.resize(elements_.size());
   }
-  const double beta = material_.rayleigh_stiffness;
+  const double beta = material().rayleigh_stiffness;
   const bool damped = beta > 0.0 && v.size() == x.size();
   const bool viscous = q_stride_ > 0 && static_cast<std::size_t>(q.size()) == internal_size();
   auto kernel = [&](std::size_t begin, std::size_t end, auto sink) {
@@ -456,7 +456,7 @@ void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, cons
       hooke_columns(D, g, law_of(el).lambda, law_of(el).mu, -1.0, out);
       if (viscous) {
         // Branch stresses in the corotated frame, as in forces().
-        Mat3 offset = prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
+        Mat3 offset = prony_offset(material().prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
         if (corot) offset = c.rotation[e] * offset * c.rotation[e].transpose();
         for (int a = 0; a < 4; ++a)
           Eigen::Map<Vec3>(out[static_cast<std::size_t>(a)].data()) -= root_volume * (offset * g.col(a));
@@ -464,9 +464,9 @@ void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, cons
       sink(e, out);
     }
   };
-  const bool mass_damped = material_.rayleigh_mass > 0.0 && v.size() == x.size();
-  accumulate(c, mass_damped ? nodal_mass_scale(-material_.rayleigh_mass) : 0.0, mass_damped ? v : x, f, kernel);
-  if (mass_damped) add_consistent_mass(-material_.rayleigh_mass, v, f);
+  const bool mass_damped = material().rayleigh_mass > 0.0 && v.size() == x.size();
+  accumulate(c, mass_damped ? nodal_mass_scale(-material().rayleigh_mass) : 0.0, mass_damped ? v : x, f, kernel);
+  if (mass_damped) add_consistent_mass(-material().rayleigh_mass, v, f);
   if (fresh) {
     c.rotation_x = x;
     c.rotations_valid = true;
@@ -474,20 +474,20 @@ void TetFem::linearized_forces(const VecX& x, const VecX& v, const VecX& q, cons
 }
 
 void TetFem::linearize(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const {
-  linearize_tangent(x, v, q, s, material_.project_tangent);
+  linearize_tangent(x, v, q, s, material().project_tangent);
 }
 
 bool TetFem::linearize_exact(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const {
-  if (!material_.project_tangent || law_.law == FemLaw::linear || law_.law == FemLaw::corotational) return false;
+  if (!material().project_tangent || law().law == FemLaw::linear || law().law == FemLaw::corotational) return false;
   linearize_tangent(x, v, q, s, false);
   return true;
 }
 
 void TetFem::linearize_tangent(const VecX& x, const VecX&, const VecX& q, Scratch& s, bool project) const {
   Cache& c = cache(s);
-  if (law_.law == FemLaw::linear) return;
-  if (law_.law == FemLaw::corotational || material_.rayleigh_stiffness > 0.0) ensure_rotations(x, c);
-  if (law_.law == FemLaw::corotational) return;
+  if (law().law == FemLaw::linear) return;
+  if (law().law == FemLaw::corotational || material().rayleigh_stiffness > 0.0) ensure_rotations(x, c);
+  if (law().law == FemLaw::corotational) return;
   const bool viscous = q_stride_ > 0 && static_cast<std::size_t>(q.size()) == internal_size();
   c.tangent.resize(elements_.size());
   parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
@@ -498,7 +498,7 @@ void TetFem::linearize_tangent(const VecX& x, const VecX&, const VecX& q, Scratc
       if (viscous) {
         // d(F O)/dF for the branches' constant offset O: dP_ij/dF_kl = delta_ik O_lj (a
         // geometric stiffness, like the one of the elastic stress).
-        const Mat3 O = prony_offset(material_.prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
+        const Mat3 O = prony_offset(material().prony, std::span<const double>(q.data() + e * q_stride_, q_stride_));
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j)
             for (int l = 0; l < 3; ++l) A(i + 3 * j, i + 3 * l) += O(l, j);
@@ -554,16 +554,16 @@ void TetFem::tangent_columns(const VecX& dx, double c_tangent, double b_rest, st
 void TetFem::add_system_product(double a, double b, double c_stiff, const VecX& in, VecX& out,
                                 const Scratch& s) const {
   const Cache& c = cache(s);
-  const double rest_scale = b * material_.rayleigh_stiffness;
-  const double mass_scale = a + b * material_.rayleigh_mass;
-  const bool hyper = law_.law != FemLaw::linear && law_.law != FemLaw::corotational;
+  const double rest_scale = b * material().rayleigh_stiffness;
+  const double mass_scale = a + b * material().rayleigh_mass;
+  const bool hyper = law().law != FemLaw::linear && law().law != FemLaw::corotational;
   const bool elements = hyper ? (rest_scale != 0.0 || c_stiff != 0.0) : rest_scale + c_stiff != 0.0;
   if (!elements) {
     if (mass_scale != 0.0) add_mass_product(mass_scale, in, out);
     return;
   }
   accumulate(c, nodal_mass_scale(mass_scale), in, out, [&](std::size_t begin, std::size_t end, auto sink) {
-    switch (law_.law) {
+    switch (law().law) {
       case FemLaw::linear: rest_stiffness_columns<false>(in, rest_scale + c_stiff, begin, end, c, sink); break;
       case FemLaw::corotational: rest_stiffness_columns<true>(in, rest_scale + c_stiff, begin, end, c, sink); break;
       default: tangent_columns(in, c_stiff, rest_scale, begin, end, c, sink); break;
@@ -621,8 +621,8 @@ void TetFem::add_damping_product(const VecX& dv, VecX& out, const Scratch& s) co
 
 void TetFem::add_diagonal(double a, double b, VecX& out, const Scratch& s) const {
   const Cache& c = cache(s);
-  const bool hyper = law_.law != FemLaw::linear && law_.law != FemLaw::corotational;
-  const double beta = material_.rayleigh_stiffness;
+  const bool hyper = law().law != FemLaw::linear && law().law != FemLaw::corotational;
+  const double beta = material().rayleigh_stiffness;
   // Rotated rest stiffness: diag(R K0_aa R^T)_i = V (mu |g_a|^2 + (lambda + mu) (R g_a)_i^2).
   const double rest_weight = (hyper ? 0.0 : a) + b * beta;
   for (std::size_t e = 0; e < elements_.size(); ++e) {
@@ -648,15 +648,15 @@ void TetFem::add_diagonal(double a, double b, VecX& out, const Scratch& s) const
       }
     }
   }
-  if (b != 0.0 && material_.rayleigh_mass > 0.0) out += (b * material_.rayleigh_mass) * mass_diagonal_;
+  if (b != 0.0 && material().rayleigh_mass > 0.0) out += (b * material().rayleigh_mass) * mass_diagonal_;
 }
 
 const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, double c_stiffness, Scratch& s) const {
-  if (law_.law != FemLaw::linear && law_.law != FemLaw::corotational) return nullptr;
+  if (law().law != FemLaw::linear && law().law != FemLaw::corotational) return nullptr;
   Cache& cc = cache(s);
   BlockMatrix& K = cc.system;
-  const double stiffness = c_stiffness + b_damping * material_.rayleigh_stiffness;
-  const double mass = a_mass + b_damping * material_.rayleigh_mass;
+  const double stiffness = c_stiffness + b_damping * material().rayleigh_stiffness;
+  const double mass = a_mass + b_damping * material().rayleigh_mass;
   for (std::size_t i = 0; i < K.diagonal.size(); ++i)
     K.diagonal[i] = (mass * mass_diagonal_.segment<3>(3 * static_cast<Eigen::Index>(i))).asDiagonal();
   std::fill(K.upper.begin(), K.upper.end(), Mat3::Zero());
@@ -676,7 +676,7 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
   // One region: its constants once, not looked up per block (the row-by-row path visits each
   // element's blocks from several rows).
   const bool one_region = laws_.size() == 1;
-  const double lambda_one = stiffness * law_.lambda, mu_one = stiffness * law_.mu;
+  const double lambda_one = stiffness * law().lambda, mu_one = stiffness * law().mu;
   if (thread_count() > 1 && elements_.size() >= 2 * kElementGrain) {
     // Row by row on every thread: each diagonal and upper block gathers its elements' terms
     // in element order, so the sums are the serial loop's, bit for bit.
@@ -753,8 +753,8 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
 void TetFem::element_matrix(std::size_t e, double a, double b, const Cache& c, Mat12& k) const {
   // Column by column: the element's response to each unit nodal displacement.
   const TetElement& el = elements_[e];
-  const bool hyper = law_.law != FemLaw::linear && law_.law != FemLaw::corotational;
-  const double beta = material_.rayleigh_stiffness;
+  const bool hyper = law().law != FemLaw::linear && law().law != FemLaw::corotational;
+  const double beta = material().rayleigh_stiffness;
   const Mat3 R = rotated() ? c.rotation[e] : Mat3::Identity();
   for (int col = 0; col < 12; ++col) {
     const int node = col / 3, dir = col % 3;
@@ -796,13 +796,13 @@ void TetFem::add_triplets(double a, double b, std::vector<Triplet>& out, const S
             out.emplace_back(3 * el.nodes[static_cast<std::size_t>(rn)] + i, 3 * el.nodes[static_cast<std::size_t>(cn)] + j,
                              k(3 * rn + i, 3 * cn + j));
   }
-  if (b != 0.0 && material_.rayleigh_mass > 0.0) add_mass_triplets(b * material_.rayleigh_mass, out);
+  if (b != 0.0 && material().rayleigh_mass > 0.0) add_mass_triplets(b * material().rayleigh_mass, out);
 }
 
 void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) const {
   if (q_stride_ == 0 || static_cast<std::size_t>(q.size()) != internal_size()) return;
   Cache& c = cache(s);
-  const bool corot = law_.law == FemLaw::corotational;
+  const bool corot = law().law == FemLaw::corotational;
   if (corot) ensure_rotations(x, c);
   parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t e = begin; e < end; ++e) {
@@ -816,7 +816,7 @@ void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) cons
         // only decay this step.
         const double J = F.determinant();
         if (!(J > 1e-9)) {
-          prony_update(material_.prony, prony_reference(qe), dt, qe);
+          prony_update(material().prony, prony_reference(qe), dt, qe);
           continue;
         }
         Mat3 P;
@@ -824,12 +824,12 @@ void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) cons
         const Mat3 F_inv = F.inverse();
         Mat3 S0 = F_inv * P;
         S0 = 0.5 * (S0 + S0.transpose());  // symmetric in exact arithmetic
-        if (!material_.prony_relaxes_bulk) {
+        if (!material().prony_relaxes_bulk) {
           const Mat3 C = F.transpose() * F;
           const Mat3 C_inv = F_inv * F_inv.transpose();
           S0 -= ((S0.cwiseProduct(C)).sum() / 3.0) * C_inv;
         }
-        prony_update(material_.prony, S0, dt, qe);
+        prony_update(material().prony, S0, dt, qe);
         continue;
       }
       Mat3 grad = corot ? Mat3(c.rotation[e].transpose() * F) : F;
@@ -837,8 +837,8 @@ void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) cons
       const Mat3 eps = 0.5 * (grad + grad.transpose());
       const LawParams& law = law_of(elements_[e]);
       const Mat3 sbar =
-          material_.prony_relaxes_bulk ? hooke(law.lambda, law.mu, eps) : Mat3(2.0 * law.mu * deviator(eps));
-      prony_update(material_.prony, sbar, dt, qe);
+          material().prony_relaxes_bulk ? hooke(law.lambda, law.mu, eps) : Mat3(2.0 * law.mu * deviator(eps));
+      prony_update(material().prony, sbar, dt, qe);
     }
   }, kElementGrain);
 }

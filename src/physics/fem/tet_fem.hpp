@@ -79,10 +79,10 @@ class TetFem final : public ForceModel {
   [[nodiscard]] double min_volume_ratio(const VecX& x) const override;
 
   /// The first region's material (the law, damping and relaxation are every region's).
-  [[nodiscard]] const FemMaterial& material() const { return material_; }
+  [[nodiscard]] const FemMaterial& material() const { return materials_.front(); }
   /// Every region's material, in the order the elements' `material` indices count.
   [[nodiscard]] const std::vector<FemMaterial>& materials() const { return materials_; }
-  [[nodiscard]] const LawParams& law() const { return law_; }
+  [[nodiscard]] const LawParams& law() const { return laws_.front(); }
   [[nodiscard]] const std::vector<TetElement>& elements() const { return elements_; }
   /// F = sum_a x_a g_a^T of element e at positions x.
   [[nodiscard]] Mat3 deformation_gradient(const VecX& x, std::size_t e) const;
@@ -113,18 +113,16 @@ class TetFem final : public ForceModel {
   /// order, plus mass_scale·M·in.
   void gather(const Cache& c, double mass_scale, const VecX& in, VecX& out) const;
   void element_matrix(std::size_t e, double a, double b, const Cache& c, Eigen::Matrix<double, 12, 12>& k) const;
-  [[nodiscard]] bool rotated() const { return law_.law != FemLaw::linear; }
+  [[nodiscard]] bool rotated() const { return law().law != FemLaw::linear; }
   [[nodiscard]] const LawParams& law_of(const TetElement& el) const { return laws_[static_cast<std::size_t>(el.material)]; }
   [[nodiscard]] double density_of(const TetElement& el) const { return densities_[static_cast<std::size_t>(el.material)]; }
-  [[nodiscard]] bool hyperelastic() const { return law_.law != FemLaw::linear && law_.law != FemLaw::corotational; }
+  [[nodiscard]] bool hyperelastic() const { return law().law != FemLaw::linear && law().law != FemLaw::corotational; }
   /// The share of a mass term accumulate() adds node by node: all of it for the lumped mass;
   /// none for the consistent one, which add_mass_product() adds after the element pass.
   [[nodiscard]] double nodal_mass_scale(double scale) const { return mass_kind_ == FemMass::lumped ? scale : 0.0; }
   /// out += scale·M·in for the consistent mass only (nothing for the lumped one).
   void add_consistent_mass(double scale, const VecX& in, VecX& out) const;
 
-  FemMaterial material_;
-  LawParams law_;  ///< the first region's
   std::vector<FemMaterial> materials_;  ///< per region
   std::vector<LawParams> laws_;   ///< per region
   std::vector<double> densities_; ///< per region [kg/m^3]

@@ -14,27 +14,39 @@
 namespace tactus::haptics {
 namespace {
 
-TEST(FabricProxyOnPatch, KeepsItsContactAcrossAPatchNumberedOtherwise) {
-  const mesh::TriMesh plate = mesh::grid_plate(0.1, 0.1, 20, 20);  // z = 0, normals +z
+/// Rigid patches of a 10 × 10 cm sheet in z = 0 (normals +z, 5 mm grid, a node at the
+/// origin): the sheet stays put, so any change of force comes from the fingers or an update.
+struct RigidSheet {
+  const mesh::TriMesh plate = mesh::grid_plate(0.1, 0.1, 20, 20);
   const contact::PatchCapacity capacity{48, 128, 240};
-  contact::PatchBuilder builder(plate.vertices.size(), plate.triangles, capacity);
-  contact::PatchBuilder::Inputs in;
-  in.kind = contact::LocalModelKind::compliance;
-  in.body = 0;
-  in.radius = 0.02;
-  in.surface = plate.vertices;
-  in.rigid = true;  // the sheet stays put: any change of force comes from the update alone
-  contact::LocalPatch first(in.kind, capacity), second(in.kind, capacity);
-  in.center = Vec3(0, 0, 0.01);
-  builder.build(in, first);
-  in.center = Vec3(0.012, 0.007, 0.01);  // another set of nodes, nearest first: other numbers
-  builder.build(in, second);
+  const contact::LocalModelKind kind = contact::LocalModelKind::compliance;
+  contact::PatchBuilder builder{plate.vertices.size(), plate.triangles, capacity};
+  /// The patch of radius 2 cm around `center`, its nodes numbered nearest first.
+  [[nodiscard]] contact::LocalPatch around(const Vec3& center) {
+    contact::PatchBuilder::Inputs in;
+    in.kind = kind;
+    in.body = 0;
+    in.radius = 0.02;
+    in.surface = plate.vertices;
+    in.rigid = true;
+    in.center = center;
+    contact::LocalPatch patch(kind, capacity);
+    builder.build(in, patch);
+    return patch;
+  }
+};
+
+TEST(FabricProxyOnPatch, KeepsItsContactAcrossAPatchNumberedOtherwise) {
+  RigidSheet sheet;
+  const contact::PatchCapacity& capacity = sheet.capacity;
+  const contact::LocalPatch first = sheet.around(Vec3(0, 0, 0.01));
+  const contact::LocalPatch second = sheet.around(Vec3(0.012, 0.007, 0.01));  // other nodes, other numbers
 
   contact::FabricProxyParams p;
   p.finger.base = p.finger.tip = Vec3::Zero();
   p.finger.radius = 0.008;
   p.stiffness = 190.0;
-  test::StepRig rig(test::model_of({std::make_shared<FabricProxyOnPatch>(p, in.kind, capacity, false)}));
+  test::StepRig rig(test::model_of({std::make_shared<FabricProxyOnPatch>(p, sheet.kind, capacity, false)}));
   rig.plane(0.0);
   rig.patch = &first;
   rig.patch_fresh = true;
@@ -111,20 +123,10 @@ TEST(FabricProxyOnPatch, FingersMeetingWithoutFabricFeelThePadLawEqualAndOpposit
 }
 
 TEST(FabricProxyOnPatch, FabricSqueezedBetweenThePairIsGraspedWithTheSqueezeLaw) {
-  const mesh::TriMesh plate = mesh::grid_plate(0.1, 0.1, 20, 20);  // z = 0, normals +z, a node at the origin
-  const contact::PatchCapacity capacity{48, 128, 240};
-  contact::PatchBuilder builder(plate.vertices.size(), plate.triangles, capacity);
-  contact::PatchBuilder::Inputs in;
-  in.kind = contact::LocalModelKind::compliance;
-  in.body = 0;
-  in.radius = 0.02;
-  in.surface = plate.vertices;
-  in.rigid = true;
-  in.center = Vec3::Zero();
-  contact::LocalPatch patch(in.kind, capacity);
-  builder.build(in, patch);
+  RigidSheet sheet;
+  const contact::LocalPatch patch = sheet.around(Vec3::Zero());
 
-  Pair pair(capacity, in.kind);
+  Pair pair(sheet.capacity, sheet.kind);
   pair.thumb.patch = pair.index.patch = &patch;
   pair.thumb.patch_fresh = pair.index.patch_fresh = true;
   // Each pad 0.45 mm past the sheet: the pads 0.9 mm into each other through the sheet, which
