@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "core/hash.hpp"
 #include "physics/body.hpp"
 #include "physics/cloth/sheet.hpp"
-#include "precompute/model_identity.hpp"
 #include "scene/scene.hpp"
 
 namespace tactus::bench_cloth {
@@ -62,7 +62,7 @@ inline HangingSheet hanging_sheet(double spacing, physics::LinearSolver solver) 
 
 /// FNV-1a of the bytes of v: equal states, equal hashes (for bit-for-bit checks).
 inline std::uint64_t state_hash(const VecX& v) {
-  precompute::Fnv1a h;
+  Fnv1a h;
   h.add(v.data(), sizeof(double) * static_cast<std::size_t>(v.size()));
   return h.value();
 }

@@ -1,3 +1,4 @@
+#include "core/hash.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "mesh/tri_mesh.hpp"
 
@@ -14,6 +15,15 @@ Vec3 TriMesh::face_normal(std::size_t t) const {
   const Vec3 n = (vertices[f[1]] - vertices[f[0]]).cross(vertices[f[2]] - vertices[f[0]]);
   const double len = n.norm();
   return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
+}
+
+std::uint64_t TriMesh::content_hash() const {
+  Fnv1a h;
+  h.add_value(vertices.size());
+  h.add(vertices.data(), vertices.size() * sizeof(Vec3));
+  h.add_value(triangles.size());
+  h.add(triangles.data(), triangles.size() * sizeof(Triangle));
+  return h.value();
 }
 
 double TriMesh::face_area(std::size_t t) const {

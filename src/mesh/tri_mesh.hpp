@@ -24,6 +24,9 @@ struct TriMesh {
   [[nodiscard]] double signed_volume() const;
   [[nodiscard]] Vec3 face_normal(std::size_t t) const;  ///< unit; zero if degenerate
   [[nodiscard]] double face_area(std::size_t t) const;
+  /// FNV-1a over the vertex and triangle bytes: the identity files built from this mesh
+  /// (impostor levels, property images) are checked against.
+  [[nodiscard]] std::uint64_t content_hash() const;
 };
 
 }  // namespace tactus::mesh

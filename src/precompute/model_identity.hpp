@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 
+#include "core/hash.hpp"
 #include "physics/body.hpp"
 #include "precompute/grid.hpp"
 #include "precompute/settings.hpp"
@@ -13,22 +14,7 @@
 
 namespace tactus::precompute {
 
-/// 64-bit FNV-1a over bytes.
-class Fnv1a {
- public:
-  void add(const void* data, std::size_t bytes) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < bytes; ++i) value_ = (value_ ^ p[i]) * 1099511628211ull;
-  }
-  template <class T>
-  void add_value(const T& v) {
-    add(&v, sizeof v);
-  }
-  [[nodiscard]] std::uint64_t value() const { return value_; }
-
- private:
-  std::uint64_t value_ = 14695981039346656037ull;
-};
+using tactus::Fnv1a;
 
 /// 16 hexadecimal digits.
 std::string hash_text(std::uint64_t h);
