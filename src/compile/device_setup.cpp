@@ -1,5 +1,7 @@
 #include "compile/device_setup.hpp"
 
+#include "compile/touchables.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -9,6 +11,7 @@
 #include <variant>
 
 #include "compile/cspace_body.hpp"
+#include "compile/touchables.hpp"
 #include "contact/proxy.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -166,7 +169,8 @@ double longest_edge(const mesh::TriMesh& surface) {
   return longest;
 }
 
-DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceBodies& cspaces) {
+DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceBodies& cspaces,
+                         const Touchables* touchables) {
   const scene::Device& d = m.devices[index];
   DeviceSetup s;
   haptics::HapticModel& model = s.model;
@@ -311,9 +315,28 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   for (const auto& sp : spheres) extent = std::max(extent, sp.offset.norm() + sp.radius);
   s.reach = 2.0 * extent + 0.01;
 
+  // A proxy among touchable rigid objects (impostor levels, property images) queries them at
+  // the haptic rate itself; the other bodies it touches come through the contact plane.
+  std::vector<haptics::TouchableObject> objects;
+  if (proxy) {
+    std::optional<Touchables> own;
+    if (!touchables)
+      for (std::size_t b : s.bodies)
+        if (is_touchable(m.bodies[b]) && !own) touchables = &own.emplace(load_touchables(m));
+    std::vector<std::size_t> rest;
+    for (std::size_t b : s.bodies) {
+      if (touchables && touchables->objects[b])
+        objects.push_back(*touchables->objects[b]);
+      else
+        rest.push_back(b);
+    }
+    if (!objects.empty()) s.bodies = std::move(rest);
+  }
+
   s.local_model = a->local_model;
-  // Multiple surfaces hold the proxy on their own planes: no local patch under them.
-  if (multi) s.local_model = contact::LocalModelKind::plane;
+  // Multiple surfaces hold the proxy on their own planes: no local patch under them. Among
+  // touchable objects the other bodies come through the plane too.
+  if (multi || !objects.empty()) s.local_model = contact::LocalModelKind::plane;
   if (a->local_model == contact::LocalModelKind::mass_spring && !multi)
     for (std::size_t b : s.bodies)
       if (m.bodies[b].kind != scene::BodyKind::rigid && m.bodies[b].kind != scene::BodyKind::embedded &&
@@ -361,6 +384,14 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
     } else if (fabric) {
       model.algorithms.push_back(
           std::make_shared<haptics::FabricProxyOnPatch>(*fabric, s.local_model, s.patch_capacity, spread, two_fingers));
+    } else if (proxy && !objects.empty()) {
+      haptics::ObjectsSettings os;
+      os.budget = m.level_selection.haptic_budget;
+      os.influence_radius = m.level_selection.influence_radius;
+      os.blend_time = m.level_selection.blend_time;
+      os.max_stiffness = d.max_stiffness;
+      os.plane = !s.bodies.empty();
+      model.algorithms.push_back(std::make_shared<haptics::ProxyOnObjects>(first, *proxy, std::move(objects), os));
     } else if (proxy && on_patch) {
       model.algorithms.push_back(
           std::make_shared<haptics::ProxyOnPatch>(first, *proxy, s.local_model, s.patch_capacity, spread));

@@ -7,6 +7,7 @@
 #include "contact/local_model.hpp"
 #include "haptics/haptic_step.hpp"
 #include "compile/cspace_body.hpp"
+#include "compile/touchables.hpp"
 #include "scene/model.hpp"
 
 namespace tactus::compile {
@@ -37,7 +38,10 @@ haptics::WorkspaceMap workspace_map(const scene::Device& device);
 /// The straight insertion line a scripted needle follows (in device coordinates), if any.
 const scene::NeedleLinePath* needle_line(const scene::Device& device);
 
-/// Throws InputError for a tool or algorithm the runtime cannot render yet.
-DeviceSetup setup_device(const scene::Model& model, std::size_t device, const CspaceBodies& cspaces = {});
+/// Throws InputError for a tool or algorithm the runtime cannot render yet. `touchables`:
+/// the scene's touchable objects, shared by its devices (null: built for this device alone
+/// where its algorithm touches any).
+DeviceSetup setup_device(const scene::Model& model, std::size_t device, const CspaceBodies& cspaces = {},
+                         const Touchables* touchables = nullptr);
 
 }  // namespace tactus::compile

@@ -29,6 +29,8 @@ void check_objects(std::span<const ObjectLevels> objects, double budget) {
 
 }  // namespace
 
+void check_levels(std::span<const ObjectLevels> objects, double budget) { check_objects(objects, budget); }
+
 Selection evaluate_selection(std::span<const ObjectLevels> objects, std::span<const std::size_t> level,
                              double budget) {
   Selection s;
@@ -44,7 +46,15 @@ Selection evaluate_selection(std::span<const ObjectLevels> objects, std::span<co
 
 Selection select_levels(std::span<const ObjectLevels> objects, double budget) {
   check_objects(objects, budget);
-  std::vector<std::size_t> level(objects.size(), 0);
+  Selection s;
+  select_levels_into(objects, budget, s);
+  return s;
+}
+
+void select_levels_into(std::span<const ObjectLevels> objects, double budget, Selection& out) {
+  std::vector<std::size_t>& level = out.level;
+  level.resize(objects.size());  // no allocation once it has this size
+  std::fill(level.begin(), level.end(), std::size_t{0});
   double cost = 0.0;
   for (const ObjectLevels& o : objects) cost += o.levels[0].cost;
   const bool fits = cost <= budget;
@@ -72,9 +82,13 @@ Selection select_levels(std::span<const ObjectLevels> objects, double budget) {
     cost += objects[best_object].levels[best_level].cost - objects[best_object].levels[level[best_object]].cost;
     level[best_object] = best_level;
   }
-  Selection s = evaluate_selection(objects, level, budget);
-  s.within_budget = fits;
-  return s;
+  out.cost = 0.0;
+  out.weighted_error = 0.0;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    out.cost += objects[i].levels[level[i]].cost;
+    out.weighted_error += objects[i].benefit * objects[i].levels[level[i]].error;
+  }
+  out.within_budget = fits;
 }
 
 double graphics_benefit(const Vec3& center, double radius, const Vec3& eye, double viewport_scale) {

@@ -41,6 +41,12 @@ struct Selection {
 /// InputError for an object without levels, a negative or non-finite cost, error or
 /// benefit, or a negative or NaN budget.
 [[nodiscard]] Selection select_levels(std::span<const ObjectLevels> objects, double budget);
+/// select_levels without its checks (make them once with select_levels or check_levels),
+/// written into `out` and reusing its storage: no allocation once out.level has one entry
+/// per object, so that the haptic loop may choose every frame.
+void select_levels_into(std::span<const ObjectLevels> objects, double budget, Selection& out);
+/// The checks of select_levels: throws InputError as it would.
+void check_levels(std::span<const ObjectLevels> objects, double budget);
 
 /// Σ benefit × error and Σ cost of a given choice (for comparisons with select_levels).
 [[nodiscard]] Selection evaluate_selection(std::span<const ObjectLevels> objects, std::span<const std::size_t> level,

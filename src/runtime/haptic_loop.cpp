@@ -22,6 +22,7 @@ EventKind event_kind(haptics::HapticEvent::Kind kind) {
     case K::emergency_stop: return EventKind::emergency_stop;
     case K::rupture: return EventKind::rupture;
     case K::contact_state: return EventKind::contact_state;
+    case K::level_switch: return EventKind::level_switch;
   }
   return EventKind::note;
 }

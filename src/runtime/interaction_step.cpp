@@ -80,6 +80,9 @@ InteractionModel make_interaction_model(const scene::Model& scene, std::vector<I
   InteractionModel model;
   model.scene = &scene;
   model.targets = std::move(targets);
+  model.queried.assign(scene.bodies.size(), false);
+  for (const InteractionTarget& target : model.targets)
+    for (std::size_t b : target.bodies) model.queried[b] = true;
   for (const InteractionTarget& target : model.targets) {
     auto& per_body = model.curvature.emplace_back(scene.bodies.size());
     if (target.curvature_rings <= 0) continue;
@@ -108,6 +111,9 @@ void interaction_step(const InteractionModel& model, InteractionState& state, co
   if (surfaces.step != state.tree_step) {
     const PartTimer refit(in.clock);
     for (std::size_t b = 0; b < state.trees.size(); ++b) {
+      // Only the bodies some device touches here; a rigid body's tree, once built, stays right.
+      if (b < model.queried.size() && !model.queried[b]) continue;
+      if (!state.trees[b].empty() && model.scene->bodies[b].kind == scene::BodyKind::rigid) continue;
       if (state.trees[b].empty() || state.trees[b].needs_rebuild())
         state.trees[b].build(surfaces.positions[b], model.scene->bodies[b].surface.triangles);
       else

@@ -18,8 +18,10 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
   // Loaded once: an on-line space's solver threads serve the haptic and simulation loops alike.
   loops.cspaces = compile::load_cspace_bodies(m);
   const compile::CspaceBodies& cspaces = loops.cspaces;
+  // Built once: every device touches (and the viewer paints) the same objects.
+  loops.touchables = compile::load_touchables(m);
   for (std::size_t i = 0; i < m.devices.size(); ++i) {
-    compile::DeviceSetup setup = compile::setup_device(m, i, cspaces);
+    compile::DeviceSetup setup = compile::setup_device(m, i, cspaces, &loops.touchables);
     std::unique_ptr<haptics::Device> device;
     if (const auto it = o.replay.find(m.devices[i].name); it != o.replay.end())
       device = std::make_unique<haptics::ReplayDevice>(it->second.poses, compile::device_limits(m.devices[i]), it->second.source);

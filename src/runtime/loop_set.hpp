@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "compile/touchables.hpp"
 #include "core/triple_buffer.hpp"
 #include "runtime/haptic_loop.hpp"
 #include "runtime/interaction_loop.hpp"
@@ -18,6 +19,7 @@ namespace tactus::runtime {
 /// Everything a run owns, built before any loop starts.
 struct Loops {
   compile::CspaceBodies cspaces;  ///< per scene body; shared by the loops that render them
+  compile::Touchables touchables;  ///< the scene's touchable objects, shared by every device and the viewer
   std::vector<std::unique_ptr<DeviceChannels>> channels;
   std::vector<std::unique_ptr<HapticLoop>> haptic;
   std::unique_ptr<TripleBuffer<SurfaceSnapshot>> surfaces;

@@ -52,8 +52,13 @@ bool Recorder::drain() {
       ++report_.events[std::string(event_kind_name(e.kind))];
       if (e.kind == EventKind::contact_state)
         report_.contact_states.push_back({e.t, e.device, static_cast<std::uint8_t>(e.value)});
+      if (e.kind == EventKind::level_switch)
+        report_.level_switches.push_back({e.t, e.device, e.detail, static_cast<std::uint32_t>(e.value)});
       if (visual_) visual_->event(e);
-      if (writer_ && record_events_) writer_->append(Event{e.t, e.kind, e.device, e.value, {}});
+      // A level switch names its body in the text (the record has no other field for it).
+      if (writer_ && record_events_)
+        writer_->append(Event{e.t, e.kind, e.device, e.value,
+                              e.kind == EventKind::level_switch ? "body " + std::to_string(e.detail) : std::string{}});
     }
   }
   SimulationStep s;

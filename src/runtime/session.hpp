@@ -103,6 +103,14 @@ struct ContactStateChange {
   std::uint8_t state = 0;  ///< 1..9: I..IX
 };
 
+/// An object's impostor level changed (scenes of many objects, docs/lod.md).
+struct LevelSwitchRecord {
+  double t = 0.0;  ///< [s]
+  std::uint16_t device = 0;
+  std::int32_t body = -1;   ///< index into Model::bodies
+  std::uint32_t level = 0;  ///< the new level, 0 coarsest
+};
+
 struct SessionReport {
   std::string scene;
   Scheduling scheduling = Scheduling::real_time;
@@ -121,6 +129,7 @@ struct SessionReport {
   std::optional<PalpationFeedback> palpation;  ///< scenes with nodules (docs/scenes.md)
   std::vector<NeedleReport> needles;           ///< one per device driving a needle
   std::vector<ContactStateChange> contact_states;  ///< two-finger fabric scenes, in time order per device
+  std::vector<LevelSwitchRecord> level_switches;   ///< scenes of many objects, in time order per device
   std::vector<std::string> cspace_notes;       ///< what on-line spaces solved during the run
 };
 

@@ -511,6 +511,13 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
   if (b.kind != BodyKind::cloth) attach_mesh(r, b, read_mesh_key(r, b.volumetric()));
   if (auto regions = r.table("regions")) read_region_materials(*regions, b, model);
 
+  for (const char* key : {"levels", "properties"})
+    if (!rigid && r.table().contains(key))
+      r.fail(key, fmt::format("'{}' is for rigid bodies (many touchable objects in a scene); body '{}' is '{}'", key,
+                              b.name, to_string(b.kind)));
+  if (auto t = r.table("levels")) b.levels = read_levels(*t);
+  if (auto t = r.table("properties")) b.properties = read_properties(*t);
+
   if (rigid) {
     if (r.table().contains("fixed")) r.fail("fixed", "a rigid body does not move; it takes no fixed regions");
     r.finish();

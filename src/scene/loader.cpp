@@ -130,6 +130,7 @@ Model read_model(Reader& root, const std::string& source_name) {
   m.feedback = detail::read_feedback(root);
   m.static_solve = read_static_solve(root);
   if (auto t = root.table("precompute")) m.precompute = detail::read_precompute(*t, m);
+  m.level_selection = read_level_selection(root);
   root.finish();
   return m;
 }

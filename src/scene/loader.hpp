@@ -28,6 +28,11 @@ Feedback read_feedback(Reader& root);
 /// The fabric, mesh and clamp of a kind = "cloth" body (load_cloth.cpp).
 void read_cloth(Reader& r, Body& body);
 
+/// bodies.<name>.levels and .properties, and [lod] (load_touchables.cpp).
+SurfaceLevels read_levels(Reader& r);
+SurfacePropertyImages read_properties(Reader& r);
+LevelSelection read_level_selection(Reader& root);
+
 /// A path from the scene, resolved against the scene's folder; checks that the file
 /// exists (or that file access is allowed at all).
 std::filesystem::path resolve_file(Reader& r, std::string_view key, const std::string& value);

@@ -22,6 +22,7 @@
 #include "haptics/algorithms/pulse.hpp"
 #include "haptics/algorithms/needle.hpp"
 #include "haptics/trajectory.hpp"
+#include "lod/impostors.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/tet_mesh.hpp"
 #include "mesh/tri_mesh.hpp"
@@ -30,6 +31,7 @@
 #include "physics/mapping.hpp"
 #include "physics/step_settings.hpp"
 #include "precompute/settings.hpp"
+#include "property_images/property_images.hpp"
 
 namespace tactus::scene {
 
@@ -178,6 +180,30 @@ struct Cloth {
   double static_friction = 0.5, kinetic_friction = 0.4;  ///< against skin
 };
 
+/// [bodies.X.levels]: how the impostor levels are built and switched.
+struct SurfaceLevels {
+  lod::ImpostorParams build;
+  double raise_force = 2.0;  ///< N: above it, the touched object's level goes one finer
+  double lower_force = 1.0;  ///< N: below it for hold_time, one coarser
+  double hold_time = 0.1;    ///< s
+};
+
+/// [bodies.X.properties]: property images cast from the body's surface (or read from `file`)
+/// and strokes painted on them at load.
+struct SurfacePropertyImages {
+  int resolution = 128;  ///< pixels along the surface's longest side
+  property_images::SurfaceProperties base;
+  std::filesystem::path file;  ///< a saved image file (empty: cast at load)
+  struct Stroke {
+    Vec3 center = Vec3::Zero();
+    double radius = 0.0;
+    property_images::SurfaceProperties values;
+    property_images::ChannelMask mask = 0;
+  };
+  std::vector<Stroke> paint;
+  SourceLocation where;  ///< the table, for errors found when the images are built
+};
+
 struct Body {
   std::string name;
   BodyKind kind = BodyKind::fem;
@@ -225,6 +251,12 @@ struct Body {
   std::optional<std::size_t> host;
   std::shared_ptr<const physics::BarycentricMapping> host_mapping;
   std::optional<Cloth> cloth;  ///< kind = "cloth"
+  /// [bodies.X.levels] (rigid bodies): a hierarchy of impostors of the surface that the
+  /// haptic loop chooses among and switches by force (seed 000 §4; lod/, docs/lod.md).
+  std::optional<SurfaceLevels> levels;
+  /// [bodies.X.properties] (rigid bodies): the surface material per pixel of six depth images
+  /// (seed 001, second chapter; property_images/, docs/property-images.md).
+  std::optional<SurfacePropertyImages> properties;
 
   // Time stepping (deformable bodies): the integrator, the linear solver and its tolerances,
   // the Newton iterations of an implicit step.
@@ -469,6 +501,19 @@ struct Feedback {
 
 // ---------------------------------------------------------------------------------------
 
+/// [lod]: the haptic loop's choice among impostor levels (seed 000 §4.2).
+struct LevelSelection {
+  /// The share of each haptic frame the touchable objects' queries may take [s]: their
+  /// levels' summed cost stays within it.
+  double haptic_budget = 15e-6;
+  /// Objects nearer the tool than this are worth a finer level (the benefit falls linearly
+  /// from 1 in contact to 0 here); farther ones are not queried at all [m].
+  double influence_radius = 0.05;
+  double blend_time = 0.005;  ///< [s] the force moves from the old level's to the new one's
+  /// Where impostor hierarchies are cached, keyed by the mesh's hash (empty: built at load).
+  std::filesystem::path cache;
+};
+
 struct Model {
   std::string name;
   std::string description;
@@ -486,6 +531,8 @@ struct Model {
   StaticSolve static_solve;
   /// [precompute]: the configuration space `tactus precompute` builds (absent: none).
   std::optional<precompute::SpaceSettings> precompute;
+  /// [lod]: how the haptic loop chooses among the bodies' impostor levels.
+  LevelSelection level_selection;
 
   [[nodiscard]] const Material* find_material(std::string_view name) const;
   [[nodiscard]] const Body* find_body(std::string_view name) const;

@@ -1,0 +1,73 @@
+#include "compile/touchables.hpp"
+
+#include <fmt/format.h>
+
+#include "core/log.hpp"
+#include "lod/impostor_cache.hpp"
+#include "property_images/property_file.hpp"
+
+namespace tactus::compile {
+
+namespace {
+
+std::shared_ptr<const lod::ImpostorHierarchy> levels_of(const scene::Model& m, const scene::Body& b) {
+  // A body without [levels] has one: its own surface.
+  lod::ImpostorParams params;
+  params.coarse_levels = 0;
+  params.subdivision_levels = 0;
+  if (b.levels) params = b.levels->build;
+  if (m.level_selection.cache.empty()) return std::make_shared<const lod::ImpostorHierarchy>(lod::build_impostors(b.surface, params));
+  std::string why;
+  auto h = lod::load_or_build_impostors(m.level_selection.cache, b.surface, params, &why);
+  if (!why.empty()) log::info("body '{}': impostor levels built ({})", b.name, why);
+  return std::make_shared<const lod::ImpostorHierarchy>(std::move(h));
+}
+
+std::shared_ptr<property_images::PropertyImages> images_of(const scene::Body& b) {
+  const scene::SurfacePropertyImages& p = *b.properties;
+  auto images = std::make_shared<property_images::PropertyImages>(
+      p.file.empty() ? property_images::PropertyImages::build(b.surface, p.resolution, p.base, p.where)
+                     : property_images::read_property_images(p.file, b.surface.content_hash()));
+  for (const auto& stroke : p.paint) images->paint(stroke.center, stroke.radius, stroke.values, stroke.mask);
+  return images;
+}
+
+}  // namespace
+
+bool Touchables::any() const {
+  for (const auto& o : objects)
+    if (o) return true;
+  return false;
+}
+
+bool is_touchable(const scene::Body& b) {
+  return b.kind == scene::BodyKind::rigid && (b.levels || b.properties);
+}
+
+Touchables load_touchables(const scene::Model& m) {
+  Touchables t;
+  t.objects.resize(m.bodies.size());
+  for (std::size_t i = 0; i < m.bodies.size(); ++i) {
+    const scene::Body& b = m.bodies[i];
+    if (!is_touchable(b)) continue;
+    haptics::TouchableObject o;
+    o.body = static_cast<std::int32_t>(i);
+    try {
+      o.levels = levels_of(m, b);
+      if (b.properties) o.properties = images_of(b);
+    } catch (const InputError& e) {
+      // The file's own location when the error has one (a property image file), else the scene.
+      const SourceLocation where = e.where().file.empty() ? SourceLocation{m.source, {}, {}, {}} : e.where();
+      throw InputError(where, fmt::format("body '{}': {}", b.name, e.reason()));
+    }
+    if (b.levels) {
+      o.raise_force = b.levels->raise_force;
+      o.lower_force = b.levels->lower_force;
+      o.hold_time = b.levels->hold_time;
+    }
+    t.objects[i] = std::move(o);
+  }
+  return t;
+}
+
+}  // namespace tactus::compile
