@@ -389,6 +389,7 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
       os.budget = m.level_selection.haptic_budget;
       os.influence_radius = m.level_selection.influence_radius;
       os.blend_time = m.level_selection.blend_time;
+      os.select = m.level_selection.select;
       os.max_stiffness = d.max_stiffness;
       os.plane = !s.bodies.empty();
       model.algorithms.push_back(std::make_shared<haptics::ProxyOnObjects>(first, *proxy, std::move(objects), os));

@@ -96,6 +96,7 @@ LevelSelection read_level_selection(Reader& root) {
   s.haptic_budget = r->number("haptic_budget", s.haptic_budget, Range::open_closed(0.0, 0.1));
   s.influence_radius = r->number("influence_radius", s.influence_radius, Range::open_closed(0.0, 100.0));
   s.blend_time = r->number("blend_time", s.blend_time, Range::closed(0.0, 0.1));
+  s.select = r->boolean("select", s.select);
   if (const auto dir = r->string("cache")) {
     if (!r->context().options.allow_file_access) r->fail("cache", "file access is off for this scene");
     s.cache = r->context().base_dir / *dir;

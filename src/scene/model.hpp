@@ -510,6 +510,9 @@ struct LevelSelection {
   /// from 1 in contact to 0 here); farther ones are not queried at all [m].
   double influence_radius = 0.05;
   double blend_time = 0.005;  ///< [s] the force moves from the old level's to the new one's
+  /// false: every object at its finest level, never switched (what the selection saves is
+  /// measured against this).
+  bool select = true;
   /// Where impostor hierarchies are cached, keyed by the mesh's hash (empty: built at load).
   std::filesystem::path cache;
 };

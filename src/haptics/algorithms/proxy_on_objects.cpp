@@ -106,9 +106,11 @@ struct ProxyOnObjects::State final : AlgorithmState {
   std::vector<lod::ObjectLevels> options;
   lod::Selection selection;
   std::vector<std::size_t> level;  ///< rendered, per object
+  double cost = 0.0;  ///< of the levels rendered (objects beyond the influence radius cost nothing)
   std::vector<lod::ForceThresholdSwitch> switches;
   int touched = -1;  ///< object index, the object count for the plane, −1 none
   int switch_object = -1;  ///< the object whose switch follows the force
+  double last_touch = 0.0;  ///< when it was last touched [s]
   double force = 0.0;  ///< magnitude rendered last frame [N]
   // What the proxy touched last frame, where the material is looked up.
   bool have_material = false;
@@ -175,7 +177,7 @@ std::span<const std::size_t> ProxyOnObjects::levels_in_use(const AlgorithmState&
 }
 
 double ProxyOnObjects::cost_in_use(const AlgorithmState& state) {
-  return static_cast<const State&>(state).selection.cost;
+  return static_cast<const State&>(state).cost;
 }
 
 Rendering ProxyOnObjects::render(const FrameInputs& f, AlgorithmState& state) const {
@@ -185,7 +187,8 @@ Rendering ProxyOnObjects::render(const FrameInputs& f, AlgorithmState& state) co
   const Vec3 goal = f.position + arm;
   const std::size_t n = objects_.size();
 
-  // 1. The selection by nearness, within the budget.
+  // 1. Each object's benefit: its nearness to the tool. One beyond the influence radius is
+  // never queried, so it costs nothing.
   std::size_t flat = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const double distance = std::min(box_distance(boxes_[i], goal), box_distance(boxes_[i], s.coupling.proxy.position));
@@ -193,25 +196,43 @@ Rendering ProxyOnObjects::render(const FrameInputs& f, AlgorithmState& state) co
     s.options[i].benefit = benefit;
     for (auto& option : s.options[i].levels) option.cost = benefit > 0.0 ? s.base_cost[flat] : 0.0, ++flat;
   }
-  lod::select_levels_into(s.options, settings_.budget, s.selection);
 
-  // 2. The touched object follows the force, within what the budget leaves it.
-  for (std::size_t i = 0; i < n; ++i) {
-    std::size_t want = s.selection.level[i];
-    if (static_cast<int>(i) == s.touched) {
-      if (s.switch_object != s.touched) {  // a new contact starts at the level it found
-        s.switches[i].level = s.level[i];
-        s.switches[i].below_since.reset();
-        s.switches[i].last_switch.reset();
-        s.switch_object = s.touched;
-      }
-      s.switches[i].step(f.t, s.force);
-      const double others = s.selection.cost - s.options[i].levels[s.selection.level[i]].cost;
-      std::size_t allowed = s.selection.level[i];
-      for (std::size_t l = allowed + 1; l < s.options[i].levels.size(); ++l)
-        if (others + s.options[i].levels[l].cost <= settings_.budget) allowed = l;
-      want = std::min(s.switches[i].level, allowed);
+  // 2. The touched object follows the force (seed 000 §4.1) from the level it was touched at,
+  // and goes first: it may take the budget the others leave at their coarsest. It keeps its
+  // switch for a hold time after the contact ends, so that a coarser level's surface lying a
+  // little lower does not hand it straight back to the nearness choice.
+  if (s.touched >= 0 && s.touched < static_cast<int>(n)) {
+    const auto i = static_cast<std::size_t>(s.touched);
+    if (s.switch_object != s.touched) {  // a new contact starts at the level it found
+      s.switches[i].level = s.level[i];
+      s.switches[i].below_since.reset();
+      s.switches[i].last_switch.reset();
+      s.switch_object = s.touched;
     }
+    s.switches[i].step(f.t, s.force);
+    s.last_touch = f.t;
+  } else if (s.switch_object >= 0 && f.t - s.last_touch > objects_[s.switch_object].hold_time) {
+    s.switch_object = -1;
+  }
+  double budget = settings_.budget;
+  std::size_t held_level = 0;
+  if (settings_.select && s.switch_object >= 0) {
+    const auto t = static_cast<std::size_t>(s.switch_object);
+    double others = 0.0;
+    for (std::size_t j = 0; j < n; ++j)
+      if (j != t) others += s.options[j].levels[0].cost;
+    held_level = 0;
+    for (std::size_t l = 1; l <= s.switches[t].level && l < s.options[t].levels.size(); ++l)
+      if (others + s.options[t].levels[l].cost <= budget) held_level = l;
+    budget -= s.options[t].levels[held_level].cost - s.options[t].levels[0].cost;
+    s.options[t].benefit = 0.0;  // held at its coarsest in the selection, then set below
+  }
+
+  // 3. The others by benefit per cost within what is left (seed 000 §4.2).
+  lod::select_levels_into(s.options, std::max(budget, 0.0), s.selection);
+  if (settings_.select && s.switch_object >= 0) s.selection.level[static_cast<std::size_t>(s.switch_object)] = held_level;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t want = settings_.select ? s.selection.level[i] : s.options[i].levels.size() - 1;
     if (want == s.level[i]) continue;
     if (static_cast<int>(i) == s.touched) {
       s.blend.start({s.level[i], want, f.t});
@@ -222,11 +243,15 @@ Rendering ProxyOnObjects::render(const FrameInputs& f, AlgorithmState& state) co
       s.pending[s.pending_count++] = {HapticEvent::Kind::level_switch, static_cast<double>(want), objects_[i].body};
     s.level[i] = want;
   }
-  for (std::size_t i = 0; i < n; ++i) s.query.set(i, &objects_[i].levels->levels[s.level[i]].bvh, boxes_[i]);
+  s.cost = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    s.query.set(i, &objects_[i].levels->levels[s.level[i]].bvh, boxes_[i]);
+    s.cost += s.options[i].levels[s.level[i]].cost;
+  }
   const LocalContact& plane = *f.contact;
   s.query.set_plane(settings_.plane && plane.valid, plane.normal, plane.normal.dot(plane.point));
 
-  // 3.–4. The proxy with the material where it touched last frame.
+  // 4. The proxy with the material where it touched last frame.
   contact::ProxyParams params = s.coupling.params;
   if (s.have_material) {
     const auto& m = s.material.properties;
@@ -247,7 +272,6 @@ Rendering ProxyOnObjects::render(const FrameInputs& f, AlgorithmState& state) co
   out.surface_time = f.t;
   s.have_material = false;
   s.touched = -1;
-  if (!r.in_contact) s.switch_object = -1;
   if (r.in_contact) {
     const contact::ClosestSurfacePoint c = s.query.closest_point(s.coupling.proxy.position);
     s.touched = s.query.last_member();
@@ -269,7 +293,7 @@ Rendering ProxyOnObjects::render(const FrameInputs& f, AlgorithmState& state) co
     }
   }
 
-  // 5. Across a switch, the old level's force (the proxy moved on a copy) fades out.
+  // 5. Across a switch of the touched object, the old level's force (the proxy moved on a copy) fades out.
   if (blending) {
     const auto object = static_cast<std::size_t>(s.blend_object);
     s.query.set(object, &objects_[object].levels->levels[s.blend_from].bvh, boxes_[object]);

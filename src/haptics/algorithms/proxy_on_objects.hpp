@@ -4,16 +4,16 @@
 // material of each object's haptic property images (seed 001, second chapter).
 //
 // Every frame:
-//   1. each object's benefit is its nearness to the tool within the influence radius, and
-//      the levels are chosen greedily by benefit per cost within the frame's budget
-//      (lod::select_levels_into; an object beyond the influence radius costs nothing, it is
-//      never queried);
-//   2. the object the proxy touches follows the force instead (lod::ForceThresholdSwitch:
-//      finer above raise_force, coarser below lower_force after hold_time), within the budget;
-//   3. the proxy moves against the union of the objects' chosen levels (and the interaction
-//      loop's contact plane of the deformable bodies, where there are any);
-//   4. the coupling's stiffness, friction and damping are those painted where the proxy
-//      touches, and a roughness texture tilts and lifts the force (force shading: F_n·(n −
+//   1. each object's benefit is its nearness to the tool within the influence radius (an
+//      object beyond it is never queried and costs nothing);
+//   2. the object the proxy touches follows the force from the level it was touched at
+//      (lod::ForceThresholdSwitch: finer above raise_force, coarser below lower_force held for
+//      hold_time) and goes first, within what the others leave at their coarsest;
+//   3. the others' levels are chosen greedily by benefit per cost within the rest of the
+//      frame's budget (lod::select_levels_into);
+//   4. the proxy moves against the union of the objects' chosen levels (and the interaction
+//      loop's contact plane of the deformable bodies, where there are any), its coupling's
+//      stiffness, friction and damping those painted where it touches; a roughness texture tilts and lifts the force (force shading: F_n·(n −
 //      ∇h) + k·h·n, with h the texture height of the property image's view);
 //   5. across a level switch of the touched object the force blends from the old level's
 //      (the proxy moved against the old surface on a copy) to the new one's.
@@ -55,6 +55,8 @@ struct ObjectsSettings {
   double blend_time = 0.005;       ///< [s]
   /// [N/m] the stiffest coupling the device renders stably: painted stiffness is capped here.
   double max_stiffness = std::numeric_limits<double>::infinity();
+  /// false: every object at its finest level, never switched.
+  bool select = true;
   /// Deformable bodies are touched too, through the interaction loop's contact plane.
   bool plane = false;
 };
@@ -107,7 +109,7 @@ class ProxyOnObjects final : public ForceAlgorithm {
 
   [[nodiscard]] std::span<const TouchableObject> objects() const { return objects_; }
   [[nodiscard]] const ObjectsSettings& settings() const { return settings_; }
-  /// The level each object renders at and the selection's summed cost, as of the last frame
+  /// The level each object renders at and their summed cost, as of the last frame
   /// (for tests and the viewer's debug view; read on the haptic thread or in lockstep only).
   [[nodiscard]] static std::span<const std::size_t> levels_in_use(const AlgorithmState& state);
   [[nodiscard]] static double cost_in_use(const AlgorithmState& state);
