@@ -45,7 +45,8 @@ struct HapticEvent {
   enum class Kind : std::uint8_t {
     contact_begin, contact_end, force_clamped, non_finite_force, watchdog_trip, device_stall, emergency_stop, rupture,
     contact_state,  ///< value: the two-finger contact state, 1..9 for Table I's I..IX (contact/grasp_state.hpp)
-    level_switch    ///< value: an object's new impostor level (0 coarsest); detail: its body index
+    level_switch,   ///< value: an object's new impostor level (0 coarsest); detail: its body index
+    level_cost      ///< value: the largest summed cost of the levels in use over the last 100 ms [s]
   };
   Kind kind = Kind::contact_begin;
   double value = 0.0;

@@ -23,6 +23,7 @@ EventKind event_kind(haptics::HapticEvent::Kind kind) {
     case K::rupture: return EventKind::rupture;
     case K::contact_state: return EventKind::contact_state;
     case K::level_switch: return EventKind::level_switch;
+    case K::level_cost: return EventKind::level_cost;
   }
   return EventKind::note;
 }

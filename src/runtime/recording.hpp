@@ -70,16 +70,17 @@ enum class EventKind : std::uint16_t {
   device_finished,
   contact_state,  ///< a two-finger contact state begins; value 1..9: seed 002 Table I's I..IX
   level_switch,   ///< an object's impostor level changes; value: the new level, detail: its body
+  level_cost,     ///< the largest summed cost of the levels in use over the last 100 ms; value [s]
 };
 /// Number of EventKind values; a stored kind at or above it is malformed.
-inline constexpr std::uint16_t event_kind_count = 13;
+inline constexpr std::uint16_t event_kind_count = 14;
 
 /// "note", "contact_begin", ...: the names used in CSV ("unknown" out of range).
 constexpr std::string_view event_kind_name(EventKind kind) {
   constexpr std::string_view names[event_kind_count] = {
       "note",         "contact_begin",  "contact_end",        "force_clamped", "non_finite_force", "watchdog_trip",
       "device_stall", "emergency_stop", "simulation_overrun", "rupture",       "device_finished",
-      "contact_state", "level_switch"};
+      "contact_state", "level_switch",   "level_cost"};
   const auto i = static_cast<std::uint16_t>(kind);
   return i < event_kind_count ? names[i] : std::string_view("unknown");
 }

@@ -21,6 +21,14 @@ void start_report(const scene::Model& model, const SessionOptions& options, cons
   report.scene = model.name;
   report.scheduling = options.scheduling;
   report.visual = options.visual != nullptr;
+  report.level_budget = model.level_selection.haptic_budget;
+  for (const auto& object : loops.touchables.objects) {
+    if (!object) continue;
+    TouchableReport t{model.bodies[static_cast<std::size_t>(object->body)].name, object->body, {}};
+    for (const auto& l : object->levels->levels)
+      t.levels.push_back({l.mesh.triangles.size(), haptics::ProxyOnObjects::level_cost(l), l.error.hausdorff, l.cost.query_p50});
+    report.touchables.push_back(std::move(t));
+  }
   for (std::size_t i = 0; i < model.devices.size(); ++i)
     report.devices.push_back({model.devices[i].name, loops.haptic[i]->device().kind(), {}, 0, 0.0, 0});
 }

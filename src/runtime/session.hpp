@@ -111,6 +111,19 @@ struct LevelSwitchRecord {
   std::uint32_t level = 0;  ///< the new level, 0 coarsest
 };
 
+/// A touchable object's levels, as the haptic loop chose among them.
+struct TouchableReport {
+  std::string name;
+  std::int32_t body = -1;
+  struct Level {
+    std::size_t triangles = 0;
+    double cost = 0.0;        ///< charged by the selection per frame [s]
+    double hausdorff = 0.0;   ///< to the finest level [m]
+    double query_p50 = 0.0;   ///< measured closest-point query [s]
+  };
+  std::vector<Level> levels;  ///< coarse to fine
+};
+
 struct SessionReport {
   std::string scene;
   Scheduling scheduling = Scheduling::real_time;
@@ -130,6 +143,9 @@ struct SessionReport {
   std::vector<NeedleReport> needles;           ///< one per device driving a needle
   std::vector<ContactStateChange> contact_states;  ///< two-finger fabric scenes, in time order per device
   std::vector<LevelSwitchRecord> level_switches;   ///< scenes of many objects, in time order per device
+  std::vector<TouchableReport> touchables;         ///< the scene's touchable objects
+  double level_budget = 0.0;                       ///< [s] of each haptic frame ([lod] haptic_budget)
+  std::vector<double> level_costs;                 ///< the budget used, per 100 ms window [s]
   std::vector<std::string> cspace_notes;       ///< what on-line spaces solved during the run
 };
 

@@ -13,6 +13,7 @@ namespace tactus::haptics {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kCostWindow = 0.1;  ///< [s] between reports of the budget used
 
 double box_distance(const Aabb& box, const Vec3& p) {
   const Vec3 d = (box.min - p).cwiseMax(p - box.max).cwiseMax(0.0);
@@ -107,6 +108,8 @@ struct ProxyOnObjects::State final : AlgorithmState {
   lod::Selection selection;
   std::vector<std::size_t> level;  ///< rendered, per object
   double cost = 0.0;  ///< of the levels rendered (objects beyond the influence radius cost nothing)
+  double window_cost = 0.0;  ///< the largest `cost` since the window began
+  double window_end = 0.0;
   std::vector<lod::ForceThresholdSwitch> switches;
   int touched = -1;  ///< object index, the object count for the plane, −1 none
   int switch_object = -1;  ///< the object whose switch follows the force
@@ -247,6 +250,14 @@ Rendering ProxyOnObjects::render(const FrameInputs& f, AlgorithmState& state) co
   for (std::size_t i = 0; i < n; ++i) {
     s.query.set(i, &objects_[i].levels->levels[s.level[i]].bvh, boxes_[i]);
     s.cost += s.options[i].levels[s.level[i]].cost;
+  }
+  // The budget used, reported as the largest cost of each 100 ms window with anything near.
+  s.window_cost = std::max(s.window_cost, s.cost);
+  if (f.t >= s.window_end) {
+    if (s.window_cost > 0.0 && s.pending_count < static_cast<int>(s.pending.size()))
+      s.pending[s.pending_count++] = {HapticEvent::Kind::level_cost, s.window_cost, -1};
+    s.window_cost = 0.0;
+    s.window_end = f.t + kCostWindow;
   }
   const LocalContact& plane = *f.contact;
   s.query.set_plane(settings_.plane && plane.valid, plane.normal, plane.normal.dot(plane.point));
