@@ -57,7 +57,8 @@ std::string format_levels(const SessionReport& r) {
     out += fmt::format("  {}:", t.name);
     for (std::size_t l = 0; l < t.levels.size(); ++l) {
       const TouchableReport::Level& v = t.levels[l];
-      out += fmt::format(" L{} {} tri, {:.1f} µs, {:.2f} mm, {:.2f} s;", l, v.triangles, 1e6 * v.cost, 1e3 * v.hausdorff, time_at[l]);
+      out += fmt::format(" L{} {} tri, {:.1f} µs (query {:.2f} µs measured), {:.2f} mm, {:.2f} s;", l, v.triangles,
+                         1e6 * v.cost, 1e6 * v.query_p50, 1e3 * v.hausdorff, time_at[l]);
     }
     out += fmt::format(" {} switches\n", switches);
   }

@@ -4,6 +4,8 @@
 // limit; the touched objects' impostor levels switch and each switch is recorded.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -58,6 +60,23 @@ TEST(RoomScene, TheHandPressesEveryObjectAndTheLevelsFollow) {
   for (const char* name : {"kettle", "teapot", "dragon", "bunny"}) EXPECT_TRUE(switched.count(name)) << name;
   EXPECT_GE(levels["dragon"].size(), 2u);
   EXPECT_GE(levels["bunny"].size(), 2u);
+
+  // A switch while the hand presses moves the force by at most 10 % of its value from one
+  // frame to the next, over the switch and its blend (the press itself changes it far less).
+  int pressed_switches = 0;
+  double worst = 0.0;
+  for (const auto& s : r.level_switches) {
+    const auto at = static_cast<std::size_t>(std::lround(s.t * 1000.0));
+    if (at == 0 || at + 8 >= r.frames.size() || !r.frames[at].contact) continue;
+    ++pressed_switches;
+    for (std::size_t k = at; k <= at + 7; ++k) {
+      const double now = r.frames[k].force.norm(), before = r.frames[k - 1].force.norm();
+      if (now > 0.2) worst = std::max(worst, std::abs(now - before) / now);
+    }
+  }
+  std::printf("room: %d switches while pressing, largest force step across one %.1f %%\n", pressed_switches, 100 * worst);
+  EXPECT_GE(pressed_switches, 1);
+  EXPECT_LE(worst, 0.10);
 }
 
 }  // namespace
