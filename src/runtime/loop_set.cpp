@@ -19,7 +19,7 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
   loops.cspaces = compile::load_cspace_bodies(m);
   const compile::CspaceBodies& cspaces = loops.cspaces;
   // Built once: every device touches (and the viewer paints) the same objects.
-  loops.touchables = compile::load_touchables(m);
+  loops.touchables = o.touchables ? *o.touchables : compile::load_touchables(m);
   for (std::size_t i = 0; i < m.devices.size(); ++i) {
     compile::DeviceSetup setup = compile::setup_device(m, i, cspaces, &loops.touchables);
     std::unique_ptr<haptics::Device> device;

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "compile/touchables.hpp"
 #include "core/clock.hpp"
 #include "core/triple_buffer.hpp"
 #include "haptics/device.hpp"
@@ -79,6 +80,9 @@ struct SessionOptions {
   /// Parameters edited during the run and the emergency stop (runtime/live_parameters.hpp);
   /// null = none. Its surfaces are described by the run when its loops are built.
   LiveParameters* live = nullptr;
+  /// The scene's touchable objects, built by the caller so that it shares them with the run
+  /// (the viewer paints their property images); null: the run builds its own.
+  const compile::Touchables* touchables = nullptr;
   /// Replaces the device of scene entry `index` (the viewer's mouse) when it returns one.
   std::function<std::unique_ptr<haptics::Device>(const scene::Model&, std::size_t index)> device_override;
 };

@@ -104,6 +104,8 @@ struct ViewOptions {
   bool show_planes = false;  ///< the contact's constraint plane under each touching tool
   bool show_bvh = false;     ///< the top levels of each surface's contact BVH
   int bvh_levels = 3;        ///< levels below the root drawn by show_bvh
+  bool show_levels = false;  ///< touchable objects at their haptic impostor level, coloured by it
+  bool graphics_levels = true;  ///< touchable objects drawn at graphics impostors chosen per frame
 };
 
 /// Axis-aligned bounds of everything in the frame (surfaces and spheres).

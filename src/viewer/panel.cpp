@@ -3,8 +3,10 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <filesystem>
+#include <tuple>
 
 #include "core/error.hpp"
 
@@ -103,6 +105,8 @@ const std::vector<std::pair<const char*, const char*>>& shortcuts() {
       {"E / space", "emergency stop: every device's force off until the run ends"},
       {"P", "constraint planes of the contacts"},
       {"B", "BVH boxes (top levels)"},
+      {"L", "touchable objects at the haptic loop's impostor levels, coloured by level"},
+      {"G", "graphics impostors chosen each frame (off: every object at its finest)"},
       {"H", "hide / show this panel"},
       {"Esc", "close the window, end the run"},
   };
@@ -159,11 +163,42 @@ PanelActions draw_panel(const PanelInputs& in, ViewOptions& view) {
       ImGui::SetNextItemWidth(80.0f);
       ImGui::SliderInt("levels", &view.bvh_levels, 0, 8);
     }
+    ImGui::Checkbox("haptic levels (L)", &view.show_levels);
+    ImGui::SameLine();
+    ImGui::Checkbox("graphics impostors (G)", &view.graphics_levels);
     if (ImGui::Button("reset camera (R)")) actions.reset_camera = true;
     ImGui::SameLine();
     if (ImGui::Button("reset finger (F)")) actions.reset_finger = true;
     ImGui::SameLine();
     if (ImGui::Button("quit")) actions.close = true;
+  }
+  if (in.brush && ImGui::CollapsingHeader("Paint property images", ImGuiTreeNodeFlags_DefaultOpen)) {
+    // Seed 001's authoring: the tool is the brush; what it paints is felt at once.
+    PaintBrush& b = *in.brush;
+    ImGui::Checkbox("paint where the tool touches", &b.on);
+    slider("radius [m]", b.radius, 0.001, 0.1, "%.3f", true);
+    using property_images::Channel;
+    const std::array<std::tuple<Channel, const char*, double, double, const char*, bool>, 6> channels{{
+        {Channel::stiffness, "stiffness [N/m]", 10.0, 5000.0, "%.0f", true},
+        {Channel::static_friction, "static friction", 0.0, 2.0, "%.2f", false},
+        {Channel::kinetic_friction, "kinetic friction", 0.0, 2.0, "%.2f", false},
+        {Channel::damping, "damping [N s/m]", 0.0, 20.0, "%.2f", false},
+        {Channel::roughness_amplitude, "roughness [m]", 1e-6, 1e-3, "%.1e", true},
+        {Channel::roughness_wavelength, "wavelength [m]", 1e-3, 0.05, "%.4f", true},
+    }};
+    for (const auto& [channel, label, lo, hi, format, logarithmic] : channels) {
+      const auto bit = property_images::mask_of(channel);
+      bool use = (b.mask & bit) != 0;
+      ImGui::PushID(label);
+      if (ImGui::Checkbox("##use", &use)) b.mask = static_cast<property_images::ChannelMask>(use ? b.mask | bit : b.mask & ~bit);
+      ImGui::SameLine();
+      slider(label, b.values[channel], lo, hi, format, logarithmic);
+      ImGui::PopID();
+    }
+    // μk ≤ μs, as every material must have.
+    b.values[Channel::kinetic_friction] = std::min(b.values[Channel::kinetic_friction], b.values[Channel::static_friction]);
+    if (ImGui::Button("save images")) actions.save_images = true;
+    if (!in.painted.empty()) ImGui::TextWrapped("%s", in.painted.c_str());
   }
   if (in.live && ImGui::CollapsingHeader("Material and surface (live)", ImGuiTreeNodeFlags_DefaultOpen)) {
     static std::string error;  // the panel's one ImGui context lives on one thread

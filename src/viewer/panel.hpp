@@ -6,6 +6,7 @@
 
 #include "runtime/live_parameters.hpp"
 #include "viewer/frame.hpp"
+#include "viewer/touchables_view.hpp"
 #include "viewer/visual_feed.hpp"
 
 namespace tactus::viewer {
@@ -27,6 +28,9 @@ struct PanelInputs {
   bool emergency_stopped = false;
   /// Scenes the switcher offers (paths); empty = no switcher.
   std::vector<std::string> scenes;
+  /// The brush of the scene's property images (the panel edits it); null = none to paint.
+  PaintBrush* brush = nullptr;
+  std::string painted;  ///< what the brush last did, or where the images were saved
 };
 
 /// What the user asked for through the panel's buttons.
@@ -36,6 +40,7 @@ struct PanelActions {
   bool close = false;
   bool emergency_stop = false;
   std::string switch_to;  ///< a scene chosen in the switcher
+  bool save_images = false;  ///< write the painted property images
 };
 
 /// Builds the panel in the current ImGui frame; the display switches are edited in place.

@@ -123,6 +123,14 @@ void VisualFeed::frame(const runtime::HapticFrame& f) {
 void VisualFeed::event(const runtime::LoopEvent& e) {
   if (e.kind == runtime::EventKind::note) return;
   std::lock_guard lock(mutex_);
+  if (e.kind == runtime::EventKind::level_switch) {
+    if (e.detail >= 0 && static_cast<std::size_t>(e.detail) < model_.bodies.size()) {
+      if (levels_.size() != model_.bodies.size()) levels_.assign(model_.bodies.size(), -1);
+      levels_[static_cast<std::size_t>(e.detail)] = static_cast<std::int32_t>(e.value);
+    }
+    return;  // many a second as the tool moves: the list keeps the safety and contact events
+  }
+  if (e.kind == runtime::EventKind::level_cost) return;
   if (e.kind == runtime::EventKind::rupture && e.device < needles_.size() && e.detail >= 0)
     needles_[e.device].passed.push_back(e.detail);
   const std::string device = e.device < model_.devices.size() ? model_.devices[e.device].name : "?";
@@ -166,6 +174,11 @@ std::vector<ToolView> VisualFeed::tools() const {
 std::vector<PlotSample> VisualFeed::samples() const {
   std::lock_guard lock(mutex_);
   return {samples_.begin(), samples_.end()};
+}
+
+std::vector<std::int32_t> VisualFeed::levels() const {
+  std::lock_guard lock(mutex_);
+  return levels_;
 }
 
 std::vector<std::string> VisualFeed::events() const {

@@ -60,6 +60,8 @@ class VisualFeed final : public runtime::VisualSink {
   [[nodiscard]] std::vector<PlotSample> samples() const;
   /// Safety and contact events, newest last (the last 64), as "t  kind  value".
   [[nodiscard]] std::vector<std::string> events() const;
+  /// Per body, the impostor level the haptic loop renders it at (−1: none reported).
+  [[nodiscard]] std::vector<std::int32_t> levels() const;
   /// Device → scene mapping of a device (for the mouse device).
   [[nodiscard]] const haptics::WorkspaceMap& map(std::size_t device) const { return devices_.at(device).map; }
   /// Pressure shown at the top of the colour scale [Pa].
@@ -97,6 +99,7 @@ class VisualFeed final : public runtime::VisualSink {
   std::vector<std::optional<runtime::HapticFrame>> latest_;
   std::deque<PlotSample> samples_;
   std::deque<std::string> events_;
+  std::vector<std::int32_t> levels_;
   std::vector<NeedleProgress> needles_;
 };
 

@@ -33,6 +33,7 @@
 #include "viewer/panel.hpp"
 #include "viewer/gl.hpp"
 #include "viewer/renderer.hpp"
+#include "viewer/touchables_view.hpp"
 #include "viewer/view_script.hpp"
 #include "viewer/visual_feed.hpp"
 
@@ -85,9 +86,10 @@ class Window {
  public:
   Window(const scene::Model& model, const WindowOptions& options, VisualFeed& feed, MouseChannel* mouse,
          const haptics::WorkspaceMap& map, std::string mouse_device, std::string recording,
-         runtime::LiveParameters& live)
+         runtime::LiveParameters& live, const compile::Touchables& touchables)
       : model_(model), options_(options), feed_(feed), mouse_(mouse), map_(map),
-        mouse_device_(std::move(mouse_device)), recording_(std::move(recording)), live_(live), debug_(model) {
+        mouse_device_(std::move(mouse_device)), recording_(std::move(recording)), live_(live), debug_(model),
+        touchables_(touchables) {
     for (const scene::Body& b : model.bodies) body_names_.push_back(b.name);
     for (const scene::Device& d : model.devices) device_names_.push_back(d.name);
     scenes_ = options.scenes;
@@ -277,6 +279,8 @@ class Window {
       case GLFW_KEY_SPACE: emergency_stop(); break;
       case GLFW_KEY_P: view_.show_planes = !view_.show_planes; break;
       case GLFW_KEY_B: view_.show_bvh = !view_.show_bvh; break;
+      case GLFW_KEY_L: view_.show_levels = !view_.show_levels; break;
+      case GLFW_KEY_G: view_.graphics_levels = !view_.graphics_levels; break;
       case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
       default: break;
     }
@@ -380,12 +384,53 @@ class Window {
     std::fflush(stdout);
   }
 
+  // --- painting property images ------------------------------------------------------------
+
+  [[nodiscard]] bool paintable() const {
+    for (const auto& o : touchables_.objects)
+      if (o && o->properties) return true;
+    return false;
+  }
+
+  /// While the brush is on, the first tool paints where it touches (the haptic loop feels it
+  /// at its next lookup: the images are shared and written lock-free).
+  void paint(const std::vector<ToolView>& tools) {
+    if (!brush_.on || tools.empty() || !tools.front().touching) return;
+    const std::string body = paint_at(touchables_, model_, tools.front().contact_point, brush_);
+    if (!body.empty()) painted_ = fmt::format("painting {}", body);
+  }
+
+  void save_images() {
+    const std::filesystem::path folder = std::filesystem::path(model_.source).parent_path();
+    try {
+      const auto files = save_property_images(touchables_, model_, folder);
+      painted_.clear();
+      for (const auto& f : files) painted_ += (painted_.empty() ? "saved " : ", ") + f.string();
+      std::printf("view: %s\n", painted_.c_str());
+      std::fflush(stdout);
+    } catch (const InputError& e) {
+      painted_ = e.what();
+    }
+  }
+
   // --- drawing ----------------------------------------------------------------------------
 
   void draw_frame() {
     FrameView frame = feed_.build();
     const std::vector<ToolView> tools = feed_.tools();
+    if (touchables_.any()) {
+      // The debug view shows the haptic loop's levels; otherwise the graphics impostors chosen
+      // for this frame by projected size within the triangle budget.
+      int fb_width = 0, fb_height = 0;
+      glfwGetFramebufferSize(window_, &fb_width, &fb_height);
+      const double focal = 0.5 * std::max(fb_height, 1) / std::tan(0.5 * camera_.fov_y * M_PI / 180.0);
+      if (view_.show_levels)
+        show_levels(touchables_, feed_.levels(), true, frame);
+      else if (view_.graphics_levels)
+        show_levels(touchables_, choose_graphics_levels(touchables_, camera_.eye(), focal, kTriangleBudget), false, frame);
+    }
     debug_.add(tools, view_, frame);
+    paint(tools);
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
     if (width <= 0 || height <= 0) return;  // minimised
@@ -411,7 +456,10 @@ class Window {
       in.scenes = scenes_;
       in.samples = feed_.samples();
       in.events = feed_.events();
+      if (paintable()) in.brush = &brush_;
+      in.painted = painted_;
       const PanelActions a = draw_panel(in, view_);
+      if (a.save_images) save_images();
       if (a.reset_camera) camera_ = home_camera_;
       if (a.reset_finger) finger_ = home_finger_;
       if (a.close) glfwSetWindowShouldClose(window_, GLFW_TRUE);
@@ -479,6 +527,12 @@ class Window {
 
   runtime::LiveParameters& live_;
   DebugViews debug_;
+  /// Triangles the touchable objects may draw in a frame (their graphics impostors share it):
+  /// about 8 ms of the software renderer here (docs/BENCHMARKS.md).
+  static constexpr double kTriangleBudget = 60'000;
+  const compile::Touchables& touchables_;
+  PaintBrush brush_;
+  std::string painted_;
   bool stopped_ = false;
   std::vector<std::string> body_names_, device_names_, scenes_;
   std::string next_scene_;
@@ -505,8 +559,11 @@ runtime::SessionReport run_with_window(const scene::Model& model, runtime::Sessi
   MouseChannel channel(Vec3::Zero());
   // Edits from the panel; they outlive the run, which reads them.
   runtime::LiveParameters live(model);
+  // Built here and shared with the run: the panel's brush paints the images the haptic loop reads.
+  const compile::Touchables touchables = compile::load_touchables(model);
+  options.touchables = &touchables;
   Window window(model, window_options, feed, mouse ? &channel : nullptr, map, report.mouse_device,
-                options.record ? options.record->string() : std::string(), live);
+                options.record ? options.record->string() : std::string(), live, touchables);
   options.live = &live;
   channel.set(window.home_device_position());
   options.visual = &feed;

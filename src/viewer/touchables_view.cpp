@@ -1,0 +1,86 @@
+#include "viewer/touchables_view.hpp"
+
+#include "lod/selection.hpp"
+#include "property_images/property_file.hpp"
+
+namespace tactus::viewer {
+
+PaintBrush::PaintBrush() {
+  values[property_images::Channel::stiffness] = 1000.0;
+  values[property_images::Channel::static_friction] = 0.5;
+  values[property_images::Channel::kinetic_friction] = 0.4;
+  values[property_images::Channel::damping] = 1.0;
+  values[property_images::Channel::roughness_amplitude] = 1e-4;
+  values[property_images::Channel::roughness_wavelength] = 0.003;
+}
+
+std::vector<std::int32_t> choose_graphics_levels(const compile::Touchables& touchables, const Vec3& eye,
+                                                 double viewport_scale, double triangle_budget) {
+  std::vector<lod::ObjectLevels> options;
+  std::vector<std::size_t> bodies;
+  for (std::size_t b = 0; b < touchables.objects.size(); ++b) {
+    const auto& object = touchables.objects[b];
+    if (!object) continue;
+    const Aabb box = object->levels->levels.back().mesh.bounds();
+    lod::ObjectLevels o;
+    o.benefit = lod::graphics_benefit(box.center(), 0.5 * box.size().norm(), eye, viewport_scale);
+    for (const auto& l : object->levels->levels)
+      o.levels.push_back({static_cast<double>(l.mesh.triangles.size()), l.error.hausdorff});
+    options.push_back(std::move(o));
+    bodies.push_back(b);
+  }
+  std::vector<std::int32_t> levels(touchables.objects.size(), -1);
+  if (options.empty()) return levels;
+  const lod::Selection chosen = lod::select_levels(options, triangle_budget);
+  for (std::size_t i = 0; i < bodies.size(); ++i) levels[bodies[i]] = static_cast<std::int32_t>(chosen.level[i]);
+  return levels;
+}
+
+void show_levels(const compile::Touchables& touchables, std::span<const std::int32_t> levels, bool colour_by_level,
+                 FrameView& frame) {
+  for (std::size_t b = 0; b < touchables.objects.size() && b < frame.surfaces.size(); ++b) {
+    const auto& object = touchables.objects[b];
+    if (!object) continue;
+    const auto& all = object->levels->levels;
+    const std::int32_t wanted = b < levels.size() ? std::max(levels[b], 0) : 0;
+    const auto level = std::min(static_cast<std::size_t>(wanted), all.size() - 1);
+    SurfaceView& s = frame.surfaces[b];
+    s.positions = all[level].mesh.vertices;
+    s.triangles = all[level].mesh.triangles;
+    s.pressure.clear();
+    if (colour_by_level)
+      s.colour = pressure_colour(all.size() > 1 ? static_cast<double>(level) / static_cast<double>(all.size() - 1) : 1.0);
+  }
+}
+
+std::string paint_at(const compile::Touchables& touchables, const scene::Model& model, const Vec3& point,
+                     const PaintBrush& brush) {
+  double nearest = brush.radius;
+  const haptics::TouchableObject* target = nullptr;
+  for (const auto& object : touchables.objects) {
+    if (!object || !object->properties) continue;
+    const auto c = object->levels->levels.back().bvh.closest_point(point, nearest);
+    if (c.triangle >= 0 && c.distance <= nearest) {
+      nearest = c.distance;
+      target = &*object;
+    }
+  }
+  if (!target) return {};
+  target->properties->paint(point, brush.radius, brush.values, brush.mask);
+  return model.bodies[static_cast<std::size_t>(target->body)].name;
+}
+
+std::vector<std::filesystem::path> save_property_images(const compile::Touchables& touchables,
+                                                        const scene::Model& model, const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& object : touchables.objects) {
+    if (!object || !object->properties) continue;
+    const std::filesystem::path file =
+        folder / (model.bodies[static_cast<std::size_t>(object->body)].name + ".properties.h5");
+    property_images::write_property_images(file, *object->properties);
+    files.push_back(file);
+  }
+  return files;
+}
+
+}  // namespace tactus::viewer
