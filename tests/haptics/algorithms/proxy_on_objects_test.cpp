@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "core/counting_allocator.hpp"
 #include "mesh/generators.hpp"
@@ -87,6 +88,7 @@ TEST(ProxyOnObjects, PaintedStiffnessIsFeltAsPainted) {
     return d.move(Vec3(x, 0, 0.012), Vec3(x, 0, 0.009), 200).force.z();  // 3 mm past the surface
   };
   const double painted = press(-0.025), plain = press(0.025);
+  std::printf("painted %.4f N, plain %.4f N, ratio %.4f\n", painted, plain, painted / plain);
   EXPECT_NEAR(plain, 400.0 * 0.003, 400.0 * 0.003 * 0.01);
   EXPECT_NEAR(painted / plain, 2.0, 2.0 * 0.02);
 }
