@@ -335,6 +335,41 @@ TEST_F(Cli, RunRejectsABadSceneWithItsLocation) {
   EXPECT_NE(r.err.find("bad.toml:"), std::string::npos) << r.err;
 }
 
+TEST_F(Cli, RunRejectsBrokenPropertyImagesOnOneLine) {
+  // A touchable object whose property image file is garbage, and one whose surface is open.
+  const std::string tail = R"(
+[devices.hand]
+type = "scripted"
+trajectory = { type = "press", position = [0.0, 0.0, 0.06], depth = 0.005 }
+[tools.finger]
+type = "sphere"
+device = "hand"
+radius = 0.003
+[algorithms.touch]
+type = "proxy"
+tool = "finger"
+)";
+  std::ofstream(dir_ / "garbage.h5") << "not an image file";
+  std::ofstream(dir_ / "garbage.toml") << "[bodies.ball]\nkind = \"rigid\"\n"
+                                          "mesh = { generator = \"sphere\", radius = 0.05 }\n"
+                                          "properties = { file = \"garbage.h5\" }\n"
+                                       << tail;
+  auto r = run("run --lockstep " + (dir_ / "garbage.toml").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("garbage.h5"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not an HDF5 file"), std::string::npos) << r.err;
+  std::ofstream(dir_ / "open.toml") << "[bodies.sheet]\nkind = \"rigid\"\n"
+                                       "mesh = { generator = \"grid_plate\", size = [0.1, 0.1] }\n"
+                                       "properties = { stiffness = 400.0 }\n"
+                                    << tail;
+  r = run("run --lockstep " + (dir_ / "open.toml").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("body 'sheet'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("closed"), std::string::npos) << r.err;
+}
+
 }  // namespace
 
 namespace {
