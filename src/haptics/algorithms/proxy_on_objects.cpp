@@ -1,173 +1,28 @@
 #include "haptics/algorithms/proxy_on_objects.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
 #include <optional>
 
 #include "contact/load_spread.hpp"
-#include "core/error.hpp"
 
 namespace tactus::haptics {
 
-namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kCostWindow = 0.1;  ///< [s] between reports of the budget used
-
-double box_distance(const Aabb& box, const Vec3& p) {
-  const Vec3 d = (box.min - p).cwiseMax(p - box.max).cwiseMax(0.0);
-  return d.norm();
-}
-
-/// Whether the segment from → to, grown by radius, can reach the box (by their boxes).
-bool may_reach(const Aabb& box, const Vec3& from, const Vec3& to, double radius) {
-  const Vec3 lo = from.cwiseMin(to).array() - radius, hi = from.cwiseMax(to).array() + radius;
-  return (lo.array() <= box.max.array()).all() && (hi.array() >= box.min.array()).all();
-}
-
-std::int32_t encode(std::size_t object, std::int32_t triangle) {
-  return triangle < 0 ? -1 : static_cast<std::int32_t>(object) * ObjectsQuery::kObjectStride + triangle;
-}
-
-}  // namespace
-
-// ---------------------------------------------------------------------------------------
-// The union of the objects
-
-void ObjectsQuery::resize(std::size_t objects) {
-  trees_.assign(objects, nullptr);
-  boxes_.assign(objects, Aabb{});
-}
-
-void ObjectsQuery::set(std::size_t object, const contact::TriangleBvh* tree, const Aabb& box) {
-  trees_[object] = tree;
-  boxes_[object] = box;
-}
-
-void ObjectsQuery::set_plane(bool valid, const Vec3& normal, double offset) {
-  plane_ = valid;
-  normal_ = normal;
-  offset_ = offset;
-}
-
-contact::ClosestSurfacePoint ObjectsQuery::closest_point(const Vec3& p) const {
-  contact::ClosestSurfacePoint best;
-  last_member_ = -1;
-  if (!p.allFinite()) return best;
-  double best_distance = kInf;
-  if (plane_) {
-    best = contact::HalfSpaceQuery(normal_, offset_).closest_point(p);
-    best_distance = best.distance;
-    last_member_ = static_cast<int>(trees_.size());
-  }
-  for (std::size_t i = 0; i < trees_.size(); ++i) {
-    if (!trees_[i] || box_distance(boxes_[i], p) >= best_distance) continue;
-    contact::ClosestSurfacePoint c = trees_[i]->closest_point_with_side(p);
-    if (!c.found || c.distance >= best_distance) continue;
-    // Outside the object's box is outside the object, whatever the side test says there (a
-    // coarse level's folds can turn a far point's pseudo-normal around).
-    if (c.behind && !boxes_[i].contains(p)) c.behind = false;
-    c.triangle = encode(i, c.triangle);
-    best = c;
-    best_distance = c.distance;
-    last_member_ = static_cast<int>(i);
-  }
-  return best;
-}
-
-contact::SweepHit ObjectsQuery::sweep_sphere(const Vec3& from, const Vec3& to, double radius) const {
-  contact::SweepHit best;
-  if (!from.allFinite() || !to.allFinite() || !(radius >= 0.0)) return best;
-  if (plane_) best = contact::HalfSpaceQuery(normal_, offset_).sweep_sphere(from, to, radius);
-  for (std::size_t i = 0; i < trees_.size(); ++i) {
-    if (!trees_[i] || !may_reach(boxes_[i], from, to, radius)) continue;
-    contact::SweepHit h = trees_[i]->sweep_sphere(from, to, radius);
-    if (!h.hit || (best.hit && h.time >= best.time)) continue;
-    h.triangle = encode(i, h.triangle);
-    best = h;
-  }
-  return best;
-}
-
-std::optional<std::array<Vec3, 3>> ObjectsQuery::triangle(std::int32_t t) const {
-  if (t < 0) return std::nullopt;
-  const auto object = static_cast<std::size_t>(t / kObjectStride);
-  if (object >= trees_.size() || !trees_[object]) return std::nullopt;
-  return trees_[object]->triangle_corners(t % kObjectStride);
-}
-
-// ---------------------------------------------------------------------------------------
-// The algorithm
-
 struct ProxyOnObjects::State final : AlgorithmState {
   ProxyCoupling coupling;
-  ObjectsQuery query;
-  std::vector<double> base_cost;  ///< per object and level, flattened as options' levels
-  std::vector<lod::ObjectLevels> options;
-  lod::Selection selection;
-  std::vector<std::size_t> level;  ///< rendered, per object
-  double cost = 0.0;  ///< of the levels rendered (objects beyond the influence radius cost nothing)
-  double window_cost = 0.0;  ///< the largest `cost` since the window began
-  double window_end = 0.0;
-  std::vector<lod::ForceThresholdSwitch> switches;
-  int touched = -1;  ///< object index, the object count for the plane, −1 none
-  int switch_object = -1;  ///< the object whose switch follows the force
-  double last_touch = 0.0;  ///< when it was last touched [s]
-  double force = 0.0;  ///< magnitude rendered last frame [N]
+  LevelChooser::State levels;
   // What the proxy touched last frame, where the material is looked up.
   bool have_material = false;
   property_images::Lookup material;
-  // A switch of the touched object being blended.
-  lod::LevelBlend blend;
-  int blend_object = -1;
-  std::size_t blend_from = 0;
-  // Level changes waiting to be reported, one a frame.
-  std::array<HapticEvent, 32> pending{};
-  int pending_count = 0;
 };
-
-double ProxyOnObjects::level_cost(const lod::ImpostorLevel& level) {
-  return kQueriesPerFrame * kSecondsPerTreeLevel * level.bvh.depth();
-}
 
 ProxyOnObjects::ProxyOnObjects(ToolSphere sphere, const contact::ProxyParams& params,
                                std::vector<TouchableObject> objects, const ObjectsSettings& settings)
-    : sphere_(sphere), params_(params), objects_(std::move(objects)), settings_(settings) {
-  for (const TouchableObject& o : objects_) {
-    if (!o.levels || o.levels->levels.empty()) throw InputError("a touchable object needs at least one level");
-    lod::SwitchParams sp{o.raise_force, o.lower_force, o.hold_time, 2.0 * settings_.blend_time, 0,
-                         o.levels->levels.size() - 1};
-    lod::check_switch_params(sp);
-    Aabb box;
-    for (const auto& l : o.levels->levels) {
-      box.add(l.mesh.bounds().min);
-      box.add(l.mesh.bounds().max);
-    }
-    box.min.array() -= params_.radius;
-    box.max.array() += params_.radius;
-    boxes_.push_back(box);
-  }
-}
+    : sphere_(sphere), params_(params), chooser_(std::move(objects), settings, params.radius) {}
 
 std::unique_ptr<AlgorithmState> ProxyOnObjects::make_state() const {
   auto s = std::make_unique<State>();
   s->coupling.params = params_;
-  s->query.resize(objects_.size());
-  s->options.resize(objects_.size());
-  for (std::size_t i = 0; i < objects_.size(); ++i) {
-    for (const auto& l : objects_[i].levels->levels) {
-      s->options[i].levels.push_back({level_cost(l), l.error.hausdorff});
-      s->base_cost.push_back(level_cost(l));
-    }
-    const lod::SwitchParams sp{objects_[i].raise_force, objects_[i].lower_force, objects_[i].hold_time,
-                               2.0 * settings_.blend_time, 0, objects_[i].levels->levels.size() - 1};
-    s->switches.emplace_back(sp, 0);
-  }
-  lod::check_levels(s->options, settings_.budget);
-  s->selection.level.resize(objects_.size());
-  s->level.assign(objects_.size(), 0);
-  s->blend.duration = settings_.blend_time;
+  s->levels = chooser_.make_state();
   return s;
 }
 
@@ -176,11 +31,11 @@ void ProxyOnObjects::edit_surface(const SurfaceValues& v, AlgorithmState& state)
 }
 
 std::span<const std::size_t> ProxyOnObjects::levels_in_use(const AlgorithmState& state) {
-  return static_cast<const State&>(state).level;
+  return static_cast<const State&>(state).levels.level;
 }
 
 double ProxyOnObjects::cost_in_use(const AlgorithmState& state) {
-  return static_cast<const State&>(state).cost;
+  return static_cast<const State&>(state).levels.cost;
 }
 
 Rendering ProxyOnObjects::render(const FrameInputs& f, AlgorithmState& state) const {
@@ -188,108 +43,39 @@ Rendering ProxyOnObjects::render(const FrameInputs& f, AlgorithmState& state) co
   s.coupling.start(f, sphere_);
   const Vec3 arm = f.orientation * sphere_.offset;
   const Vec3 goal = f.position + arm;
-  const std::size_t n = objects_.size();
+  const std::size_t n = chooser_.objects().size();
+  chooser_.choose(f.t, goal, s.coupling.proxy.position, *f.contact, s.levels);
 
-  // 1. Each object's benefit: its nearness to the tool. One beyond the influence radius is
-  // never queried, so it costs nothing.
-  std::size_t flat = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double distance = std::min(box_distance(boxes_[i], goal), box_distance(boxes_[i], s.coupling.proxy.position));
-    const double benefit = lod::haptic_benefit(distance, settings_.influence_radius);
-    s.options[i].benefit = benefit;
-    for (auto& option : s.options[i].levels) option.cost = benefit > 0.0 ? s.base_cost[flat] : 0.0, ++flat;
-  }
-
-  // 2. The touched object follows the force (seed 000 §4.1) from the level it was touched at,
-  // and goes first: it may take the budget the others leave at their coarsest. It keeps its
-  // switch for a hold time after the contact ends, so that a coarser level's surface lying a
-  // little lower does not hand it straight back to the nearness choice.
-  if (s.touched >= 0 && s.touched < static_cast<int>(n)) {
-    const auto i = static_cast<std::size_t>(s.touched);
-    if (s.switch_object != s.touched) {  // a new contact starts at the level it found
-      s.switches[i].level = s.level[i];
-      s.switches[i].below_since.reset();
-      s.switches[i].last_switch.reset();
-      s.switch_object = s.touched;
-    }
-    s.switches[i].step(f.t, s.force);
-    s.last_touch = f.t;
-  } else if (s.switch_object >= 0 && f.t - s.last_touch > objects_[s.switch_object].hold_time) {
-    s.switch_object = -1;
-  }
-  double budget = settings_.budget;
-  std::size_t held_level = 0;
-  if (settings_.select && s.switch_object >= 0) {
-    const auto t = static_cast<std::size_t>(s.switch_object);
-    double others = 0.0;
-    for (std::size_t j = 0; j < n; ++j)
-      if (j != t) others += s.options[j].levels[0].cost;
-    held_level = 0;
-    for (std::size_t l = 1; l <= s.switches[t].level && l < s.options[t].levels.size(); ++l)
-      if (others + s.options[t].levels[l].cost <= budget) held_level = l;
-    budget -= s.options[t].levels[held_level].cost - s.options[t].levels[0].cost;
-    s.options[t].benefit = 0.0;  // held at its coarsest in the selection, then set below
-  }
-
-  // 3. The others by benefit per cost within what is left (seed 000 §4.2).
-  lod::select_levels_into(s.options, std::max(budget, 0.0), s.selection);
-  if (settings_.select && s.switch_object >= 0) s.selection.level[static_cast<std::size_t>(s.switch_object)] = held_level;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t want = settings_.select ? s.selection.level[i] : s.options[i].levels.size() - 1;
-    if (want == s.level[i]) continue;
-    if (static_cast<int>(i) == s.touched) {
-      s.blend.start({s.level[i], want, f.t});
-      s.blend_object = static_cast<int>(i);
-      s.blend_from = s.level[i];
-    }
-    if (s.pending_count < static_cast<int>(s.pending.size()))
-      s.pending[s.pending_count++] = {HapticEvent::Kind::level_switch, static_cast<double>(want), objects_[i].body};
-    s.level[i] = want;
-  }
-  s.cost = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    s.query.set(i, &objects_[i].levels->levels[s.level[i]].bvh, boxes_[i]);
-    s.cost += s.options[i].levels[s.level[i]].cost;
-  }
-  // The budget used, reported as the largest cost of each 100 ms window with anything near.
-  s.window_cost = std::max(s.window_cost, s.cost);
-  if (f.t >= s.window_end) {
-    if (s.window_cost > 0.0 && s.pending_count < static_cast<int>(s.pending.size()))
-      s.pending[s.pending_count++] = {HapticEvent::Kind::level_cost, s.window_cost, -1};
-    s.window_cost = 0.0;
-    s.window_end = f.t + kCostWindow;
-  }
-  const LocalContact& plane = *f.contact;
-  s.query.set_plane(settings_.plane && plane.valid, plane.normal, plane.normal.dot(plane.point));
-
-  // 4. The proxy with the material where it touched last frame.
+  // The proxy with the material where it touched last frame.
   contact::ProxyParams params = s.coupling.params;
   if (s.have_material) {
     const auto& m = s.material.properties;
     using property_images::Channel;
-    params.stiffness = std::min(m[Channel::stiffness], settings_.max_stiffness);
+    params.stiffness = std::min(m[Channel::stiffness], chooser_.settings().max_stiffness);
     params.static_friction = m[Channel::static_friction];
     params.kinetic_friction = std::min(m[Channel::kinetic_friction], params.static_friction);
     params.damping = m[Channel::damping];
   }
-  const bool blending = s.blend_object >= 0 && s.blend.active(f.t);
+  const bool blending = chooser_.blending(f.t, s.levels);
   std::optional<contact::ProxyState> old_proxy;
   if (blending) old_proxy = s.coupling.proxy;
-  const contact::ProxyResult r = contact::update_proxy(params, s.coupling.proxy, goal, f.velocity, f.dt, s.query);
+  const contact::ProxyResult r =
+      contact::update_proxy(params, s.coupling.proxy, goal, f.velocity, f.dt, s.levels.query);
 
   Rendering out;
   out.touching = r.in_contact;
   out.force = r.force;
   out.surface_time = f.t;
   s.have_material = false;
-  s.touched = -1;
+  int touched = -1;
   if (r.in_contact) {
-    const contact::ClosestSurfacePoint c = s.query.closest_point(s.coupling.proxy.position);
-    s.touched = s.query.last_member();
+    const contact::ClosestSurfacePoint c = s.levels.query.closest_point(s.coupling.proxy.position);
+    touched = s.levels.query.last_member();
     out.point = c.point;
-    if (s.touched == static_cast<int>(n)) out.surface_time = plane.surface_time;
-    if (s.touched >= 0 && s.touched < static_cast<int>(n) && objects_[s.touched].properties) {
-      const auto& images = *objects_[s.touched].properties;
+    if (touched == static_cast<int>(n)) out.surface_time = f.contact->surface_time;
+    const auto objects = chooser_.objects();
+    if (touched >= 0 && touched < static_cast<int>(n) && objects[static_cast<std::size_t>(touched)].properties) {
+      const auto& images = *objects[static_cast<std::size_t>(touched)].properties;
       s.material = images.lookup(c.point, c.normal);
       s.have_material = true;
       using property_images::Channel;
@@ -304,34 +90,25 @@ Rendering ProxyOnObjects::render(const FrameInputs& f, AlgorithmState& state) co
     }
   }
 
-  // 5. Across a switch of the touched object, the old level's force (the proxy moved on a copy) fades out.
+  // Across a switch of the touched object, the old level's force (the proxy moved on a copy) fades out.
   if (blending) {
-    const auto object = static_cast<std::size_t>(s.blend_object);
-    s.query.set(object, &objects_[object].levels->levels[s.blend_from].bvh, boxes_[object]);
-    const contact::ProxyResult old = contact::update_proxy(params, *old_proxy, goal, f.velocity, f.dt, s.query);
-    s.query.set(object, &objects_[object].levels->levels[s.level[object]].bvh, boxes_[object]);
-    out.force = s.blend.blend(f.t, old.force, out.force);
+    chooser_.old_level(s.levels, true);
+    const contact::ProxyResult old = contact::update_proxy(params, *old_proxy, goal, f.velocity, f.dt, s.levels.query);
+    chooser_.old_level(s.levels, false);
+    out.force = s.levels.blend.blend(f.t, old.force, out.force);
     out.touching = out.touching || old.in_contact;
-  } else {
-    s.blend_object = -1;
   }
-  s.force = out.force.norm();
   out.torque = arm.cross(out.force);
   out.frame_point = out.touching ? out.point : Vec3::Zero();
   out.contact_radius = contact::sphere_contact_radius(params.radius, r.depth);
-  if (s.pending_count > 0) {
-    out.has_event = true;
-    out.event = s.pending[0];
-    std::copy(s.pending.begin() + 1, s.pending.begin() + s.pending_count, s.pending.begin());
-    --s.pending_count;
-  }
+  chooser_.finish(f.t, touched, out.force.norm(), s.levels, out);
   return out;
 }
 
 void ProxyOnObjects::react(const FrameInputs& frame, const Rendering& rendered, const Reaction& /*reaction*/,
                            AlgorithmState& state, ContactLoad& load) const {
   const auto& s = static_cast<const State&>(state);
-  if (s.touched == static_cast<int>(objects_.size())) {
+  if (s.levels.touched == static_cast<int>(chooser_.objects().size())) {
     plane_load(*frame.contact, rendered.touching, load);
   } else {
     load.active = false;  // rigid objects take no load
