@@ -22,6 +22,7 @@
 #include "haptics/algorithms/proxy_on_patch.hpp"
 #include "haptics/algorithms/proxy_on_plane.hpp"
 #include "haptics/algorithms/pulse_overlay.hpp"
+#include "haptics/algorithms/spheres_on_objects.hpp"
 #include "haptics/algorithms/spheres_on_patch.hpp"
 #include "haptics/algorithms/spheres_on_plane.hpp"
 
@@ -226,6 +227,7 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   std::optional<haptics::MultiSurfaceConfig> multi;
   std::optional<contact::FabricProxyParams> fabric;
   std::optional<haptics::TwoFingerParams> two_fingers;
+  std::optional<contact::HertzParameters> hertz;  ///< a Hertz finger's, for each touchable object's own material
   if (const auto* fabric_params = std::get_if<scene::FabricProxyParams>(&a->params)) {
     // A sphere fingertip is a capsule of zero length; friction against the fabric it touches.
     contact::FabricProxyParams p;
@@ -281,6 +283,7 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
     hp.finger = {finger->young_modulus, finger->poisson_ratio};
     hp.tissue = stiffest_tissue(m, s.bodies);
     law = haptics::ContactLaw::hertz(hp);
+    hertz = hp;
     s.curvature_rings = hz->curvature_rings;
   } else if (const auto* pad = std::get_if<scene::FingerpadParams>(&a->params)) {
     contact::FingerpadParameters fp;
@@ -315,10 +318,11 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   for (const auto& sp : spheres) extent = std::max(extent, sp.offset.norm() + sp.radius);
   s.reach = 2.0 * extent + 0.01;
 
-  // A proxy among touchable rigid objects (impostor levels, property images) queries them at
-  // the haptic rate itself; the other bodies it touches come through the contact plane.
+  // A proxy or a finger of contact-law spheres among touchable rigid objects (impostor levels,
+  // property images) queries them at the haptic rate itself; the other bodies it touches come
+  // through the contact plane.
   std::vector<haptics::TouchableObject> objects;
-  if (proxy) {
+  if (proxy || (law && !multi)) {
     std::optional<Touchables> own;
     if (!touchables)
       for (std::size_t b : s.bodies)
@@ -393,6 +397,35 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
       os.max_stiffness = d.max_stiffness;
       os.plane = !s.bodies.empty();
       model.algorithms.push_back(std::make_shared<haptics::ProxyOnObjects>(first, *proxy, std::move(objects), os));
+    } else if (law && !objects.empty()) {
+      // Each object with its own law: Hertz against its material (a body without one is rigid),
+      // then the plane's bodies with the algorithm's law against the stiffest of them.
+      std::vector<haptics::ContactLaw> laws;
+      for (const auto& o : objects) {
+        if (!hertz) {
+          laws.push_back(*law);
+          continue;
+        }
+        contact::HertzParameters own = *hertz;
+        own.tissue = stiffest_tissue(m, {static_cast<std::size_t>(o.body)});
+        laws.push_back(haptics::ContactLaw::hertz(own));
+      }
+      if (hertz) {
+        contact::HertzParameters plane = *hertz;
+        plane.tissue = stiffest_tissue(m, s.bodies);
+        laws.push_back(haptics::ContactLaw::hertz(plane));
+      } else {
+        laws.push_back(*law);
+      }
+      haptics::ObjectsSettings os;
+      os.budget = m.level_selection.haptic_budget;
+      os.influence_radius = m.level_selection.influence_radius;
+      os.blend_time = m.level_selection.blend_time;
+      os.select = m.level_selection.select;
+      os.max_stiffness = d.max_stiffness;
+      os.plane = !s.bodies.empty();
+      model.algorithms.push_back(std::make_shared<haptics::SpheresOnObjects>(spheres, std::move(laws),
+                                                                             0.0, std::move(objects), os));
     } else if (proxy && on_patch) {
       model.algorithms.push_back(
           std::make_shared<haptics::ProxyOnPatch>(first, *proxy, s.local_model, s.patch_capacity, spread));

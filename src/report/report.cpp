@@ -31,36 +31,44 @@ std::string summary_json(const LatencyHistogram& h) {
 /// Each device's two-finger contact states (seed 002 Table I): the states held for at least
 /// kSteadyState, in order (a contact that flickers at the simulation's updates would bury the
 /// sequence; the recording keeps every change), then the time in each.
-/// Each touchable object's levels and the time the haptic loop rendered each (it starts at the
-/// coarsest), and the budget used per 100 ms window.
+/// Per device, each touchable object's levels and the time its haptic loop rendered each (it
+/// starts at the coarsest), and the budget used per 100 ms window.
 std::string format_levels(const SessionReport& r) {
   if (r.touchables.empty()) return {};
-  std::vector<double> costs = r.level_costs;
-  std::sort(costs.begin(), costs.end());
-  std::string out = fmt::format("impostor levels (haptic budget {:.1f} µs a frame", 1e6 * r.level_budget);
-  if (!costs.empty())
-    out += fmt::format("; the levels in use cost, per 100 ms: median {:.1f} µs, max {:.1f} µs", 1e6 * costs[costs.size() / 2],
-                       1e6 * costs.back());
-  out += "):\n";
-  for (const TouchableReport& t : r.touchables) {
-    std::vector<double> time_at(t.levels.size(), 0.0);
-    std::size_t level = 0, switches = 0;
-    double since = 0.0;
-    for (const LevelSwitchRecord& s : r.level_switches) {
-      if (s.body != t.body || s.level >= t.levels.size()) continue;
-      time_at[level] += s.t - since;
-      level = s.level;
-      since = s.t;
-      ++switches;
+  std::string out;
+  for (std::size_t d = 0; d < r.devices.size(); ++d) {
+    std::vector<double> costs;
+    for (const auto& [device, cost] : r.level_costs)
+      if (device == d) costs.push_back(cost);
+    bool any = !costs.empty();
+    for (const LevelSwitchRecord& s : r.level_switches) any = any || s.device == d;
+    if (!any) continue;
+    std::sort(costs.begin(), costs.end());
+    out += fmt::format("impostor levels for {} (haptic budget {:.1f} µs a frame", r.devices[d].name, 1e6 * r.level_budget);
+    if (!costs.empty())
+      out += fmt::format("; the levels in use cost, per 100 ms: median {:.1f} µs, max {:.1f} µs",
+                         1e6 * costs[costs.size() / 2], 1e6 * costs.back());
+    out += "):\n";
+    for (const TouchableReport& t : r.touchables) {
+      std::vector<double> time_at(t.levels.size(), 0.0);
+      std::size_t level = 0, switches = 0;
+      double since = 0.0;
+      for (const LevelSwitchRecord& s : r.level_switches) {
+        if (s.device != d || s.body != t.body || s.level >= t.levels.size()) continue;
+        time_at[level] += s.t - since;
+        level = s.level;
+        since = s.t;
+        ++switches;
+      }
+      time_at[level] += std::max(0.0, r.simulated_time - since);
+      out += fmt::format("  {}:", t.name);
+      for (std::size_t l = 0; l < t.levels.size(); ++l) {
+        const TouchableReport::Level& v = t.levels[l];
+        out += fmt::format(" L{} {} tri, {:.1f} µs (query {:.2f} µs measured), {:.2f} mm, {:.2f} s;", l, v.triangles,
+                           1e6 * v.cost, 1e6 * v.query_p50, 1e3 * v.hausdorff, time_at[l]);
+      }
+      out += fmt::format(" {} switches\n", switches);
     }
-    time_at[level] += std::max(0.0, r.simulated_time - since);
-    out += fmt::format("  {}:", t.name);
-    for (std::size_t l = 0; l < t.levels.size(); ++l) {
-      const TouchableReport::Level& v = t.levels[l];
-      out += fmt::format(" L{} {} tri, {:.1f} µs (query {:.2f} µs measured), {:.2f} mm, {:.2f} s;", l, v.triangles,
-                         1e6 * v.cost, 1e6 * v.query_p50, 1e3 * v.hausdorff, time_at[l]);
-    }
-    out += fmt::format(" {} switches\n", switches);
   }
   return out;
 }

@@ -52,7 +52,7 @@ bool Recorder::drain() {
       ++report_.events[std::string(event_kind_name(e.kind))];
       if (e.kind == EventKind::contact_state)
         report_.contact_states.push_back({e.t, e.device, static_cast<std::uint8_t>(e.value)});
-      if (e.kind == EventKind::level_cost) report_.level_costs.push_back(e.value);
+      if (e.kind == EventKind::level_cost) report_.level_costs.emplace_back(e.device, e.value);
       if (e.kind == EventKind::level_switch)
         report_.level_switches.push_back({e.t, e.device, e.detail, static_cast<std::uint32_t>(e.value)});
       if (visual_) visual_->event(e);

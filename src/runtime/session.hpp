@@ -149,7 +149,8 @@ struct SessionReport {
   std::vector<LevelSwitchRecord> level_switches;   ///< scenes of many objects, in time order per device
   std::vector<TouchableReport> touchables;         ///< the scene's touchable objects
   double level_budget = 0.0;                       ///< [s] of each haptic frame ([lod] haptic_budget)
-  std::vector<double> level_costs;                 ///< the budget used, per 100 ms window [s]
+  /// The budget used, per device and 100 ms window [s].
+  std::vector<std::pair<std::uint16_t, double>> level_costs;
   std::vector<std::string> cspace_notes;       ///< what on-line spaces solved during the run
 };
 

@@ -182,6 +182,12 @@ void LevelChooser::choose(double t, const Vec3& a, const Vec3& b, const LocalCon
     held_level = 0;
     for (std::size_t l = 1; l <= s.switches[held].level && l < s.options[held].levels.size(); ++l)
       if (others + s.options[held].levels[l].cost <= budget) held_level = l;
+    // Under the finger the level only goes finer: a coarser level's surface lies elsewhere (a
+    // decimated bunny's 0.3 mm away), and switching to it there was felt as a jump (2 N under
+    // a Hertz finger) and then switched back by the force. It goes coarser once let go.
+    if (s.touched == s.switch_object && s.level[held] > held_level &&
+        others + s.options[held].levels[s.level[held]].cost <= budget)
+      held_level = s.level[held];
     budget -= s.options[held].levels[held_level].cost - s.options[held].levels[0].cost;
     s.options[held].benefit = 0.0;  // held at its coarsest in the selection, then set below
   }

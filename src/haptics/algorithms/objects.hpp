@@ -6,7 +6,8 @@
 //      object beyond it is never queried and costs nothing);
 //   2. the object the tool touches follows the force from the level it was touched at
 //      (lod::ForceThresholdSwitch: finer above raise_force, coarser below lower_force held for
-//      hold_time) and goes first, within what the others leave at their coarsest;
+//      hold_time, the coarser steps taken only once the tool has let go) and goes first,
+//      within what the others leave at their coarsest;
 //   3. the others' levels are chosen greedily by benefit per cost within the rest of the
 //      frame's budget (lod::select_levels_into);
 //   4. a switch of the touched object starts a blend: for blend_time the algorithm renders the

@@ -208,6 +208,27 @@ TEST(ProxyOnObjects, AForceSwitchKeepsTheForceContinuousAndTheProxyOutside) {
   EXPECT_LT(worst, 0.10);
 }
 
+TEST(ProxyOnObjects, ALightTouchKeepsItsLevelUntilLetGo) {
+  // Below lower_force for far longer than hold_time, the touched object keeps its level (a
+  // coarser level's surface lies elsewhere: switching under the finger would be felt).
+  TouchableObject o = object_of(mesh::sphere(0.03, 3), 2, 0);
+  o.lower_force = 0.5;
+  o.raise_force = 1.0;
+  o.hold_time = 0.05;
+  Driver d(std::make_shared<ProxyOnObjects>(ToolSphere{Vec3::Zero(), 0.002}, coupling(500), std::vector{o},
+                                            ObjectsSettings{}));
+  std::vector<contact::RayHit> hits;
+  o.levels->levels.back().bvh.raycast(Vec3(0, 0, 0.1), Vec3(0, 0, -1), 0.2, hits);
+  ASSERT_FALSE(hits.empty());
+  const double top = hits.front().point.z();
+  d.move(Vec3(0, 0, 0.06), Vec3(0, 0, top + 0.0019), 100);  // 0.05 N
+  const std::size_t touched_at = ProxyOnObjects::levels_in_use(*d.state)[0];
+  for (int i = 0; i < 500; ++i) {
+    ASSERT_TRUE(d.step(Vec3(0, 0, top + 0.0019)).touching) << i;
+    ASSERT_EQ(ProxyOnObjects::levels_in_use(*d.state)[0], touched_at) << "frame " << i;
+  }
+}
+
 TEST(ProxyOnObjects, RenderAllocatesNothing) {
   std::vector<TouchableObject> objects;
   for (int i = 0; i < 2; ++i) objects.push_back(object_of(moved(mesh::sphere(0.02, 2), Vec3(0.05 * i, 0, 0)), 1, 0, i));
