@@ -135,6 +135,20 @@ DeviceSetup setup_needle(const scene::Model& m, const scene::Device& d, const sc
   return s;
 }
 
+/// How an algorithm among touchable objects chooses their levels: the scene's [lod], the
+/// device's stiffness limit, and whether other bodies come through the contact plane.
+haptics::ObjectsSettings objects_settings(const scene::Model& m, const scene::Device& d,
+                                          const std::vector<std::size_t>& plane_bodies) {
+  haptics::ObjectsSettings os;
+  os.budget = m.level_selection.haptic_budget;
+  os.influence_radius = m.level_selection.influence_radius;
+  os.blend_time = m.level_selection.blend_time;
+  os.select = m.level_selection.select;
+  os.max_stiffness = d.max_stiffness;
+  os.plane = !plane_bodies.empty();
+  return os;
+}
+
 }  // namespace
 
 haptics::DeviceLimits device_limits(const scene::Device& device) {
@@ -389,14 +403,8 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
       model.algorithms.push_back(
           std::make_shared<haptics::FabricProxyOnPatch>(*fabric, s.local_model, s.patch_capacity, spread, two_fingers));
     } else if (proxy && !objects.empty()) {
-      haptics::ObjectsSettings os;
-      os.budget = m.level_selection.haptic_budget;
-      os.influence_radius = m.level_selection.influence_radius;
-      os.blend_time = m.level_selection.blend_time;
-      os.select = m.level_selection.select;
-      os.max_stiffness = d.max_stiffness;
-      os.plane = !s.bodies.empty();
-      model.algorithms.push_back(std::make_shared<haptics::ProxyOnObjects>(first, *proxy, std::move(objects), os));
+      model.algorithms.push_back(
+          std::make_shared<haptics::ProxyOnObjects>(first, *proxy, std::move(objects), objects_settings(m, d, s.bodies)));
     } else if (law && !objects.empty()) {
       // Each object with its own law: Hertz against its material (a body without one is rigid),
       // then the plane's bodies with the algorithm's law against the stiffest of them.
@@ -417,15 +425,9 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
       } else {
         laws.push_back(*law);
       }
-      haptics::ObjectsSettings os;
-      os.budget = m.level_selection.haptic_budget;
-      os.influence_radius = m.level_selection.influence_radius;
-      os.blend_time = m.level_selection.blend_time;
-      os.select = m.level_selection.select;
-      os.max_stiffness = d.max_stiffness;
-      os.plane = !s.bodies.empty();
-      model.algorithms.push_back(std::make_shared<haptics::SpheresOnObjects>(spheres, std::move(laws),
-                                                                             0.0, std::move(objects), os));
+      model.algorithms.push_back(std::make_shared<haptics::SpheresOnObjects>(spheres, std::move(laws), 0.0,
+                                                                             std::move(objects),
+                                                                             objects_settings(m, d, s.bodies)));
     } else if (proxy && on_patch) {
       model.algorithms.push_back(
           std::make_shared<haptics::ProxyOnPatch>(first, *proxy, s.local_model, s.patch_capacity, spread));

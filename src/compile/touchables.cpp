@@ -16,6 +16,8 @@ std::shared_ptr<const lod::ImpostorHierarchy> levels_of(const scene::Model& m, c
   params.coarse_levels = 0;
   params.subdivision_levels = 0;
   if (b.levels) params = b.levels->build;
+  if (b.levels && !b.levels->file.empty())  // named by the scene: used as it is, or refused
+    return std::make_shared<const lod::ImpostorHierarchy>(lod::load_impostor_cache(b.levels->file, b.surface, params));
   if (m.level_selection.cache.empty()) return std::make_shared<const lod::ImpostorHierarchy>(lod::build_impostors(b.surface, params));
   std::string why;
   auto h = lod::load_or_build_impostors(m.level_selection.cache, b.surface, params, &why);

@@ -52,6 +52,7 @@ SurfaceLevels read_levels(Reader& r) {
                                       "flickering",
                                       number_text(l.lower_force), number_text(l.raise_force)));
   l.hold_time = r.number("hold_time", l.hold_time, Range::closed(0.0, 10.0));
+  if (const auto file = r.string("file")) l.file = resolve_file(r, "file", *file);
   r.finish();
   return l;
 }

@@ -183,6 +183,9 @@ struct Cloth {
 /// [bodies.X.levels]: how the impostor levels are built and switched.
 struct SurfaceLevels {
   lod::ImpostorParams build;
+  /// A level file written ahead (a `[lod] cache` entry): read instead of built, and refused
+  /// when made for another mesh or other parameters (empty: built, or from the cache).
+  std::filesystem::path file;
   double raise_force = 2.0;  ///< N: above it, the touched object's level goes one finer
   double lower_force = 1.0;  ///< N: below it for hold_time, one coarser
   double hold_time = 0.1;    ///< s

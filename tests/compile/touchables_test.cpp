@@ -6,11 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <unistd.h>
 
 #include "compile/device_setup.hpp"
+#include "lod/impostor_cache.hpp"
 #include "property_images/property_file.hpp"
 #include "scene/scene.hpp"
 
@@ -87,6 +89,33 @@ stiffness = 900.0)"));
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("ball.h5"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("body 'ball': made for another mesh"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Touchables, ALevelFileNamedByTheSceneIsReadOrRefused) {
+  const Folder f;
+  const auto with_levels = [&](const std::string& subdivisions) {
+    return f.load(R"([bodies.ball]
+kind = "rigid"
+mesh = { generator = "sphere", radius = 0.05, subdivisions = )" + subdivisions + R"( }
+levels = { coarse_levels = 1, subdivision_levels = 0, file = "ball.tlod" }
+)");
+  };
+  // Written ahead for the 3-subdivision sphere with these parameters.
+  lod::ImpostorParams p;
+  p.coarse_levels = 1;
+  p.subdivision_levels = 0;
+  std::ofstream(f.dir / "ball.tlod") << "placeholder";  // the scene wants the file to exist
+  const scene::Model m3 = with_levels("3");
+  lod::save_impostor_cache(f.dir / "ball.tlod", lod::build_impostors(m3.bodies[0].surface, p));
+  EXPECT_EQ(load_touchables(m3).objects.at(0)->levels->levels.size(), 2u);
+  try {
+    (void)load_touchables(with_levels("2"));
+    FAIL() << "a level file for another mesh was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.where().file.find("ball.tlod"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("body 'ball'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("another mesh"), std::string::npos) << e.what();
   }
 }
 

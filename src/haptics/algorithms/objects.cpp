@@ -157,8 +157,7 @@ void LevelChooser::choose(double t, const Vec3& a, const Vec3& b, const LocalCon
 
   // 2. The touched object follows the force (seed 000 §4.1) from the level it was touched at,
   // and goes first: it may take the budget the others leave at their coarsest. It keeps its
-  // switch for a hold time after the contact ends, so that a coarser level's surface lying a
-  // little lower does not hand it straight back to the nearness choice.
+  // switch for a hold time after the contact ends, then returns to the nearness choice.
   if (s.touched >= 0 && s.touched < static_cast<int>(n)) {
     const auto i = static_cast<std::size_t>(s.touched);
     if (s.switch_object != s.touched) {  // a new contact starts at the level it found
@@ -221,7 +220,6 @@ void LevelChooser::choose(double t, const Vec3& a, const Vec3& b, const LocalCon
     s.window_end = t + kCostWindow;
   }
   s.query.set_plane(settings_.plane && plane.valid, plane.normal, plane.normal.dot(plane.point));
-
 }
 
 bool LevelChooser::blending(double t, const State& s) const {
