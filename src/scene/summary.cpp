@@ -62,6 +62,21 @@ std::string body_lines(const Model& model, const Body& b) {
     s += fmt::format("    volume: {} m^3\n", g(b.volume->volume()));
   else if (closed(b.surface))
     s += fmt::format("    volume: {} m^3\n", g(b.surface.signed_volume()));
+  if (b.levels) {
+    const SurfaceLevels& l = *b.levels;
+    s += fmt::format("    impostor levels: {} coarser (x{:g} each), {} Loop; finer above {:g} N, coarser below {:g} N "
+                     "after {:g} s{}\n",
+                     l.build.coarse_levels, l.build.reduction, l.build.subdivision_levels, l.raise_force, l.lower_force,
+                     l.hold_time, l.file.empty() ? "" : ", from " + l.file.string());
+  }
+  if (b.properties) {
+    const SurfacePropertyImages& p = *b.properties;
+    s += fmt::format("    property images: {}, {} painted strokes\n",
+                     p.file.empty() ? fmt::format("{} pixels along the longest side, stiffness {:g} N/m", p.resolution,
+                                                  p.base[property_images::Channel::stiffness])
+                                    : "from " + p.file.string(),
+                     p.paint.size());
+  }
   for (const FixedRegion& f : b.fixed)
     s += fmt::format("    fixed '{}' ({}): {} nodes\n", f.name, f.selector, f.nodes.size());
   for (const NodeLoad& l : b.loads)
