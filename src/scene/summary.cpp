@@ -71,7 +71,7 @@ std::string body_lines(const Model& model, const Body& b) {
   }
   if (b.properties) {
     const SurfacePropertyImages& p = *b.properties;
-    s += fmt::format("    property images: {}, {} painted strokes\n",
+    s += fmt::format("    property images: {}; strokes painted at load: {}\n",
                      p.file.empty() ? fmt::format("{} pixels along the longest side, stiffness {:g} N/m", p.resolution,
                                                   p.base[property_images::Channel::stiffness])
                                     : "from " + p.file.string(),
