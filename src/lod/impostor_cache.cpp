@@ -222,7 +222,7 @@ ImpostorHierarchy decode_impostor_cache(std::span<const std::uint8_t> bytes, con
     } catch (const InputError& e) {
       r.fail(level_at, e.reason());
     }
-    if (l == input_level && mesh_hash(level.mesh) != h.mesh_hash)
+    if (l == input_level && level.mesh.content_hash() != h.mesh_hash)
       r.fail(level_at, "the input level does not hash to the file's mesh hash");
   }
   const std::size_t checksum_at = r.offset();
@@ -266,12 +266,12 @@ ImpostorHierarchy load_impostor_cache(const std::filesystem::path& path, const m
   const std::string text = read_input_file(path);
   const auto* data = reinterpret_cast<const std::uint8_t*>(text.data());
   return decode_impostor_cache(std::span<const std::uint8_t>(data, text.size()), path.string(),
-                               CacheKey{mesh_hash(input), params});
+                               CacheKey{input.content_hash(), params});
 }
 
 ImpostorHierarchy load_or_build_impostors(const std::filesystem::path& directory, const mesh::TriMesh& input,
                                           const ImpostorParams& params, std::string* reason) {
-  const std::filesystem::path path = impostor_cache_path(directory, mesh_hash(input));
+  const std::filesystem::path path = impostor_cache_path(directory, input.content_hash());
   try {
     ImpostorHierarchy cached = load_impostor_cache(path, input, params);
     if (reason) reason->clear();

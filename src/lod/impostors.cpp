@@ -121,8 +121,6 @@ void check_params(const ImpostorParams& params) {
     throw InputError("lod: cost_queries must be in [16, 2^24], got " + std::to_string(params.cost_queries));
 }
 
-std::uint64_t mesh_hash(const mesh::TriMesh& mesh) { return mesh.content_hash(); }
-
 void check_closed_surface(const mesh::TriMesh& m, const std::string& what) {
   if (m.triangles.empty()) throw InputError(what + ": has no triangles (a closed surface is needed)");
   for (std::size_t v = 0; v < m.vertices.size(); ++v)
@@ -227,7 +225,7 @@ ImpostorHierarchy build_impostors(const mesh::TriMesh& input, const ImpostorPara
   check_closed_surface(input, "lod: input mesh");
   ImpostorHierarchy h;
   h.params = params;
-  h.mesh_hash = mesh_hash(input);
+  h.mesh_hash = input.content_hash();
   h.curvature_radius = params.curvature_radius > 0.0
                            ? params.curvature_radius
                            : mesh::CurvatureEstimator::kDefaultRings * mean_edge_length(input);

@@ -80,7 +80,7 @@ struct ImpostorLevel {
 struct ImpostorHierarchy {
   std::vector<ImpostorLevel> levels;  ///< coarse to fine
   std::size_t input_level = 0;        ///< the level that is the input mesh itself
-  std::uint64_t mesh_hash = 0;        ///< mesh_hash() of the input
+  std::uint64_t mesh_hash = 0;        ///< TriMesh::content_hash() of the input
   ImpostorParams params;
   /// params.curvature_radius, or the radius it picks when 0, m.
   double curvature_radius = 0.0;
@@ -89,8 +89,6 @@ struct ImpostorHierarchy {
   [[nodiscard]] std::size_t finest() const { return levels.size() - 1; }
 };
 
-/// The mesh's content hash (mesh::TriMesh::content_hash): the key of the on-disk cache.
-[[nodiscard]] std::uint64_t mesh_hash(const mesh::TriMesh& mesh);
 
 /// Throws InputError (saying what is wrong, with `what` naming the mesh) unless the mesh is
 /// a closed, outward-oriented manifold with finite vertices and no unused vertex.

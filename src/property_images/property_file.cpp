@@ -26,8 +26,6 @@ std::string channel_list() {
 
 }  // namespace
 
-const char* view_name(int view) { return kViewNames.at(static_cast<std::size_t>(view)); }
-
 void write_property_images(const std::filesystem::path& path, const PropertyImages& images) {
   hdf5::QuietErrors quiet;
   const std::filesystem::path tmp = path.string() + ".tmp";

@@ -19,7 +19,4 @@ void write_property_images(const std::filesystem::path& path, const PropertyImag
 PropertyImages read_property_images(const std::filesystem::path& path,
                                     std::optional<std::uint64_t> mesh_hash = std::nullopt);
 
-/// "+x", "-x", ... for view 0..5 (the group names in the file).
-[[nodiscard]] const char* view_name(int view);
-
 }  // namespace tactus::property_images

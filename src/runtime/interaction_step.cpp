@@ -112,7 +112,7 @@ void interaction_step(const InteractionModel& model, InteractionState& state, co
     const PartTimer refit(in.clock);
     for (std::size_t b = 0; b < state.trees.size(); ++b) {
       // Only the bodies some device touches here; a rigid body's tree, once built, stays right.
-      if (b < model.queried.size() && !model.queried[b]) continue;
+      if (!model.queried[b]) continue;
       if (!state.trees[b].empty() && model.scene->bodies[b].kind == scene::BodyKind::rigid) continue;
       if (state.trees[b].empty() || state.trees[b].needs_rebuild())
         state.trees[b].build(surfaces.positions[b], model.scene->bodies[b].surface.triangles);

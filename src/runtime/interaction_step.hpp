@@ -39,7 +39,7 @@ struct InteractionModel {
   /// Per target and body: the curvature estimator, where the target's algorithm needs one
   /// and the body's surface is a manifold.
   std::vector<std::vector<std::unique_ptr<const mesh::CurvatureEstimator>>> curvature;
-  /// Per body: some target touches it here (empty: all). The others' trees are never built:
+  /// Per body: some target touches it here. The others' trees are never built:
   /// the touchable objects of a scene of many are queried by the haptic loop itself.
   std::vector<bool> queried;
 };

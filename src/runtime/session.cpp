@@ -26,7 +26,7 @@ void start_report(const scene::Model& model, const SessionOptions& options, cons
     if (!object) continue;
     TouchableReport t{model.bodies[static_cast<std::size_t>(object->body)].name, object->body, {}};
     for (const auto& l : object->levels->levels)
-      t.levels.push_back({l.mesh.triangles.size(), haptics::ProxyOnObjects::level_cost(l), l.error.hausdorff, l.cost.query_p50});
+      t.levels.push_back({l.mesh.triangles.size(), haptics::LevelChooser::level_cost(l), l.error.hausdorff, l.cost.query_p50});
     report.touchables.push_back(std::move(t));
   }
   for (std::size_t i = 0; i < model.devices.size(); ++i)

@@ -190,12 +190,12 @@ TEST(Impostors, RefusesOpenNonManifoldAndInwardMeshesAndBadParameters) {
 TEST(Impostors, TheHashFollowsEveryByte) {
   const mesh::TriMesh a = mesh::sphere(1.0, 2);
   mesh::TriMesh b = a;
-  EXPECT_EQ(mesh_hash(a), mesh_hash(b));
+  EXPECT_EQ(a.content_hash(), b.content_hash());
   b.vertices[7].x() = std::nextafter(b.vertices[7].x(), 2.0);
-  EXPECT_NE(mesh_hash(a), mesh_hash(b));
+  EXPECT_NE(a.content_hash(), b.content_hash());
   b = a;
   std::swap(b.triangles[3][0], b.triangles[3][1]);
-  EXPECT_NE(mesh_hash(a), mesh_hash(b));
+  EXPECT_NE(a.content_hash(), b.content_hash());
 }
 
 TEST(Impostors, BuildingTwiceGivesTheSameLevelsAndErrors) {

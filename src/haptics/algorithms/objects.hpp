@@ -62,9 +62,9 @@ class ObjectsQuery final : public contact::SurfaceQuery {
   [[nodiscard]] contact::ClosestSurfacePoint closest_point(const Vec3& p) const override;
   [[nodiscard]] contact::SweepHit sweep_sphere(const Vec3& from, const Vec3& to, double radius) const override;
   [[nodiscard]] std::optional<std::array<Vec3, 3>> triangle(std::int32_t t) const override;
-  /// The member the last closest_point answered from: an object, objects() for the plane, −1 none.
+  /// The member the last closest_point answered from: an object, the object count for the
+  /// plane, −1 none.
   [[nodiscard]] int last_member() const { return last_member_; }
-  [[nodiscard]] std::size_t objects() const { return trees_.size(); }
 
  private:
   std::vector<const contact::TriangleBvh*> trees_;

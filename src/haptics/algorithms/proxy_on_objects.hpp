@@ -27,8 +27,6 @@ namespace tactus::haptics {
 
 class ProxyOnObjects final : public ForceAlgorithm {
  public:
-  [[nodiscard]] static double level_cost(const lod::ImpostorLevel& level) { return LevelChooser::level_cost(level); }
-
   /// Throws InputError for an object without levels or switch thresholds out of order.
   ProxyOnObjects(ToolSphere sphere, const contact::ProxyParams& params, std::vector<TouchableObject> objects,
                  const ObjectsSettings& settings);
@@ -40,8 +38,6 @@ class ProxyOnObjects final : public ForceAlgorithm {
   [[nodiscard]] EditableSurface editable_surface() const override { return proxy_surface(params_); }
   void edit_surface(const SurfaceValues& values, AlgorithmState& state) const override;
 
-  [[nodiscard]] std::span<const TouchableObject> objects() const { return chooser_.objects(); }
-  [[nodiscard]] const ObjectsSettings& settings() const { return chooser_.settings(); }
   /// The level each object renders at and their summed cost, as of the last frame (for tests
   /// and the viewer's debug view; read on the haptic thread or in lockstep only).
   [[nodiscard]] static std::span<const std::size_t> levels_in_use(const AlgorithmState& state);

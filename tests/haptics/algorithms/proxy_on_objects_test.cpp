@@ -142,7 +142,7 @@ TEST(ProxyOnObjects, LevelsStayWithinTheBudgetAndFollowNearness) {
     objects.push_back(object_of(moved(mesh::sphere(0.02, 3), Vec3(0.06 * i, 0, 0)), 2, 1, i));
   ObjectsSettings settings;
   double finest = 0.0;
-  for (const auto& o : objects) finest += ProxyOnObjects::level_cost(o.levels->levels.back());
+  for (const auto& o : objects) finest += LevelChooser::level_cost(o.levels->levels.back());
   settings.budget = 0.6 * finest;
   settings.influence_radius = 0.05;
   Driver d(std::make_shared<ProxyOnObjects>(ToolSphere{Vec3::Zero(), 0.002}, coupling(500), objects, settings));
@@ -168,8 +168,8 @@ TEST(ProxyOnObjects, AForceSwitchKeepsTheForceContinuousAndTheProxyOutside) {
   a.lower_force = 0.1;
   ObjectsSettings settings;
   settings.influence_radius = 0.1;
-  settings.budget = ProxyOnObjects::level_cost(a.levels->levels.back()) +
-                    ProxyOnObjects::level_cost(b.levels->levels.front()) + 1e-12;
+  settings.budget = LevelChooser::level_cost(a.levels->levels.back()) +
+                    LevelChooser::level_cost(b.levels->levels.front()) + 1e-12;
   const auto algorithm = std::make_shared<ProxyOnObjects>(ToolSphere{Vec3::Zero(), 0.002}, coupling(500),
                                                           std::vector{a, b}, settings);
   Driver d(algorithm);

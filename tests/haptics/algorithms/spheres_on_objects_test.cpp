@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/counting_allocator.hpp"
 #include "mesh/generators.hpp"
 
 namespace tactus::haptics {
@@ -91,6 +92,30 @@ TEST(SpheresOnObjects, OnAFlatTopItIsTheSphereOnAHalfSpace) {
   const double expected = hertz(rf, 0.0, depth, 1e6, 0.48, 5e5, 0.4);
   EXPECT_NEAR(r.force.z(), expected, 1e-3 * expected);
   EXPECT_EQ(SpheresOnObjects::levels_in_use(*a.make_state()).size(), 1u);
+}
+
+TEST(SpheresOnObjects, RenderAllocatesNothing) {
+  contact::HertzParameters hp;
+  hp.finger_radius = 0.008;
+  hp.finger = {1e6, 0.48};
+  hp.tissue = {2e5, 0.45};
+  const TouchableObject ball = object_of(mesh::sphere(0.05, 3));
+  const SpheresOnObjects a({ToolSphere{Vec3::Zero(), 0.008}}, {ContactLaw::hertz(hp), ContactLaw::hertz(hp)}, 0.0,
+                           {ball}, ObjectsSettings{});
+  auto state = a.make_state();
+  LocalContact plane;
+  FrameInputs f;
+  f.dt = 0.001;
+  f.contact = &plane;
+  double pressed = 0.0;
+  const tactus::testing::AllocationCounter counter;
+  for (int i = 0; i < 300; ++i) {
+    f.t = 0.001 * i;
+    f.position = Vec3(0.0, 0.0, 0.07 - 0.0001 * i);  // from above into the ball
+    pressed = std::max(pressed, a.render(f, *state).force.norm());
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_GT(pressed, 0.1);
 }
 
 }  // namespace
