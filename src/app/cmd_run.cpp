@@ -118,6 +118,7 @@ struct RunFlags {
   std::string trace;      ///< folder for the force-trace CSVs and plot (bench only)
   bool view = false;        ///< run in a window (run only; docs/viewer.md)
   double view_seconds = 0.0;
+  double frame_budget_ms = 16.0;
   std::string view_script;
   bool no_mouse = false;
 };
@@ -238,6 +239,7 @@ int run_with(const RunFlags& f, bool bench) {
     if (f.duration <= 0.0) o.max_duration = 7.0 * 86400.0;
     viewer::WindowOptions w;
     w.seconds = f.view_seconds;
+    w.frame_budget_ms = f.frame_budget_ms;
     if (!f.view_script.empty()) w.script = f.view_script;
     w.mouse = !f.no_mouse;
     w.scenes = viewer::scene_files(f.scene.empty() ? std::filesystem::path("scenes") : std::filesystem::path(f.scene).parent_path());
@@ -279,6 +281,11 @@ Action add_run(CLI::App& app) {
                "Show the run in a window; the mouse drives the first device unless it is hardware or replayed");
   app.add_option("--view-seconds", f->view_seconds, "Close the window and end the run after this many seconds")
       ->check(CLI::Range(0.0, 86400.0))
+      ->needs(view);
+  app.add_option("--frame-budget", f->frame_budget_ms,
+                 "With --view: the visual frame's budget in ms; the scene's resolution and the objects' levels "
+                 "keep frames within it (0: full resolution always)")
+      ->check(CLI::Range(0.0, 1000.0))
       ->needs(view);
   app.add_flag("--no-mouse", f->no_mouse, "With --view: keep the scene's own device (watch a scripted run)")->needs(view);
   // Synthetic input for tests (docs/viewer.md); not listed in --help.

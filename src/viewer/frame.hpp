@@ -99,6 +99,9 @@ struct ViewOptions {
   bool reveal = false;     ///< translucent surfaces; subsurface structures shown
   bool wireframe = false;  ///< triangle edges over the shading
   bool shadows = true;
+  /// Shadow edges filtered over 3 × 3 taps; one tap where every pixel's shading costs CPU
+  /// (a software renderer).
+  bool soft_shadows = true;
   bool show_pressure = true;
   bool show_forces = true;
   bool show_planes = false;  ///< the contact's constraint plane under each touching tool

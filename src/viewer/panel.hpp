@@ -1,6 +1,8 @@
 #pragma once
 // The window's Dear ImGui panel: live plots of the force and the haptic loop's compute
 // time, safety events, display switches, camera and finger controls, the shortcuts.
+#include <cstddef>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -45,6 +47,11 @@ struct PanelActions {
 
 /// Builds the panel in the current ImGui frame; the display switches are edited in place.
 PanelActions draw_panel(const PanelInputs& in, ViewOptions& view);
+
+/// `values` reduced to `columns` pairs (each column's least and largest, in time order), so a
+/// plot `columns` pixels wide draws every spike with two points a column; unchanged when it
+/// has no more than two values a column.
+[[nodiscard]] std::vector<float> min_max_envelope(std::span<const float> values, std::size_t columns);
 
 /// The keyboard and mouse shortcuts, as listed in the panel and in docs/viewer.md.
 const std::vector<std::pair<const char*, const char*>>& shortcuts();

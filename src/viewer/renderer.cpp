@@ -11,7 +11,6 @@
 namespace tactus::viewer {
 namespace {
 
-constexpr int kShadowSize = 2048;
 
 const char* const kShadedVertex = R"(#version 330 core
 layout(location = 0) in vec3 aPosition;
@@ -41,12 +40,14 @@ uniform vec3 uLightDirection;
 uniform vec3 uEye;
 uniform sampler2DShadow uShadow;
 uniform int uShadows;
+uniform int uSoftShadows;
 uniform int uUnlit;
 out vec4 outColour;
 float lit_fraction(vec3 n) {
   vec3 p = vLightPosition.xyz / vLightPosition.w * 0.5 + 0.5;
   if (p.z > 1.0) return 1.0;
   float bias = max(0.004 * (1.0 - dot(n, uLightDirection)), 0.001);
+  if (uSoftShadows == 0) return texture(uShadow, vec3(p.xy, p.z - bias));  // one tap, filtered 2 x 2
   vec2 texel = 1.0 / vec2(textureSize(uShadow, 0));
   float sum = 0.0;
   for (int x = -1; x <= 1; ++x)
@@ -177,7 +178,7 @@ void push_cone(std::vector<V>& out, const Vec3& a, const Vec3& b, double ra, dou
 
 }  // namespace
 
-Renderer::Renderer() {
+Renderer::Renderer(int shadow_map_size) : shadow_size_(std::clamp(shadow_map_size, 256, 4096)) {
   shaded_ = link(kShadedVertex, kShadedFragment, "shading");
   depth_ = link(kDepthVertex, kDepthFragment, "shadow depth");
   glGenVertexArrays(1, &vao_);
@@ -192,7 +193,7 @@ Renderer::Renderer() {
 
   glGenTextures(1, &shadow_texture_);
   glBindTexture(GL_TEXTURE_2D, shadow_texture_);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, kShadowSize, kShadowSize, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, shadow_size_, shadow_size_, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
@@ -309,10 +310,18 @@ void Renderer::build(const FrameView& frame, const ViewOptions& options, double 
     }
 }
 
-void Renderer::draw(const std::vector<Vertex>& vertices, GLenum mode) {
-  if (vertices.empty()) return;
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STREAM_DRAW);
-  glDrawArrays(mode, 0, static_cast<GLsizei>(vertices.size()));
+void Renderer::upload(std::initializer_list<const std::vector<Vertex>*> batches) {
+  all_.clear();
+  ranges_.clear();
+  for (const std::vector<Vertex>* b : batches) {
+    ranges_.push_back({static_cast<GLint>(all_.size()), static_cast<GLsizei>(b->size())});
+    all_.insert(all_.end(), b->begin(), b->end());
+  }
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(all_.size() * sizeof(Vertex)), all_.data(), GL_STREAM_DRAW);
+}
+
+void Renderer::draw(const Range& range, GLenum mode) {
+  if (range.count > 0) glDrawArrays(mode, range.first, range.count);
 }
 
 void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const ViewOptions& options, int width,
@@ -333,20 +342,16 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
   const Vec3 centre = 0.5 * (floor_box_.min + floor_box_.max);
   const double floor_z = floor_box_.min.z() - 0.15 * extent;
   const double half = 0.9 * extent;
+  // The floor only receives shadows: it stays out of the shadow map, whose every texel it
+  // would otherwise fill.
+  std::vector<Vertex> floor_quad;
   {
     const Colour grey(0.55, 0.56, 0.58);
     const Vec3 n = Vec3::UnitZ();
     const Vec3 c00(centre.x() - half, centre.y() - half, floor_z), c10(centre.x() + half, centre.y() - half, floor_z),
         c11(centre.x() + half, centre.y() + half, floor_z), c01(centre.x() - half, centre.y() + half, floor_z);
-    for (const Vec3& p : {c00, c10, c11, c00, c11, c01}) push(batches.opaque, p, n, grey, 1.0);
+    for (const Vec3& p : {c00, c10, c11, c00, c11, c01}) push(floor_quad, p, n, grey, 1.0);
   }
-  const auto draw_recessed = [&] {
-    // Pushed back in depth, so that a layer on its boundary wins every pixel they share.
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(2.0f, 8.0f);
-    draw(batches.recessed);
-    glDisable(GL_POLYGON_OFFSET_FILL);
-  };
 
   // The light: from above, a little to the side, covering the floor and everything on it.
   const Vec3 light_dir = Vec3(0.35, 0.25, 1.0).normalized();
@@ -355,22 +360,35 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
   const Mat4f light_vp = orthographic(light_radius, 0.0, 4.0 * light_radius) *
                          look_at(light_target + 2.0 * light_radius * light_dir, light_target, Vec3::UnitZ());
 
+  // One upload a frame: a software renderer waits for the draws that read a buffer before it
+  // replaces the buffer's data, so uploading each batch before its draw would serialize them.
   glBindVertexArray(vao_);
   glBindBuffer(GL_ARRAY_BUFFER, vbo_);
+  upload({&floor_quad, &batches.opaque, &batches.recessed, &batches.wire, &batches.lines, &batches.translucent,
+          &batches.overlay});
+  const Range floor_range = ranges_[0], opaque = ranges_[1], recessed = ranges_[2], wire = ranges_[3],
+              lines = ranges_[4], translucent = ranges_[5], overlay = ranges_[6];
+  const auto draw_recessed = [&] {
+    // Pushed back in depth, so that a layer on its boundary wins every pixel they share.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(2.0f, 8.0f);
+    draw(recessed);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+  };
   glEnable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
 
   if (options.shadows) {
     glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
-    glViewport(0, 0, kShadowSize, kShadowSize);
+    glViewport(0, 0, shadow_size_, shadow_size_);
     glClear(GL_DEPTH_BUFFER_BIT);
     glUseProgram(depth_);
     set_matrix(depth_, "uLightViewProjection", light_vp);
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.5f, 2.0f);
-    draw(batches.opaque);
-    draw(batches.recessed);
+    draw(opaque);
+    draw(recessed);
     glDisable(GL_POLYGON_OFFSET_FILL);
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(target_fbo));
   }
@@ -390,39 +408,41 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
   glBindTexture(GL_TEXTURE_2D, shadow_texture_);
   glUniform1i(glGetUniformLocation(shaded_, "uShadow"), 0);
   glUniform1i(glGetUniformLocation(shaded_, "uShadows"), options.shadows ? 1 : 0);
+  glUniform1i(glGetUniformLocation(shaded_, "uSoftShadows"), options.soft_shadows ? 1 : 0);
   glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
-  draw(batches.opaque);
+  draw(floor_range);
+  draw(opaque);
   draw_recessed();
 
-  if (!batches.wire.empty()) {
+  if (wire.count > 0) {
     glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 1);
     glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
     glEnable(GL_POLYGON_OFFSET_LINE);
     glPolygonOffset(-1.0f, -1.0f);
-    draw(batches.wire);
+    draw(wire);
     glDisable(GL_POLYGON_OFFSET_LINE);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
   }
 
-  if (!batches.lines.empty()) {
+  if (lines.count > 0) {
     glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 1);
-    draw(batches.lines, GL_LINES);
+    draw(lines, GL_LINES);
     glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
   }
 
-  if (!batches.translucent.empty()) {
+  if (translucent.count > 0) {
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glDepthMask(GL_FALSE);
-    draw(batches.translucent);
+    draw(translucent);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
   }
-  if (!batches.overlay.empty()) {
+  if (overlay.count > 0) {
     glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 1);
     glDisable(GL_DEPTH_TEST);
-    draw(batches.overlay, GL_LINES);
+    draw(overlay, GL_LINES);
     glEnable(GL_DEPTH_TEST);
     glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
   }

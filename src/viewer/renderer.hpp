@@ -4,6 +4,7 @@
 // depth cue; translucency and wireframe on request. The same code draws the window and the
 // offscreen snapshots, so both look alike.
 #include <cstdint>
+#include <initializer_list>
 #include <vector>
 
 #include "viewer/camera.hpp"
@@ -15,8 +16,9 @@ namespace tactus::viewer {
 class Renderer {
  public:
   /// Needs a current OpenGL 3.3 core context; throws std::runtime_error when a shader or
-  /// the shadow map cannot be built (the message says which).
-  Renderer();
+  /// the shadow map cannot be built (the message says which). `shadow_map_size`: texels a
+  /// side of the shadow map (256 to 4096), whose every texel a frame clears and fills.
+  explicit Renderer(int shadow_map_size = 2048);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
@@ -40,14 +42,24 @@ class Renderer {
   };
   /// `extent`: the frame's largest side [m], which sets the least width a needle is drawn.
   void build(const FrameView& frame, const ViewOptions& options, double extent, Batches& out) const;
-  void draw(const std::vector<Vertex>& vertices, GLenum mode = GL_TRIANGLES);
+  /// Where a batch lies in the frame's vertex buffer.
+  struct Range {
+    GLint first = 0;
+    GLsizei count = 0;
+  };
+  /// Sends the batches as one buffer; ranges_ then says where each lies, in order.
+  void upload(std::initializer_list<const std::vector<Vertex>*> batches);
+  void draw(const Range& range, GLenum mode = GL_TRIANGLES);
 
   GLuint shaded_ = 0, depth_ = 0;  // programs
   GLuint vao_ = 0, vbo_ = 0;
+  int shadow_size_;
   GLuint shadow_fbo_ = 0, shadow_texture_ = 0;
   std::vector<Vec3> unit_sphere_;  ///< triangle soup of a unit icosphere (positions = normals)
   Aabb floor_box_;                 ///< the scene's bounds the floor was sized from (kept steady)
   bool floor_sized_ = false;
+  std::vector<Vertex> all_;     ///< the frame's batches end to end (kept for its capacity)
+  std::vector<Range> ranges_;
 };
 
 /// The bound read framebuffer's pixels as 8-bit RGB, rows top to bottom.

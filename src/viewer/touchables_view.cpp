@@ -1,7 +1,12 @@
 #include "viewer/touchables_view.hpp"
 
+#include <algorithm>
+#include <chrono>
+
 #include "lod/selection.hpp"
 #include "property_images/property_file.hpp"
+#include "viewer/renderer.hpp"
+#include "viewer/scene_target.hpp"
 
 namespace tactus::viewer {
 
@@ -14,8 +19,58 @@ PaintBrush::PaintBrush() {
   values[property_images::Channel::roughness_wavelength] = 0.003;
 }
 
+LevelCosts level_triangles(const compile::Touchables& touchables) {
+  LevelCosts costs(touchables.objects.size());
+  for (std::size_t b = 0; b < touchables.objects.size(); ++b)
+    if (const auto& object = touchables.objects[b])
+      for (const auto& l : object->levels->levels) costs[b].push_back(static_cast<double>(l.mesh.triangles.size()));
+  return costs;
+}
+
+LevelCosts measure_level_draw_times(const compile::Touchables& touchables, const ViewOptions& options, int repeats) {
+  // A renderer of its own: the window's sizes its floor from the first frame it draws.
+  Renderer renderer;
+  SceneTarget target;
+  constexpr int kWidth = 320, kHeight = 200;
+  const auto frame_ms = [&](const FrameView& frame, const OrbitCamera& camera) {
+    std::vector<double> times;
+    for (int i = 0; i < std::max(repeats, 1); ++i) {
+      const auto start = std::chrono::steady_clock::now();
+      target.bind(kWidth, kHeight);
+      renderer.render(frame, camera, options, kWidth, kHeight);
+      glFinish();
+      times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+    std::nth_element(times.begin(), times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2), times.end());
+    return times[times.size() / 2];
+  };
+  LevelCosts costs(touchables.objects.size());
+  for (std::size_t b = 0; b < touchables.objects.size(); ++b) {
+    const auto& object = touchables.objects[b];
+    if (!object) continue;
+    const auto& levels = object->levels->levels;
+    const Aabb box = levels.back().mesh.bounds();
+    // Seen from far enough to cover a few hundred pixels: what a level costs is its geometry
+    // (building, sending and transforming its triangles); the pixels it covers in the scene
+    // go with the resolution, which the frame budget sets apart.
+    OrbitCamera camera = OrbitCamera::framing(box);
+    camera.distance *= 8.0;
+    FrameView empty;
+    const double base = frame_ms(empty, camera);
+    for (const auto& l : levels) {
+      FrameView frame;
+      SurfaceView& s = frame.surfaces.emplace_back();
+      s.positions = l.mesh.vertices;
+      s.triangles = l.mesh.triangles;
+      costs[b].push_back(std::max(frame_ms(frame, camera) - base, 1e-3));
+    }
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return costs;
+}
+
 std::vector<std::int32_t> choose_graphics_levels(const compile::Touchables& touchables, const Vec3& eye,
-                                                 double viewport_scale, double triangle_budget) {
+                                                 double viewport_scale, const LevelCosts& cost, double budget) {
   std::vector<lod::ObjectLevels> options;
   std::vector<std::size_t> bodies;
   for (std::size_t b = 0; b < touchables.objects.size(); ++b) {
@@ -24,14 +79,15 @@ std::vector<std::int32_t> choose_graphics_levels(const compile::Touchables& touc
     const Aabb box = object->levels->levels.back().mesh.bounds();
     lod::ObjectLevels o;
     o.benefit = lod::graphics_benefit(box.center(), 0.5 * box.size().norm(), eye, viewport_scale);
-    for (const auto& l : object->levels->levels)
-      o.levels.push_back({static_cast<double>(l.mesh.triangles.size()), l.error.hausdorff});
+    const auto& levels = object->levels->levels;
+    for (std::size_t l = 0; l < levels.size(); ++l)
+      o.levels.push_back({b < cost.size() && l < cost[b].size() ? cost[b][l] : 0.0, levels[l].error.hausdorff});
     options.push_back(std::move(o));
     bodies.push_back(b);
   }
   std::vector<std::int32_t> levels(touchables.objects.size(), -1);
   if (options.empty()) return levels;
-  const lod::Selection chosen = lod::select_levels(options, triangle_budget);
+  const lod::Selection chosen = lod::select_levels(options, budget);
   for (std::size_t i = 0; i < bodies.size(); ++i) levels[bodies[i]] = static_cast<std::int32_t>(chosen.level[i]);
   return levels;
 }

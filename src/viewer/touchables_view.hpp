@@ -15,11 +15,26 @@
 
 namespace tactus::viewer {
 
+/// What drawing each level of each touchable object costs, per scene body (empty for bodies
+/// that are not objects), coarse to fine: a measured time [ms], or triangles.
+using LevelCosts = std::vector<std::vector<double>>;
+
+/// Each level's triangle count (the cost where no draw time is measured).
+[[nodiscard]] LevelCosts level_triangles(const compile::Touchables& touchables);
+
+/// Each level's draw time [ms] through the viewer's renderer with `options`: the median of
+/// `repeats` frames holding the level alone, seen small (built, uploaded, transformed, shaded
+/// and finished: its geometry's cost, since the pixels go with the resolution), less the
+/// median of an empty frame, at least 1 µs. Needs a current OpenGL context.
+[[nodiscard]] LevelCosts measure_level_draw_times(const compile::Touchables& touchables, const ViewOptions& options,
+                                                  int repeats = 3);
+
 /// The graphics impostors (seed 000 §4.2): one level per touchable object, greedy by projected
-/// size on screen per triangle drawn, within `triangle_budget` triangles in all; per body (−1
-/// for bodies that are not touchable objects).
+/// size on screen per unit of `cost`, the chosen levels' costs summing to at most `budget`
+/// (the coarsest levels are always drawn); per body (−1 for bodies that are not objects).
 [[nodiscard]] std::vector<std::int32_t> choose_graphics_levels(const compile::Touchables& touchables, const Vec3& eye,
-                                                               double viewport_scale, double triangle_budget);
+                                                               double viewport_scale, const LevelCosts& cost,
+                                                               double budget);
 
 /// Replaces each touchable object's surface in `frame` by the level in `levels` (per body;
 /// bodies without an entry, or −1, are drawn at their coarsest), coloured from blue (coarsest)

@@ -27,12 +27,14 @@
 #include "runtime/devices.hpp"
 #include "runtime/live_parameters.hpp"
 #include "viewer/debug_views.hpp"
+#include "viewer/frame_budget.hpp"
 #include "viewer/camera.hpp"
 #include "viewer/mouse_device.hpp"
 #include "viewer/overlay.hpp"
 #include "viewer/panel.hpp"
 #include "viewer/gl.hpp"
 #include "viewer/renderer.hpp"
+#include "viewer/scene_target.hpp"
 #include "viewer/touchables_view.hpp"
 #include "viewer/view_script.hpp"
 #include "viewer/visual_feed.hpp"
@@ -105,18 +107,23 @@ class Window {
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-    glfwWindowHint(GLFW_SAMPLES, 4);
-    const std::string title = fmt::format("tactus: {}", model.name);
-    window_ = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
-    if (!window_) {  // some servers offer no multisampled visual
-      glfwWindowHint(GLFW_SAMPLES, 0);
-      window_ = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
+    open_window(4);
+    // A software renderer shades every sample on the CPU: there the window has one sample a
+    // pixel and the shadows one tap (docs/viewer.md, "The frame budget").
+    const auto* renderer_name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    renderer_name_ = renderer_name ? renderer_name : "";
+    software_ = is_software_renderer(renderer_name_);
+    if (software_) {
+      glfwDestroyWindow(window_);
+      window_ = nullptr;
+      open_window(0);
+      view_.soft_shadows = false;
     }
-    if (!window_)
-      throw InputError(fmt::format("--view: no OpenGL 3.3 core window could be opened ({}); the viewer needs a "
-                                   "display with OpenGL 3.3 (Mesa's llvmpipe will do)",
-                                   g_glfw_error));
-    glfwMakeContextCurrent(window_);
+    if (options.frame_budget_ms > 0.0) {
+      ResolutionGovernor::Settings budget;
+      budget.budget_ms = options.frame_budget_ms;
+      governor_.emplace(budget);
+    }
     glfwSwapInterval(0);  // the loop paces itself (WindowOptions::max_fps)
     glfwSetWindowUserPointer(window_, this);
     glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) { self(w).on_cursor(x, y); });
@@ -129,7 +136,8 @@ class Window {
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int /*scancode*/, int action, int mods) {
       self(w).on_key(key, action, mods, false);
     });
-    renderer_ = std::make_unique<Renderer>();
+    // A software renderer fills the shadow map on the CPU: a quarter of the texels there.
+    renderer_ = std::make_unique<Renderer>(software_ ? 1024 : 2048);
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the working directory
@@ -139,6 +147,8 @@ class Window {
     ImGui_ImplOpenGL3_Init("#version 330 core");
     imgui_ = true;
 
+    if (touchables_.any())
+      level_cost_ = options.frame_budget_ms > 0.0 ? measure_level_draw_times(touchables_, view_) : level_triangles(touchables_);
     const FrameView rest = feed_.build();
     scene_box_ = frame_bounds(rest);
     home_camera_ = OrbitCamera::framing(scene_box_);
@@ -158,10 +168,16 @@ class Window {
       ImGui::DestroyContext();
     }
     renderer_.reset();  // needs the context
+    scene_target_.release();
     if (window_) glfwDestroyWindow(window_);
   }
   Window(const Window&) = delete;
   Window& operator=(const Window&) = delete;
+
+  /// The measured draw time [ms] of each touchable object's levels (empty without objects or
+  /// with no frame budget, when levels are chosen by triangles).
+  [[nodiscard]] const LevelCosts& level_draw_times() const { return level_cost_; }
+  [[nodiscard]] bool frame_budgeted() const { return options_.frame_budget_ms > 0.0; }
 
   /// The scene chosen in the switcher, to run after this one; empty = none.
   [[nodiscard]] const std::string& next_scene() const { return next_scene_; }
@@ -174,7 +190,7 @@ class Window {
     const Clock::time_point start = Clock::now();
     Clock::time_point rate_window = start;
     std::uint64_t rate_frames = 0;
-    std::vector<double> frame_ms;
+    std::vector<double> frame_ms, scales;
     const auto period = std::chrono::duration<double>(1.0 / std::max(options_.max_fps, 1.0));
     while (!stop.load() && !run_over.load(std::memory_order_acquire) && !glfwWindowShouldClose(window_) && !quit_) {
       if (options_.seconds > 0.0 && seconds_since(start) >= options_.seconds) break;
@@ -184,7 +200,9 @@ class Window {
       if (mouse_) mouse_->set(map_.to_device(finger_));
       draw_frame();
       frame_ms.push_back(seconds_since(frame_start) * 1e3);
+      scales.push_back(scale_);
       last_frame_ms_ = frame_ms.back();
+      if (governor_) governor_->add(last_frame_ms_);
       ++report.frames;
       ++rate_frames;
       if (const double window = seconds_since(rate_window); window >= 0.5) {
@@ -202,11 +220,35 @@ class Window {
       const auto at = [&](double q) { return frame_ms[static_cast<std::size_t>(q * static_cast<double>(frame_ms.size() - 1))]; };
       report.frame_p50_ms = at(0.5);
       report.frame_p99_ms = at(0.99);
+      std::sort(scales.begin(), scales.end());
+      report.scale_p50 = scales[scales.size() / 2];
+      report.scale_min = scales.front();
     }
+    for (std::size_t b = 0; b < level_cost_.size() && frame_budgeted(); ++b)
+      if (!level_cost_[b].empty()) report.level_draw_ms.emplace_back(body_names_[b], level_cost_[b]);
+    report.software_renderer = software_;
+    report.renderer = renderer_name_;
+    report.width = options_.width;
+    report.height = options_.height;
   }
 
  private:
   static Window& self(GLFWwindow* w) { return *static_cast<Window*>(glfwGetWindowUserPointer(w)); }
+
+  void open_window(int samples) {
+    glfwWindowHint(GLFW_SAMPLES, samples);
+    const std::string title = fmt::format("tactus: {}", model_.name);
+    window_ = glfwCreateWindow(options_.width, options_.height, title.c_str(), nullptr, nullptr);
+    if (!window_ && samples > 0) {  // some servers offer no multisampled visual
+      glfwWindowHint(GLFW_SAMPLES, 0);
+      window_ = glfwCreateWindow(options_.width, options_.height, title.c_str(), nullptr, nullptr);
+    }
+    if (!window_)
+      throw InputError(fmt::format("--view: no OpenGL 3.3 core window could be opened ({}); the viewer needs a "
+                                   "display with OpenGL 3.3 (Mesa's llvmpipe will do)",
+                                   g_glfw_error));
+    glfwMakeContextCurrent(window_);
+  }
 
   int modifiers() const {
     int mods = 0;
@@ -427,15 +469,28 @@ class Window {
       if (view_.show_levels)
         show_levels(touchables_, feed_.levels(), true, frame);
       else if (view_.graphics_levels)
-        show_levels(touchables_, choose_graphics_levels(touchables_, camera_.eye(), focal, kTriangleBudget), false, frame);
+        show_levels(touchables_, choose_graphics_levels(touchables_, camera_.eye(), focal, level_cost_, level_budget()),
+                    false, frame);
     }
     debug_.add(tools, view_, frame);
     paint(tools);
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
     if (width <= 0 || height <= 0) return;  // minimised
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    renderer_->render(frame, camera_, view_, width, height);
+    // The scene at the scale the frame budget allows, stretched over the window; the panel and
+    // the overlay at the window's own resolution, so their text stays sharp.
+    scale_ = governor_ ? governor_->scale() : 1.0;
+    if (scale_ < 1.0) {
+      const int scene_width = std::max(1, static_cast<int>(std::lround(scale_ * width)));
+      const int scene_height = std::max(1, static_cast<int>(std::lround(scale_ * height)));
+      scene_target_.bind(scene_width, scene_height);
+      renderer_->render(frame, camera_, view_, scene_width, scene_height);
+      scene_target_.stretch_to(0, width, height);
+    } else {
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      renderer_->render(frame, camera_, view_, width, height);
+    }
+    glViewport(0, 0, width, height);
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
@@ -527,10 +582,21 @@ class Window {
 
   runtime::LiveParameters& live_;
   DebugViews debug_;
-  /// Triangles the touchable objects may draw in a frame (their graphics impostors share it):
-  /// about 8 ms of the software renderer here (docs/BENCHMARKS.md).
+  /// The touchable objects' graphics impostors share this part of the frame budget by their
+  /// measured draw times; the rest is the pixels' (the scale) and the panel's.
+  static constexpr double kObjectShare = 0.4;
+  /// Without a frame budget, the triangles the objects may draw in a frame.
   static constexpr double kTriangleBudget = 60'000;
+  [[nodiscard]] double level_budget() const {
+    return options_.frame_budget_ms > 0.0 ? kObjectShare * options_.frame_budget_ms : kTriangleBudget;
+  }
   const compile::Touchables& touchables_;
+  LevelCosts level_cost_;
+  std::string renderer_name_;
+  bool software_ = false;
+  std::optional<ResolutionGovernor> governor_;
+  SceneTarget scene_target_;
+  double scale_ = 1.0;
   PaintBrush brush_;
   std::string painted_;
   bool stopped_ = false;
@@ -608,9 +674,18 @@ std::vector<std::string> scene_files(const std::filesystem::path& folder) {
 }
 
 std::string format_window_report(const WindowReport& r) {
-  return fmt::format("visual loop: {} frames in {:.2f} s, {:.1f} Hz; frame time p50 {:.2f} ms, p99 {:.2f} ms{}\n",
-                     r.frames, r.seconds, r.rate, r.frame_p50_ms, r.frame_p99_ms,
-                     r.mouse_device.empty() ? "" : fmt::format("; the mouse drove '{}'", r.mouse_device));
+  std::string out = fmt::format("visual loop: {} frames in {:.2f} s, {:.1f} Hz; frame time p50 {:.2f} ms, p99 {:.2f} ms{}\n",
+                                r.frames, r.seconds, r.rate, r.frame_p50_ms, r.frame_p99_ms,
+                                r.mouse_device.empty() ? "" : fmt::format("; the mouse drove '{}'", r.mouse_device));
+  if (r.frames > 0)
+    out += fmt::format("  scene drawn at {:.2f} of {} x {} (p50; least {:.2f}), {} renderer '{}'\n", r.scale_p50, r.width,
+                       r.height, r.scale_min, r.software_renderer ? "software" : "hardware", r.renderer);
+  for (const auto& [body, ms] : r.level_draw_ms) {
+    std::string levels;
+    for (const double t : ms) levels += fmt::format("{}{:.3f}", levels.empty() ? "" : " / ", t);
+    out += fmt::format("  graphics levels of {}, measured draw time coarse to fine: {} ms\n", body, levels);
+  }
+  return out;
 }
 
 }  // namespace tactus::viewer

@@ -27,6 +27,10 @@ struct WindowOptions {
   double max_fps = 60.0;
   /// Scenes the panel's switcher offers (paths); empty = no switcher.
   std::vector<std::string> scenes;
+  /// The visual frame's budget [ms]: the scene is drawn at the resolution that keeps frames
+  /// within it and the objects' graphics impostors share part of it by measured draw time;
+  /// 0 = always the full resolution, impostors within a triangle count.
+  double frame_budget_ms = 16.0;
 };
 
 /// What the visual loop achieved.
@@ -36,6 +40,12 @@ struct WindowReport {
   double rate = 0.0;            ///< [Hz] frames / seconds
   double frame_p50_ms = 0.0;    ///< CPU time to build and draw one frame
   double frame_p99_ms = 0.0;
+  double scale_p50 = 1.0, scale_min = 1.0;  ///< of the window's size, the scene drawn at
+  int width = 0, height = 0;                ///< the window's [screen coordinates]
+  bool software_renderer = false;
+  std::string renderer;                     ///< OpenGL's renderer string
+  /// Per touchable object, its graphics levels' measured draw times [ms], coarse to fine.
+  std::vector<std::pair<std::string, std::vector<double>>> level_draw_ms;
   std::string mouse_device;     ///< the scene device the mouse drove, empty = none
   std::string next_scene;       ///< chosen in the panel's switcher: run it next; empty = none
 };

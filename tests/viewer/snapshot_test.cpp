@@ -13,7 +13,9 @@
 #include "scene/scene.hpp"
 #include "viewer/debug_views.hpp"
 #include "viewer/overlay.hpp"
+#include "viewer/offscreen.hpp"
 #include "viewer/snapshot.hpp"
+#include "viewer/touchables_view.hpp"
 #include "plate.hpp"
 
 namespace tactus::viewer {
@@ -183,6 +185,33 @@ int host_pixels(const Snapshot& s, double cx, double cy, int half) {
       n += c.y() > c.x();
     }
   return n;
+}
+
+// What the visual frame budget charges a touchable object's graphics level: its draw time
+// through the renderer, measured per level (the values depend on the machine; that there is
+// one for every level, finite and positive, does not).
+TEST(ViewerSnapshot, EachGraphicsLevelHasAMeasuredDrawTime) {
+  const scene::Model m = scene::parse_scene(R"([bodies.ball]
+kind = "rigid"
+mesh = { generator = "sphere", radius = 0.05, subdivisions = 3 }
+levels = { coarse_levels = 2, subdivision_levels = 1 }
+)",
+                                            "ball.toml");
+  const compile::Touchables t = compile::load_touchables(m);
+  std::optional<OffscreenContext> context;
+  try {
+    context.emplace();
+  } catch (const std::runtime_error& e) {
+    GTEST_SKIP() << "no offscreen OpenGL context here: " << e.what();
+  }
+  const LevelCosts times = measure_level_draw_times(t, ViewOptions{});
+  ASSERT_EQ(times.size(), 1u);
+  ASSERT_EQ(times[0].size(), t.objects[0]->levels->levels.size());
+  for (const double ms : times[0]) {
+    EXPECT_TRUE(std::isfinite(ms));
+    EXPECT_GE(ms, 1e-3);
+    EXPECT_LT(ms, 1e4);
+  }
 }
 
 TEST(ViewerSnapshot, ALayerOnItsHostsFaceShowsWithoutZFighting) {

@@ -39,18 +39,21 @@ TEST(TouchablesView, GraphicsLevelsGoToWhatLooksLargestWithinTheBudget) {
   const auto triangles = [&](std::size_t object, std::int32_t level) {
     return t.objects[object]->levels->levels[static_cast<std::size_t>(level)].mesh.triangles.size();
   };
+  const LevelCosts cost = level_triangles(t);
+  ASSERT_EQ(cost[1].size(), t.objects[1]->levels->levels.size());
+  EXPECT_EQ(cost[1][0], static_cast<double>(triangles(1, 0)));
   const double budget = static_cast<double>(triangles(0, 1) + triangles(1, 0));
-  const auto levels = choose_graphics_levels(t, Vec3(0, 0, 0.25), 800.0, budget);
+  const auto levels = choose_graphics_levels(t, Vec3(0, 0, 0.25), 800.0, cost, budget);
   EXPECT_EQ(levels[0], 1);
   EXPECT_EQ(levels[1], 0);
   EXPECT_LE(static_cast<double>(triangles(0, levels[0]) + triangles(1, levels[1])), budget);
   // Seen from beside the far one, the other way round.
-  const auto turned = choose_graphics_levels(t, Vec3(2.0, 0, 0.25), 800.0, budget);
+  const auto turned = choose_graphics_levels(t, Vec3(2.0, 0, 0.25), 800.0, cost, budget);
   EXPECT_EQ(turned[0], 0);
   EXPECT_EQ(turned[1], 1);
   // Plenty of budget: both finest; none: both coarsest.
-  EXPECT_EQ(choose_graphics_levels(t, Vec3(0, 0, 0.25), 800.0, 1e9)[1], finest);
-  EXPECT_EQ(choose_graphics_levels(t, Vec3(0, 0, 0.25), 800.0, 0.0)[0], 0);
+  EXPECT_EQ(choose_graphics_levels(t, Vec3(0, 0, 0.25), 800.0, cost, 1e9)[1], finest);
+  EXPECT_EQ(choose_graphics_levels(t, Vec3(0, 0, 0.25), 800.0, cost, 0.0)[0], 0);
 
   FrameView frame;
   frame.surfaces.resize(2);

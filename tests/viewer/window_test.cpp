@@ -20,6 +20,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <thread>
 #include <vector>
 
@@ -147,6 +148,19 @@ double visual_loop_rate(const std::string& output) {
     if (std::sscanf(line.c_str(), "visual loop: %lu frames in %lf s, %lf Hz", &frames, &seconds, &rate) == 3) return rate;
   }
   return -1.0;
+}
+
+/// The scale of the window the scene was drawn at (p50 and least), from the report's line
+/// after the visual loop's; {-1, -1} when there is none.
+std::pair<double, double> drawn_scale(const std::string& output) {
+  const std::size_t at = output.find("scene drawn at ");
+  double p50 = -1.0, least = -1.0;
+  int width = 0, height = 0;
+  if (at == std::string::npos ||
+      std::sscanf(output.c_str() + at, "scene drawn at %lf of %d x %d (p50; least %lf)", &p50, &width, &height,
+                  &least) != 4)
+    return {-1.0, -1.0};
+  return {p50, least};
 }
 
 TEST(ViewerScript, ParsesCommandsAndRejectsBadLinesWithTheirLine) {
@@ -286,6 +300,11 @@ TEST(ViewerWindow, TheMousePalpatesTheNoduleSceneUnderXvfb) {
   EXPECT_GT(lines[2].visual_rate, 0.0) << out;
   EXPECT_GT(visual_loop_rate(out), 0.0) << out;
   EXPECT_NE(out.find("the mouse drove 'finger'"), std::string::npos) << out;
+  // The frame budget's resolution stays between its least scale and the window's size.
+  const auto [scale, least] = drawn_scale(out);
+  EXPECT_GE(least, 0.35) << out;
+  EXPECT_LE(least, scale) << out;
+  EXPECT_LE(scale, 1.0) << out;
 
   // The screenshot is the window's framebuffer: the scene's skin covers a good part of it
   // and the picture is not one flat colour.
