@@ -25,10 +25,18 @@ std::shared_ptr<const lod::ImpostorHierarchy> levels_of(const scene::Model& m, c
   return std::make_shared<const lod::ImpostorHierarchy>(std::move(h));
 }
 
-std::shared_ptr<property_images::PropertyImages> images_of(const scene::Body& b) {
+std::shared_ptr<property_images::PropertyImages> images_of(const scene::Model& m, const scene::Body& b) {
   const scene::SurfacePropertyImages& p = *b.properties;
+  // Pixels hold the body's own E and ν unless the scene sets others: a painted patch then
+  // filters into real values at its edge, never into 0 ("unset").
+  using property_images::Channel;
+  property_images::SurfaceProperties base = p.base;
+  if (base[Channel::young_modulus] == 0.0 && b.material) {
+    base[Channel::young_modulus] = m.materials[*b.material].young_modulus;
+    base[Channel::poisson_ratio] = m.materials[*b.material].poisson_ratio;
+  }
   auto images = std::make_shared<property_images::PropertyImages>(
-      p.file.empty() ? property_images::PropertyImages::build(b.surface, p.resolution, p.base, p.where)
+      p.file.empty() ? property_images::PropertyImages::build(b.surface, p.resolution, base, p.where)
                      : property_images::read_property_images(p.file, b.surface.content_hash()));
   for (const auto& stroke : p.paint) images->paint(stroke.center, stroke.radius, stroke.values, stroke.mask);
   return images;
@@ -56,7 +64,7 @@ Touchables load_touchables(const scene::Model& m) {
     o.body = static_cast<std::int32_t>(i);
     try {
       o.levels = levels_of(m, b);
-      if (b.properties) o.properties = images_of(b);
+      if (b.properties) o.properties = images_of(m, b);
     } catch (const InputError& e) {
       // The file's own location when the error has one (a property image file), else the scene.
       const SourceLocation where = e.where().file.empty() ? SourceLocation{m.source, {}, {}, {}} : e.where();

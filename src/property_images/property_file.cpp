@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -17,11 +18,14 @@ using hdf5::fail;
 using hdf5::Handle;
 
 constexpr const char* kFormat = "tactus-property-images";
-constexpr int kVersion = 1;
+// Version 2 added the young_modulus and poisson_ratio channels; a version 1 file (the first
+// six channels) reads with them 0: the body's material.
+constexpr int kVersion = 2;
+constexpr int kVersion1Channels = 6;
 constexpr std::array<const char*, PropertyImages::kViewCount> kViewNames = {"+x", "-x", "+y", "-y", "+z", "-z"};
 
-std::string channel_list() {
-  return fmt::format("{}", fmt::join(kChannelNames, ","));
+std::string channel_list(int count = kChannelCount) {
+  return fmt::format("{}", fmt::join(kChannelNames.begin(), kChannelNames.begin() + count, ","));
 }
 
 }  // namespace
@@ -71,10 +75,12 @@ PropertyImages read_property_images(const std::filesystem::path& path, std::opti
   if (!file.valid()) fail(path, "cannot open the HDF5 file");
   hdf5::Reader r(path);
   if (r.text(file, "format") != kFormat) fail(path, "not a Tactus property image file");
-  if (const int v = r.scalar<int>(file, "version", H5T_NATIVE_INT); v != kVersion)
-    fail(path, fmt::format("property image file version {} (this build reads version {})", v, kVersion));
-  if (r.text(file, "channels") != channel_list())
-    fail(path, fmt::format("channels are not '{}'", channel_list()));
+  const int version = r.scalar<int>(file, "version", H5T_NATIVE_INT);
+  if (version != kVersion && version != 1)
+    fail(path, fmt::format("property image file version {} (this build reads versions 1 and {})", version, kVersion));
+  const int channels = version == 1 ? kVersion1Channels : kChannelCount;
+  if (r.text(file, "channels") != channel_list(channels))
+    fail(path, fmt::format("channels are not '{}'", channel_list(channels)));
   const auto hash = r.scalar<std::uint64_t>(file, "mesh_hash", H5T_NATIVE_UINT64);
   if (mesh_hash && hash != *mesh_hash)
     fail(path, fmt::format("made for another mesh (mesh hash {:016x}, this body's is {:016x}): repaint or rebuild it",
@@ -87,7 +93,7 @@ PropertyImages read_property_images(const std::filesystem::path& path, std::opti
       box.size().maxCoeff() / pixel > PropertyImages::kMaxResolution + 3)
     fail(path, "implausible box or pixel size");
   SurfaceProperties base;
-  r.array(file, "base", H5T_NATIVE_DOUBLE, base.values.data(), kChannelCount);
+  r.array(file, "base", H5T_NATIVE_DOUBLE, base.values.data(), static_cast<std::size_t>(channels));
   validate(base, SourceLocation{path.string() + " (base)", {}, {}, {}});
 
   Handle group(H5Gopen2(file, "views", H5P_DEFAULT), H5Gclose);
@@ -113,9 +119,18 @@ PropertyImages read_property_images(const std::filesystem::path& path, std::opti
                              v.height, v.width));
     const auto n = static_cast<std::size_t>(v.width) * static_cast<std::size_t>(v.height);
     v.depth.resize(n);
-    v.values.resize(n * kChannelCount);
+    v.values.assign(n * kChannelCount, 0.0f);
     r.dataset(g, "depth", H5T_NATIVE_FLOAT, n, v.depth.data());
-    r.dataset(g, "values", H5T_NATIVE_FLOAT, n * kChannelCount, v.values.data());
+    const auto stored = static_cast<std::size_t>(channels);
+    if (stored == kChannelCount) {
+      r.dataset(g, "values", H5T_NATIVE_FLOAT, n * stored, v.values.data());
+    } else {
+      std::vector<float> old(n * stored);
+      r.dataset(g, "values", H5T_NATIVE_FLOAT, n * stored, old.data());
+      for (std::size_t p = 0; p < n; ++p)
+        std::copy_n(old.begin() + static_cast<std::ptrdiff_t>(p * stored), stored,
+                    v.values.begin() + static_cast<std::ptrdiff_t>(p * kChannelCount));
+    }
     for (std::size_t p = 0; p < n; ++p) {
       const auto col = p % static_cast<std::size_t>(v.width), row = p / static_cast<std::size_t>(v.width);
       if (std::isnan(v.depth[p]) || v.depth[p] < 0.0f)

@@ -32,8 +32,9 @@ double depth_of(const Aabb& box, const View& v, const Vec3& p) {
 }  // namespace
 
 void validate(const SurfaceProperties& p, const SourceLocation& where) {
-  constexpr std::array<double, kChannelCount> kMax = {kMaxStiffness, kMaxFriction,           kMaxFriction,
-                                                      kMaxDamping,   kMaxRoughnessAmplitude, kMaxRoughnessWavelength};
+  constexpr std::array<double, kChannelCount> kMax = {kMaxStiffness,          kMaxFriction,           kMaxFriction,
+                                                      kMaxDamping,            kMaxRoughnessAmplitude, kMaxRoughnessWavelength,
+                                                      kMaxYoungModulus,       kMaxPoissonRatio};
   for (int c = 0; c < kChannelCount; ++c) {
     const double v = p.values[c];
     if (!std::isfinite(v) || v < 0.0 || v > kMax[c])

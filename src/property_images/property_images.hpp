@@ -3,7 +3,7 @@
 // stored per pixel in six orthogonal depth images, one looking in from each face of its
 // bounding box (±x, ±y, ±z). A pixel holds the depth of the first surface its ray meets and
 // the material there: stiffness, static and kinetic friction, damping, roughness amplitude
-// and wavelength. A contact point takes the material of the view that sees it best (by its
+// and wavelength, and the elastic constants (E, ν) that a Hertz finger presses against. A contact point takes the material of the view that sees it best (by its
 // normal, the first view whose depth agrees with the point), bilinearly filtered. Painting
 // writes every pixel whose surface point lies within the brush.
 //
@@ -32,10 +32,13 @@ enum class Channel : std::uint8_t {
   damping,              ///< coupling damping [N·s/m]
   roughness_amplitude,  ///< height of the texture [m]
   roughness_wavelength, ///< its period along the surface [m]
+  young_modulus,        ///< E of the material a contact law presses [Pa]; 0: the body's material's
+  poisson_ratio,        ///< ν of that material (used with young_modulus)
 };
-inline constexpr int kChannelCount = 6;
+inline constexpr int kChannelCount = 8;
 inline constexpr std::array<std::string_view, kChannelCount> kChannelNames = {
-    "stiffness", "static_friction", "kinetic_friction", "damping", "roughness_amplitude", "roughness_wavelength"};
+    "stiffness",           "static_friction", "kinetic_friction", "damping", "roughness_amplitude",
+    "roughness_wavelength", "young_modulus",  "poisson_ratio"};
 
 /// A material, one value per channel.
 struct SurfaceProperties {
@@ -49,6 +52,8 @@ inline constexpr double kMaxFriction = 10.0;
 inline constexpr double kMaxDamping = 1e3;          ///< N·s/m
 inline constexpr double kMaxRoughnessAmplitude = 0.01;  ///< m
 inline constexpr double kMaxRoughnessWavelength = 1.0;  ///< m
+inline constexpr double kMaxYoungModulus = 1e12;        ///< Pa (stiffer than diamond is a typo)
+inline constexpr double kMaxPoissonRatio = 0.5;
 /// Throws InputError at `where` naming the channel when a value is out of range: negative,
 /// not finite, beyond the maxima above, μk > μs, or a roughness with no wavelength.
 void validate(const SurfaceProperties& properties, const SourceLocation& where);

@@ -21,6 +21,8 @@ Range channel_range(int c) {
     case Channel::damping: return Range::closed(0.0, property_images::kMaxDamping);
     case Channel::roughness_amplitude: return Range::closed(0.0, property_images::kMaxRoughnessAmplitude);
     case Channel::roughness_wavelength: return Range::closed(0.0, property_images::kMaxRoughnessWavelength);
+    case Channel::young_modulus: return Range::closed(0.0, property_images::kMaxYoungModulus);
+    case Channel::poisson_ratio: return Range::closed(0.0, property_images::kMaxPoissonRatio);
   }
   return Range::any();
 }
@@ -77,7 +79,7 @@ SurfacePropertyImages read_properties(Reader& r) {
     stroke.mask = read_channels(s, stroke.values);
     if (stroke.mask == 0)
       s.fail_here("a stroke paints at least one of stiffness, static_friction, kinetic_friction, damping, "
-                  "roughness_amplitude, roughness_wavelength");
+                  "roughness_amplitude, roughness_wavelength, young_modulus, poisson_ratio");
     try {
       property_images::validate(stroke.values, table_location(s));
     } catch (const InputError& e) {

@@ -202,13 +202,15 @@ PanelActions draw_panel(const PanelInputs& in, ViewOptions& view) {
     ImGui::Checkbox("paint where the tool touches", &b.on);
     slider("radius [m]", b.radius, 0.001, 0.1, "%.3f", true);
     using property_images::Channel;
-    const std::array<std::tuple<Channel, const char*, double, double, const char*, bool>, 6> channels{{
+    const std::array<std::tuple<Channel, const char*, double, double, const char*, bool>, 8> channels{{
         {Channel::stiffness, "stiffness [N/m]", 10.0, 5000.0, "%.0f", true},
         {Channel::static_friction, "static friction", 0.0, 2.0, "%.2f", false},
         {Channel::kinetic_friction, "kinetic friction", 0.0, 2.0, "%.2f", false},
         {Channel::damping, "damping [N s/m]", 0.0, 20.0, "%.2f", false},
         {Channel::roughness_amplitude, "roughness [m]", 1e-6, 1e-3, "%.1e", true},
         {Channel::roughness_wavelength, "wavelength [m]", 1e-3, 0.05, "%.4f", true},
+        {Channel::young_modulus, "E for fingers [Pa]", 1e2, 1e7, "%.3g", true},
+        {Channel::poisson_ratio, "poisson ratio", 0.0, 0.5, "%.2f", false},
     }};
     for (const auto& [channel, label, lo, hi, format, logarithmic] : channels) {
       const auto bit = property_images::mask_of(channel);

@@ -22,12 +22,12 @@ using LevelCosts = std::vector<std::vector<double>>;
 /// Each level's triangle count (the cost where no draw time is measured).
 [[nodiscard]] LevelCosts level_triangles(const compile::Touchables& touchables);
 
-/// Each level's draw time [ms] through the viewer's renderer with `options`: the median of
+/// Each level's draw time [ms] through the viewer's renderer with `options`: the least of
 /// `repeats` frames holding the level alone, seen small (built, uploaded, transformed, shaded
 /// and finished: its geometry's cost, since the pixels go with the resolution), less the
-/// median of an empty frame, at least 1 µs. Needs a current OpenGL context.
+/// least of an empty frame, at least 1 µs. Needs a current OpenGL context.
 [[nodiscard]] LevelCosts measure_level_draw_times(const compile::Touchables& touchables, const ViewOptions& options,
-                                                  int repeats = 3);
+                                                  int repeats = 5);
 
 /// The graphics impostors (seed 000 §4.2): one level per touchable object, greedy by projected
 /// size on screen per unit of `cost`, the chosen levels' costs summing to at most `budget`

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "core/hdf5_file.hpp"
 #include "mesh/generators.hpp"
 
 namespace tactus::property_images {
@@ -65,6 +66,73 @@ TEST_F(PropertyFile, RoundTripIsExact) {
     EXPECT_EQ(back.views()[i].values, images.views()[i].values);
   }
   EXPECT_DOUBLE_EQ(back.lookup(Vec3(0, 0, 0.04), Vec3::UnitZ()).properties[Channel::stiffness], 650.0);
+}
+
+// Rewrites a version 2 file as version 1 wrote it: the first six channels only.
+void write_as_version_1(const fs::path& path, const PropertyImages& images) {
+  write_property_images(path, images);
+  hdf5::Handle file(H5Fopen(path.string().c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  ASSERT_TRUE(file.valid());
+  for (const char* name : {"version", "channels", "base"}) ASSERT_GE(H5Adelete(file, name), 0);
+  hdf5::Writer w(path, "a version 1 file");
+  const int one = 1;
+  w.attribute(file, "version", H5T_NATIVE_INT, &one);
+  w.attribute(file, "channels", "stiffness,static_friction,kinetic_friction,damping,roughness_amplitude,"
+                                "roughness_wavelength");
+  w.attribute(file, "base", H5T_NATIVE_DOUBLE, images.base().values.data(), 6);
+  const std::array<const char*, 6> names = {"views/+x", "views/-x", "views/+y", "views/-y", "views/+z", "views/-z"};
+  for (int i = 0; i < PropertyImages::kViewCount; ++i) {
+    const View& v = images.views()[i];
+    hdf5::Handle g(H5Gopen2(file, names[i], H5P_DEFAULT), H5Gclose);
+    ASSERT_GE(H5Ldelete(g, "values", H5P_DEFAULT), 0);
+    std::vector<float> six;
+    for (std::size_t p = 0; p < v.depth.size(); ++p)
+      for (int c = 0; c < 6; ++c) six.push_back(v.values[p * kChannelCount + static_cast<std::size_t>(c)]);
+    w.dataset(g, "values", H5T_NATIVE_FLOAT,
+              {static_cast<hsize_t>(v.height), static_cast<hsize_t>(v.width), hsize_t{6}}, six.data());
+  }
+}
+
+// A file written before E and ν were channels reads with them 0 (the body's material) and
+// every other channel as it was.
+TEST_F(PropertyFile, ReadsVersion1FilesWithTheBodysElasticConstants) {
+  const auto ball = mesh::sphere(0.04, 3);
+  auto images = PropertyImages::build(ball, 32, material(300), {"test", {}, {}, {}});
+  images.paint(Vec3(0, 0, 0.04), 0.012, material(650), kAllChannels);
+  const fs::path file = dir_ / "old.h5";
+  write_as_version_1(file, images);
+  const auto back = read_property_images(file, ball.content_hash());
+  EXPECT_EQ(back.base().values, images.base().values);
+  for (int i = 0; i < PropertyImages::kViewCount; ++i) EXPECT_EQ(back.views()[i].values, images.views()[i].values);
+  const auto at = back.lookup(Vec3(0, 0, 0.04), Vec3::UnitZ()).properties;
+  EXPECT_DOUBLE_EQ(at[Channel::stiffness], 650.0);
+  EXPECT_EQ(at[Channel::young_modulus], 0.0);
+}
+
+// E and ν round-trip like the other channels, and a ν above 0.5 is refused.
+TEST_F(PropertyFile, ElasticConstantChannelsRoundTripAndAreChecked) {
+  const auto ball = mesh::sphere(0.04, 3);
+  SurfaceProperties base = material(300);
+  base[Channel::young_modulus] = 5e4;
+  base[Channel::poisson_ratio] = 0.45;
+  auto images = PropertyImages::build(ball, 32, base, {"test", {}, {}, {}});
+  SurfaceProperties stiff = base;
+  stiff[Channel::young_modulus] = 4e5;
+  images.paint(Vec3(0, 0, 0.04), 0.012, stiff, mask_of(Channel::young_modulus));
+  const fs::path file = dir_ / "elastic.h5";
+  write_property_images(file, images);
+  const auto back = read_property_images(file, ball.content_hash());
+  EXPECT_NEAR(back.lookup(Vec3(0, 0, 0.04), Vec3::UnitZ()).properties[Channel::young_modulus], 4e5, 1e-9 * 4e5);
+  EXPECT_NEAR(back.lookup(Vec3(0, 0, -0.04), -Vec3::UnitZ()).properties[Channel::young_modulus], 5e4, 1e-9 * 5e4);
+  EXPECT_NEAR(back.lookup(Vec3(0, 0, 0.04), Vec3::UnitZ()).properties[Channel::poisson_ratio], 0.45, 1e-7);
+  SurfaceProperties wrong = base;
+  wrong[Channel::poisson_ratio] = 0.6;
+  try {
+    validate(wrong, {"scene.toml", {}, {}, {}});
+    FAIL() << "accepted ν = 0.6";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("poisson_ratio must be in [0, 0.5]"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(PropertyFile, RefusesBrokenFiles) {

@@ -46,6 +46,11 @@ roughness_wavelength = 0.002
 center = [0.0, 0.0, 0.05]
 radius = 0.01
 stiffness = 1400.0
+[[bodies.ball.properties.paint]]
+center = [0.0, 0.0, -0.05]
+radius = 0.02
+young_modulus = 2e5
+poisson_ratio = 0.3
 )",
                                              "[lod]\nhaptic_budget = 8e-6\ninfluence_radius = 0.1\nblend_time = 0.004\nselect = false\n"),
                                   "room.toml");
@@ -61,10 +66,15 @@ stiffness = 1400.0
   EXPECT_EQ(b.properties->resolution, 64);
   EXPECT_DOUBLE_EQ(b.properties->base[Channel::stiffness], 700.0);
   EXPECT_DOUBLE_EQ(b.properties->base[Channel::roughness_wavelength], 0.002);
-  ASSERT_EQ(b.properties->paint.size(), 1u);
   EXPECT_DOUBLE_EQ(b.properties->paint[0].values[Channel::stiffness], 1400.0);
   EXPECT_DOUBLE_EQ(b.properties->paint[0].values[Channel::static_friction], 0.5);  // the body's
   EXPECT_EQ(b.properties->paint[0].mask, property_images::mask_of(Channel::stiffness));
+  ASSERT_EQ(b.properties->paint.size(), 2u);
+  EXPECT_DOUBLE_EQ(b.properties->paint[1].values[Channel::young_modulus], 2e5);
+  EXPECT_DOUBLE_EQ(b.properties->paint[1].values[Channel::poisson_ratio], 0.3);
+  EXPECT_EQ(b.properties->paint[1].mask,
+            property_images::mask_of(Channel::young_modulus) | property_images::mask_of(Channel::poisson_ratio));
+  EXPECT_EQ(b.properties->base[Channel::young_modulus], 0.0);  // unset: the body's material
   EXPECT_DOUBLE_EQ(m.level_selection.haptic_budget, 8e-6);
   EXPECT_DOUBLE_EQ(m.level_selection.influence_radius, 0.1);
   EXPECT_DOUBLE_EQ(m.level_selection.blend_time, 0.004);
@@ -76,6 +86,8 @@ TEST(TouchableKeys, EveryWrongKeyIsLocated) {
   EXPECT_TRUE(has(e, "room.toml:") && has(e, "bodies.ball.properties.stiffness")) << e;
   e = error_of(scene_with("[bodies.ball.properties]\nstatic_friction = 0.2\nkinetic_friction = 0.5\n"));
   EXPECT_TRUE(has(e, "bodies.ball.properties") && has(e, "kinetic_friction 0.5 exceeds static_friction 0.2")) << e;
+  e = error_of(scene_with("[bodies.ball.properties]\npoisson_ratio = 0.7\n"));
+  EXPECT_TRUE(has(e, "bodies.ball.properties.poisson_ratio")) << e;
   e = error_of(scene_with("[bodies.ball.properties]\nroughness_amplitude = 1e-4\n"));
   EXPECT_TRUE(has(e, "roughness_wavelength")) << e;
   e = error_of(scene_with("[bodies.ball.properties]\n[[bodies.ball.properties.paint]]\ncenter = [0, 0, 0]\nradius = 0.01\n"));

@@ -34,6 +34,14 @@ class ContactLaw {
                         : stiffness * depth;
   }
   [[nodiscard]] bool is_penalty() const { return !hertz_ && !fingerpad_; }
+  /// What the force becomes, as a factor, where the pressed material is `tissue` instead of
+  /// the law's own: E*(finger, tissue) / E*(finger, law's tissue) for Hertz, whose force is
+  /// proportional to E* in every regime; 1 for the other laws, which hold no tissue modulus.
+  /// `tissue` must be valid (E > 0, ν in [0, 0.5]).
+  [[nodiscard]] double modulus_factor(const contact::ElasticMaterial& tissue) const noexcept {
+    if (!hertz_) return 1.0;
+    return contact::effective_modulus(hertz_->parameters().finger, tissue) / hertz_->effective_modulus();
+  }
   /// What the viewer's panel may edit of a finger with this law: a penalty's stiffness.
   [[nodiscard]] EditableSurface editable_surface(bool has_spheres) const {
     if (!is_penalty() || !has_spheres) return {};

@@ -54,15 +54,23 @@ SpheresOnObjects::Pressed SpheresOnObjects::press(const FrameInputs& f, const Le
     const double depth = sphere.radius - (c.behind ? -c.distance : c.distance);
     if (!(depth > 0.0)) continue;
     // The law and the curvature of what the sphere touches: the object's level, or the plane.
-    double curvature = 0.0;
+    double curvature = 0.0, modulus_factor = 1.0;
+    const ContactLaw& law = laws_[static_cast<std::size_t>(member)];
     if (member < static_cast<int>(n)) {
       const auto object = static_cast<std::size_t>(member);
       curvature = chooser_.level_of(levels, object).mean_curvature_at(c.triangle % ObjectsQuery::kObjectStride, c.barycentric);
+      // E and ν painted where the sphere presses (0: the object's material, the law's own).
+      if (const auto& images = chooser_.objects()[object].properties) {
+        using property_images::Channel;
+        const property_images::SurfaceProperties m = images->lookup(c.point, c.normal).properties;
+        if (m[Channel::young_modulus] > 0.0)
+          modulus_factor = law.modulus_factor({m[Channel::young_modulus], m[Channel::poisson_ratio]});
+      }
     } else {
       curvature = f.contact->mean_curvature;
     }
-    const ContactLaw& law = laws_[static_cast<std::size_t>(member)];
-    const double fn = std::max(0.0, law.force(depth, curvature, law.stiffness()) - damping_ * c.normal.dot(f.velocity));
+    const double fn =
+        std::max(0.0, modulus_factor * law.force(depth, curvature, law.stiffness()) - damping_ * c.normal.dot(f.velocity));
     out.touching = true;
     out.force += fn * c.normal;
     out.torque += arm.cross(fn * c.normal);

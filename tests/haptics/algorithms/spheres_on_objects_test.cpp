@@ -94,6 +94,50 @@ TEST(SpheresOnObjects, OnAFlatTopItIsTheSphereOnAHalfSpace) {
   EXPECT_EQ(SpheresOnObjects::levels_in_use(*a.make_state()).size(), 1u);
 }
 
+// E and ν painted into the object's property images are what the Hertz finger presses where
+// it touches: on the painted half of a slab the force is Hertz's with the painted material,
+// on the other half with the object's own, at equal depth (only E* differs, so the ratio is
+// that of the two E*, exactly up to the images' float storage).
+TEST(SpheresOnObjects, PaintedElasticConstantsAreFeltWhereTheyArePainted) {
+  const double rf = 0.008, depth = 4e-4;
+  contact::HertzParameters hp;
+  hp.finger_radius = rf;
+  hp.finger = {1e6, 0.48};
+  hp.tissue = {5e5, 0.4};
+  const mesh::TriMesh surface = mesh::box_surface(Vec3(0.2, 0.2, 0.04), 8);
+  TouchableObject slab = object_of(surface);
+  using property_images::Channel;
+  property_images::SurfaceProperties base;
+  base[Channel::stiffness] = 500.0;
+  base[Channel::young_modulus] = 5e5;
+  base[Channel::poisson_ratio] = 0.4;
+  slab.properties = std::make_shared<property_images::PropertyImages>(
+      property_images::PropertyImages::build(surface, 256, base, SourceLocation{"slab", {}, {}, {}}));
+  property_images::SurfaceProperties painted = base;
+  painted[Channel::young_modulus] = 2e6;
+  painted[Channel::poisson_ratio] = 0.3;
+  // The slab's top at x > 0.005 m: E 2 MPa, ν 0.3.
+  for (double x = 0.013; x <= 0.1; x += 0.005)
+    for (double y = -0.1; y <= 0.1; y += 0.005)
+      slab.properties->paint(Vec3(x, y, 0.02), 0.008,
+                             painted, property_images::mask_of(Channel::young_modulus) |
+                                          property_images::mask_of(Channel::poisson_ratio));
+  const SpheresOnObjects a({ToolSphere{Vec3::Zero(), rf}}, {ContactLaw::hertz(hp), ContactLaw::hertz(hp)}, 0.0, {slab},
+                           ObjectsSettings{});
+  // Two points mirror images of each other across x = 0, so the level's voted curvature (a
+  // little off zero this near the box's edges) is the same at both.
+  const double own = press(a, Vec3(-0.025, 0.0, 0.02 + rf - depth)).force.z();
+  const double stiff = press(a, Vec3(0.025, 0.0, 0.02 + rf - depth)).force.z();
+  const double expected_own = hertz(rf, 0.0, depth, 1e6, 0.48, 5e5, 0.4);
+  const double expected_stiff = hertz(rf, 0.0, depth, 1e6, 0.48, 2e6, 0.3);
+  std::printf("Hertz finger on painted E: %.5f N (Hertz %.5f N), unpainted %.5f N (Hertz %.5f N)\n", stiff,
+              expected_stiff, own, expected_own);
+  // Against Hertz on a half-space: within the curvature the coarse box's voting finds here.
+  EXPECT_NEAR(own, expected_own, 1e-2 * expected_own);
+  EXPECT_NEAR(stiff, expected_stiff, 1e-2 * expected_stiff);
+  EXPECT_NEAR(stiff / own, expected_stiff / expected_own, 1e-6 * expected_stiff / expected_own);
+}
+
 TEST(SpheresOnObjects, RenderAllocatesNothing) {
   contact::HertzParameters hp;
   hp.finger_radius = 0.008;
