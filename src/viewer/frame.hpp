@@ -2,6 +2,7 @@
 // What the renderer draws: a plain description of one visual frame, built from a run's
 // published snapshots (visual_feed.hpp) or by hand (tests). Scene units [m, N, Pa].
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/math.hpp"
@@ -18,6 +19,11 @@ struct SurfaceView {
   std::vector<Vec3> positions;
   std::vector<mesh::Triangle> triangles;
   Colour colour = Colour(0.9, 0.72, 0.62);
+  /// A colour per triangle instead of `colour` (a body's regions, a fabric's strain); empty:
+  /// `colour` everywhere.
+  std::vector<Colour> triangle_colours;
+  /// What the legend lists for this surface instead of its name and colour (its regions).
+  std::vector<std::pair<std::string, Colour>> legend;
   /// Contact pressure per vertex [Pa]; empty = no contact on this surface.
   std::vector<double> pressure;
   /// Drawn see-through when the view asks for transparency (it then reveals what lies under).

@@ -67,15 +67,20 @@ Overlay build_overlay(const FrameView& frame, const OrbitCamera& camera, const V
     }
   }
 
-  // The legend, bottom right: each body's name beside its colour.
-  std::vector<const SurfaceView*> named;
-  for (const SurfaceView& s : frame.surfaces)
-    if (!s.name.empty()) named.push_back(&s);
+  // The legend, bottom right: each body's name beside its colour (a body of several
+  // regions: each region's).
+  std::vector<std::pair<std::string, Colour>> named;
+  for (const SurfaceView& s : frame.surfaces) {
+    if (!s.legend.empty())
+      named.insert(named.end(), s.legend.begin(), s.legend.end());
+    else if (!s.name.empty())
+      named.emplace_back(s.name, s.colour);
+  }
   if (named.size() > 1) {
     int y = height - kMargin - static_cast<int>(named.size()) * kLine;
-    for (const SurfaceView* s : named) {
-      o.rects.push_back({width - kMargin - 14, y + 2, width - kMargin, y + 16, s->colour});
-      o.texts.push_back({width - kMargin - 20, y, s->name, kTextColour, true});
+    for (const auto& [name, colour] : named) {
+      o.rects.push_back({width - kMargin - 14, y + 2, width - kMargin, y + 16, colour});
+      o.texts.push_back({width - kMargin - 20, y, name, kTextColour, true});
       y += kLine;
     }
   }

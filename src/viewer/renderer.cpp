@@ -66,6 +66,7 @@ void main() {
   float specular = pow(max(dot(n, normalize(uLightDirection + v)), 0.0), 40.0) * 0.2;
   float light = uShadows == 1 ? mix(0.35, 1.0, lit_fraction(n)) : 1.0;
   vec3 c = vColour.rgb * (0.3 + 0.7 * diffuse * light) + vec3(specular * light);
+  if (!gl_FrontFacing) c *= 0.7;  // a sheet's back (a fabric's other side) darker than its front
   outColour = vec4(c, vColour.a);
 }
 )";
@@ -241,11 +242,13 @@ void Renderer::build(const FrameView& frame, const ViewOptions& options, double 
     const bool translucent = options.reveal && s.translucent_when_revealing;
     const bool pressure = options.show_pressure && s.pressure.size() == s.positions.size();
     std::vector<Vertex>& target = translucent ? out.translucent : s.recessed ? out.recessed : out.opaque;
-    for (const mesh::Triangle& t : s.triangles) {
+    const bool per_triangle = s.triangle_colours.size() == s.triangles.size();
+    for (std::size_t ti = 0; ti < s.triangles.size(); ++ti) {
+      const mesh::Triangle& t = s.triangles[ti];
       if (!valid(t)) continue;
       for (const mesh::Index vi : t) {
         const auto v = static_cast<std::size_t>(vi);
-        Colour c = s.colour;
+        Colour c = per_triangle ? s.triangle_colours[ti] : s.colour;
         if (pressure && s.pressure[v] > 0.0) {
           const double fraction = s.pressure[v] / frame.pressure_full_scale;
           // Fully false-coloured from 3 % of full scale on, so light touches show too.

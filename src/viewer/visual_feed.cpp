@@ -18,6 +18,7 @@ namespace {
 constexpr std::size_t kMaxSamples = 4000;   // 20 s at 200 per second
 constexpr std::uint64_t kSampleEvery = 5;   // of a 1 kHz loop's frames: 200 per second
 constexpr std::size_t kMaxEvents = 64;
+constexpr double kFabricStrainScale = 0.05;  // a fabric red at 5 % strain: a firm pull on a woven cloth
 
 /// An arrow reaches `kArrowCap` of the scene's largest side at `kArrowCapForce`; harder
 /// pushes draw no longer (their value is written at the tip).
@@ -88,6 +89,7 @@ VisualFeed::VisualFeed(const scene::Model& model) : model_(model), devices_(mode
       box.max = box.max.cwiseMax(p);
     }
   if ((box.min.array() <= box.max.array()).all()) extent_ = std::max((box.max - box.min).maxCoeff(), 1e-3);
+  for (const scene::Body& b : model.bodies) regions_.push_back(region_colours(model, b));
 }
 
 Vec3 VisualFeed::needle_axis(std::size_t device, const runtime::HapticFrame& f) const {
@@ -211,6 +213,15 @@ FrameView VisualFeed::build() {
     const bool published = snapshot && b < snapshot->positions.size() &&
                            snapshot->positions[b].size() == body.surface.vertices.size();
     s.positions = published ? snapshot->positions[b] : body.surface.vertices;
+    if (!regions_[b].triangles.empty()) {
+      s.triangle_colours = regions_[b].triangles;
+      s.legend = regions_[b].legend;
+    } else if (body.kind == scene::BodyKind::cloth) {
+      // A fabric shows how far it is stretched: blue at rest, red at kFabricStrainScale.
+      strain_colours(body.surface.vertices, s.positions, s.triangles, kFabricStrainScale, s.triangle_colours);
+      s.legend = {{fmt::format("{}: strain 0", body.name), pressure_colour(0.0)},
+                  {fmt::format("{}: strain {:g} %", body.name, 100.0 * kFabricStrainScale), pressure_colour(1.0)}};
+    }
     frame.surfaces.push_back(std::move(s));
     for (const scene::Nodule& n : body.nodules)
       frame.spheres.push_back({n.center, n.radius, n.rigid ? Colour(0.55, 0.12, 0.15) : Colour(0.85, 0.45, 0.55), 1.0, true});

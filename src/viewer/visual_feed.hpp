@@ -15,6 +15,7 @@
 #include "runtime/session.hpp"
 #include "scene/model.hpp"
 #include "viewer/frame.hpp"
+#include "viewer/surface_colours.hpp"
 
 namespace tactus::viewer {
 
@@ -91,6 +92,7 @@ class VisualFeed final : public runtime::VisualSink {
   std::vector<DeviceTool> devices_;
   double full_scale_ = 2.0e4;
   double extent_ = 0.1;  ///< the bodies' largest side at rest [m]: sets the arrows' scale
+  std::vector<RegionColours> regions_;  ///< per body: its regions' colours (empty: one colour)
   std::unique_ptr<TripleBuffer<runtime::SurfaceSnapshot>> surfaces_;
   // The run's thread builds the buffer while a window may already be drawing: the window
   // reads it only once published here (release / acquire).
