@@ -31,6 +31,10 @@ struct SurfaceView {
   /// Drawn behind any surface it coincides with: a body whose embedded layers lie on its
   /// boundary (a skin sheet on a tissue block's top) would otherwise fight them pixel by pixel.
   bool recessed = false;
+  /// Non-null: these positions and triangles are the same every frame this id is given (a
+  /// rigid object's impostor level), so the renderer keeps their vertices (and, where it
+  /// can, on the GPU) instead of rebuilding and sending them each frame.
+  const void* static_id = nullptr;
 };
 
 /// A sphere: a tool's contact sphere, its device position, a nodule under the skin.
@@ -105,6 +109,7 @@ struct ViewOptions {
   bool reveal = false;     ///< translucent surfaces; subsurface structures shown
   bool wireframe = false;  ///< triangle edges over the shading
   bool shadows = true;
+  bool floor = true;  ///< the floor under the scene that receives its shadows
   /// Shadow edges filtered over 3 × 3 taps; one tap where every pixel's shading costs CPU
   /// (a software renderer).
   bool soft_shadows = true;

@@ -12,6 +12,9 @@ namespace tactus::viewer {
 namespace {
 
 
+/// Frames a cached static surface stays after it was last drawn (a few seconds at 60 Hz).
+constexpr std::uint64_t kKeepFrames = 240;
+
 const char* const kShadedVertex = R"(#version 330 core
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
@@ -218,6 +221,10 @@ Renderer::Renderer(int shadow_map_size) : shadow_size_(std::clamp(shadow_map_siz
 }
 
 Renderer::~Renderer() {
+  for (auto& [id, e] : kept_) {
+    glDeleteBuffers(1, &e.vbo);
+    glDeleteVertexArrays(1, &e.vao);
+  }
   glDeleteFramebuffers(1, &shadow_fbo_);
   glDeleteTextures(1, &shadow_texture_);
   glDeleteBuffers(1, &vbo_);
@@ -226,39 +233,92 @@ Renderer::~Renderer() {
   glDeleteProgram(depth_);
 }
 
-void Renderer::build(const FrameView& frame, const ViewOptions& options, double extent, Batches& out) const {
-  // Surfaces: smooth normals (area-weighted face normals), pressure blended over the colour.
-  for (const SurfaceView& s : frame.surfaces) {
-    std::vector<Vec3> normals(s.positions.size(), Vec3::Zero());
-    auto valid = [&](const mesh::Triangle& t) {
-      return std::all_of(t.begin(), t.end(), [&](mesh::Index v) { return v >= 0 && static_cast<std::size_t>(v) < s.positions.size(); });
-    };
-    for (const mesh::Triangle& t : s.triangles) {
-      if (!valid(t)) continue;
-      const Vec3& a = s.positions[static_cast<std::size_t>(t[0])];
-      const Vec3 n = (s.positions[static_cast<std::size_t>(t[1])] - a).cross(s.positions[static_cast<std::size_t>(t[2])] - a);
-      for (const mesh::Index v : t) normals[static_cast<std::size_t>(v)] += n;
-    }
-    const bool translucent = options.reveal && s.translucent_when_revealing;
-    const bool pressure = options.show_pressure && s.pressure.size() == s.positions.size();
-    std::vector<Vertex>& target = translucent ? out.translucent : s.recessed ? out.recessed : out.opaque;
-    const bool per_triangle = s.triangle_colours.size() == s.triangles.size();
-    for (std::size_t ti = 0; ti < s.triangles.size(); ++ti) {
-      const mesh::Triangle& t = s.triangles[ti];
-      if (!valid(t)) continue;
-      for (const mesh::Index vi : t) {
-        const auto v = static_cast<std::size_t>(vi);
-        Colour c = per_triangle ? s.triangle_colours[ti] : s.colour;
-        if (pressure && s.pressure[v] > 0.0) {
-          const double fraction = s.pressure[v] / frame.pressure_full_scale;
-          // Fully false-coloured from 3 % of full scale on, so light touches show too.
-          const double w = std::clamp(fraction / 0.03, 0.0, 1.0);
-          c = (1.0 - w) * c + w * pressure_colour(fraction);
-        }
-        push(target, s.positions[v], normals[v].normalized(), c, translucent ? 0.35 : 1.0);
-        if (options.wireframe) push(out.wire, s.positions[v], Vec3::UnitZ(), Colour(0.1, 0.1, 0.12), 1.0);
+namespace {
+
+/// A surface's triangles as vertices: smooth normals (area-weighted face normals), pressure
+/// blended over the colour.
+template <class V>
+void append_surface(const SurfaceView& s, const ViewOptions& options, double pressure_full_scale, double alpha,
+                    std::vector<V>& target, std::vector<V>* wire) {
+  std::vector<Vec3> normals(s.positions.size(), Vec3::Zero());
+  auto valid = [&](const mesh::Triangle& t) {
+    return std::all_of(t.begin(), t.end(), [&](mesh::Index v) { return v >= 0 && static_cast<std::size_t>(v) < s.positions.size(); });
+  };
+  for (const mesh::Triangle& t : s.triangles) {
+    if (!valid(t)) continue;
+    const Vec3& a = s.positions[static_cast<std::size_t>(t[0])];
+    const Vec3 n = (s.positions[static_cast<std::size_t>(t[1])] - a).cross(s.positions[static_cast<std::size_t>(t[2])] - a);
+    for (const mesh::Index v : t) normals[static_cast<std::size_t>(v)] += n;
+  }
+  const bool pressure = options.show_pressure && s.pressure.size() == s.positions.size();
+  const bool per_triangle = s.triangle_colours.size() == s.triangles.size();
+  for (std::size_t ti = 0; ti < s.triangles.size(); ++ti) {
+    const mesh::Triangle& t = s.triangles[ti];
+    if (!valid(t)) continue;
+    for (const mesh::Index vi : t) {
+      const auto v = static_cast<std::size_t>(vi);
+      Colour c = per_triangle ? s.triangle_colours[ti] : s.colour;
+      if (pressure && s.pressure[v] > 0.0) {
+        const double fraction = s.pressure[v] / pressure_full_scale;
+        // Fully false-coloured from 3 % of full scale on, so light touches show too.
+        const double w = std::clamp(fraction / 0.03, 0.0, 1.0);
+        c = (1.0 - w) * c + w * pressure_colour(fraction);
       }
+      push(target, s.positions[v], normals[v].normalized(), c, alpha);
+      if (wire) push(*wire, s.positions[v], Vec3::UnitZ(), Colour(0.1, 0.1, 0.12), 1.0);
     }
+  }
+}
+
+}  // namespace
+
+bool Renderer::cacheable(const SurfaceView& s, const ViewOptions& options) {
+  if (!s.static_id || s.recessed || options.wireframe || (options.reveal && s.translucent_when_revealing)) return false;
+  if (!s.triangle_colours.empty()) return false;
+  return !options.show_pressure || std::none_of(s.pressure.begin(), s.pressure.end(), [](double p) { return p > 0.0; });
+}
+
+const Renderer::StaticSurface& Renderer::keep(const SurfaceView& s, const ViewOptions& options, double full_scale) {
+  StaticSurface& e = kept_[s.static_id];
+  if (!e.vbo || !e.colour.isApprox(s.colour, 0.0)) {
+    std::vector<Vertex> vertices;
+    append_surface(s, options, full_scale, 1.0, vertices, static_cast<std::vector<Vertex>*>(nullptr));
+    if (!e.vao) {
+      glGenVertexArrays(1, &e.vao);
+      glGenBuffers(1, &e.vbo);
+      glBindVertexArray(e.vao);
+      glBindBuffer(GL_ARRAY_BUFFER, e.vbo);
+      glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
+      glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, normal)));
+      glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, colour)));
+      for (GLuint i = 0; i < 3; ++i) glEnableVertexAttribArray(i);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, e.vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STATIC_DRAW);
+    e.count = static_cast<GLsizei>(vertices.size());
+    e.colour = s.colour;
+  }
+  e.last_used = frame_;
+  return e;
+}
+
+void Renderer::draw_kept() {
+  for (const StaticSurface* e : kept_now_) {
+    glBindVertexArray(e->vao);
+    glDrawArrays(GL_TRIANGLES, 0, e->count);
+  }
+  glBindVertexArray(vao_);
+}
+
+void Renderer::build(const FrameView& frame, const ViewOptions& options, double extent, const std::vector<bool>& kept,
+                     Batches& out) const {
+  for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
+    if (i < kept.size() && kept[i]) continue;
+    const SurfaceView& s = frame.surfaces[i];
+    const bool translucent = options.reveal && s.translucent_when_revealing;
+    std::vector<Vertex>& target = translucent ? out.translucent : s.recessed ? out.recessed : out.opaque;
+    append_surface(s, options, frame.pressure_full_scale, translucent ? 0.35 : 1.0, target,
+                   options.wireframe ? &out.wire : nullptr);
   }
   for (const SphereView& s : frame.spheres) {
     if (s.subsurface && !options.reveal) continue;
@@ -334,8 +394,27 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
 
   // A floor under the scene receives the shadows; sized once so it does not breathe.
   const Aabb box = frame_bounds(frame);
+  // Static surfaces (rigid objects' levels) come from the cache; the rest is built anew.
+  ++frame_;
+  kept_now_.clear();
+  std::vector<bool> kept(frame.surfaces.size(), false);
+  for (std::size_t i = 0; i < frame.surfaces.size(); ++i)
+    if (cacheable(frame.surfaces[i], options)) {
+      kept_now_.push_back(&keep(frame.surfaces[i], options, frame.pressure_full_scale));
+      kept[i] = true;
+    }
+  // Levels not drawn for a while (the viewer chose others) give their memory back.
+  for (auto it = kept_.begin(); it != kept_.end();) {
+    if (frame_ - it->second.last_used > kKeepFrames) {
+      glDeleteBuffers(1, &it->second.vbo);
+      glDeleteVertexArrays(1, &it->second.vao);
+      it = kept_.erase(it);
+    } else {
+      ++it;
+    }
+  }
   Batches batches;
-  build(frame, options, std::max((box.max - box.min).maxCoeff(), 1e-3), batches);
+  build(frame, options, std::max((box.max - box.min).maxCoeff(), 1e-3), kept, batches);
   if (!floor_sized_) {
     floor_box_ = box;
     floor_sized_ = true;
@@ -392,6 +471,7 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
     glPolygonOffset(1.5f, 2.0f);
     draw(opaque);
     draw(recessed);
+    draw_kept();
     glDisable(GL_POLYGON_OFFSET_FILL);
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(target_fbo));
   }
@@ -413,8 +493,9 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
   glUniform1i(glGetUniformLocation(shaded_, "uShadows"), options.shadows ? 1 : 0);
   glUniform1i(glGetUniformLocation(shaded_, "uSoftShadows"), options.soft_shadows ? 1 : 0);
   glUniform1i(glGetUniformLocation(shaded_, "uUnlit"), 0);
-  draw(floor_range);
+  if (options.floor) draw(floor_range);
   draw(opaque);
+  draw_kept();
   draw_recessed();
 
   if (wire.count > 0) {

@@ -5,6 +5,7 @@
 // offscreen snapshots, so both look alike.
 #include <cstdint>
 #include <initializer_list>
+#include <unordered_map>
 #include <vector>
 
 #include "viewer/camera.hpp"
@@ -41,7 +42,21 @@ class Renderer {
     std::vector<Vertex> overlay;
   };
   /// `extent`: the frame's largest side [m], which sets the least width a needle is drawn.
-  void build(const FrameView& frame, const ViewOptions& options, double extent, Batches& out) const;
+  /// Surfaces marked in `kept` are left out (drawn from the static cache).
+  void build(const FrameView& frame, const ViewOptions& options, double extent, const std::vector<bool>& kept,
+             Batches& out) const;
+  /// Whether `s` may be drawn from the static cache this frame: marked static, opaque, not
+  /// recessed, no wireframe, and untouched (no pressure to colour).
+  [[nodiscard]] static bool cacheable(const SurfaceView& s, const ViewOptions& options);
+  /// The cache entry of a static surface, (re)built when missing or when its colour changed.
+  struct StaticSurface {
+    GLuint vao = 0, vbo = 0;
+    GLsizei count = 0;
+    Colour colour = Colour::Zero();
+    std::uint64_t last_used = 0;  ///< the frame it was last drawn in
+  };
+  const StaticSurface& keep(const SurfaceView& s, const ViewOptions& options, double full_scale);
+  void draw_kept();
   /// Where a batch lies in the frame's vertex buffer.
   struct Range {
     GLint first = 0;
@@ -60,6 +75,9 @@ class Renderer {
   bool floor_sized_ = false;
   std::vector<Vertex> all_;     ///< the frame's batches end to end (kept for its capacity)
   std::vector<Range> ranges_;
+  std::unordered_map<const void*, StaticSurface> kept_;  ///< by SurfaceView::static_id
+  std::vector<const StaticSurface*> kept_now_;             ///< drawn this frame
+  std::uint64_t frame_ = 0;
 };
 
 /// The bound read framebuffer's pixels as 8-bit RGB, rows top to bottom.

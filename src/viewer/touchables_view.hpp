@@ -23,9 +23,10 @@ using LevelCosts = std::vector<std::vector<double>>;
 [[nodiscard]] LevelCosts level_triangles(const compile::Touchables& touchables);
 
 /// Each level's draw time [ms] through the viewer's renderer with `options`: the least of
-/// `repeats` frames holding the level alone, seen small (built, uploaded, transformed, shaded
-/// and finished: its geometry's cost, since the pixels go with the resolution), less the
-/// least of an empty frame, at least 1 µs. Needs a current OpenGL context.
+/// `repeats` frames holding the level alone, seen small, without floor or shadow pass (sent,
+/// transformed, shaded and finished: its geometry's cost, since the pixels go with the
+/// resolution), less the least of an empty frame, at least 1 µs. Needs a current OpenGL
+/// context.
 [[nodiscard]] LevelCosts measure_level_draw_times(const compile::Touchables& touchables, const ViewOptions& options,
                                                   int repeats = 5);
 
