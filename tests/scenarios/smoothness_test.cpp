@@ -64,11 +64,14 @@ const std::vector<KnownDefect> kKnownDefects = {
     // for a frame, a 100 Hz sawtooth; where the press is lighter than that (the thumb held on
     // a swinging sheet, the index rubbing) the touch is lost for that frame. Seed 002 §IV
     // hands the local patch's geometry back to the global model at each step, which the
-    // runtime does not do yet. When the pads open after the lift (4.23 s), the grasp's hold
-    // has faded with the squeeze, but the V-proxies start afresh on the bunched fabric: the
-    // thumb's push comes in as a step of 1.09 N (the index's 0.94 N).
-    {"fabric", "thumb", 62, 24, 1.09},
-    {"fabric", "index", 231, 24, 1.0},
+    // runtime does not do yet. When the pads open after the lift (4.23 s) the V-proxies meet
+    // the bunched fabric afresh; their force now comes in over 20 ms (it stepped by 1.09 N
+    // and 0.94 N), so the largest step is the grasp's slip turning to stick at 2.71 s (0.58 N
+    // and 0.73 N). The softer hand-over changes how the fabric swings afterwards, and with it
+    // the flicker count: thumb 62 → 72 short contacts (24 → 26 felt), index 231 → 223 (24 →
+    // 20 felt), 293 → 295 and 48 → 46 for the pair.
+    {"fabric", "thumb", 72, 26, 0.6},
+    {"fabric", "index", 223, 20, 0.75},
 };
 
 Smoothness measure(const SessionReport& r, std::size_t device, const std::string& name) {

@@ -1,5 +1,6 @@
 #include "haptics/algorithms/fabric_proxy_on_patch.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <numeric>
 #include <tuple>
@@ -10,6 +11,11 @@
 
 namespace tactus::haptics {
 namespace {
+
+/// When the pads open the grasp's force has faded with the squeeze, but the finger may still
+/// press the bunched fabric the grasp held between the pads, which the V-proxy meets afresh:
+/// its force comes in over this time instead of in one frame (it stepped by 1.09 N).
+constexpr double kHandOverTime = 0.02;  // s
 
 /// The grasp's laws for a pair: the thumb is the finger on the front. A sheet held between
 /// two pads rubs on both, so the pinch holds twice the pad–fabric coefficients (grasp.hpp).
@@ -226,6 +232,21 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
         out.slipping = out.slipping || c.friction == contact::FrictionState::slip;
       }
     }
+  }
+  // The hand-over: after a grasp ends the V-proxy's force (and what the fabric takes of it)
+  // ramps in from the force the grasp left.
+  const bool released_now = s.grasping && !grasping;
+  const double released_at = released_now ? f.t : s.released_at;
+  const Vec3 grasp_force = s.grasp_force;
+  if (!grasping && released_at >= 0.0 && f.t - released_at < kHandOverTime) {
+    const double w = std::clamp((f.t - released_at) / kHandOverTime, 0.0, 1.0);
+    out.force = (1.0 - w) * grasp_force + w * out.force;
+    out.torque *= w;
+    out.law_force = out.force.norm();
+  }
+  if (!trial) {
+    s.released_at = released_at;
+    if (grasping) s.grasp_force = out.force;
   }
   const bool own_on = out.on_fabric;
   const bool partner_on = partner_seen && peer->on_fabric;

@@ -153,5 +153,34 @@ TEST(FabricProxyOnPatch, FabricSqueezedBetweenThePairIsGraspedWithTheSqueezeLaw)
   EXPECT_LE(pull, 2.0 * 0.5 * squeeze * 1.001);  // μs of the pads on the fabric, doubled
 }
 
+
+// When the pads open the V-proxy takes the contact back: its force comes in over 20 ms from
+// the force the grasp left, never as a step, and is the V-proxy's own after that.
+TEST(FabricProxyOnPatch, OpeningThePadsHandsTheFabricBackToTheProxyWithoutAStep) {
+  RigidSheet sheet;
+  const contact::LocalPatch patch = sheet.around(Vec3::Zero());
+  Pair pair(sheet.capacity, sheet.kind);
+  pair.thumb.patch = pair.index.patch = &patch;
+  pair.thumb.patch_fresh = pair.index.patch_fresh = true;
+  const Vec3 thumb_at(0, 0, 0.00855), index_at(0, 0, -0.00755);
+  double t = 0.0;
+  for (int k = 0; k < 50; ++k, t += 1e-3) pair.step(t, thumb_at, index_at);
+  ASSERT_EQ(state_of(pair.thumb), static_cast<std::uint8_t>(contact::ContactState::VIII));
+  const Vec3 grasped = pair.thumb.sink.force;
+  // The index drops away; the thumb stays 0.45 mm into the sheet's reach.
+  const Vec3 away(0, 0, -0.03);
+  const double proxy_force = 190.0 * 0.45e-3;  // k^K times the thumb's push past the sheet
+  const double largest_step = (grasped.z() - proxy_force) / 20.0;
+  Vec3 last = grasped;
+  for (int k = 0; k < 30; ++k, t += 1e-3) {
+    pair.step(t, thumb_at, away);
+    const Vec3 now = pair.thumb.sink.force;
+    EXPECT_LE((now - last).norm(), largest_step * 1.0001 + 1e-12) << "frame " << k;
+    last = now;
+  }
+  EXPECT_NEAR(pair.thumb.sink.force.z(), proxy_force, 1e-9);
+  EXPECT_TRUE(pair.thumb.out.touching);
+}
+
 }  // namespace
 }  // namespace tactus::haptics
