@@ -182,6 +182,13 @@ void push_cone(std::vector<V>& out, const Vec3& a, const Vec3& b, double ra, dou
 
 }  // namespace
 
+void Renderer::describe_vertices() {
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, normal)));
+  glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, colour)));
+  for (GLuint i = 0; i < 3; ++i) glEnableVertexAttribArray(i);
+}
+
 Renderer::Renderer(int shadow_map_size) : shadow_size_(std::clamp(shadow_map_size, 256, 4096)) {
   shaded_ = link(kShadedVertex, kShadedFragment, "shading");
   depth_ = link(kDepthVertex, kDepthFragment, "shadow depth");
@@ -189,10 +196,7 @@ Renderer::Renderer(int shadow_map_size) : shadow_size_(std::clamp(shadow_map_siz
   glGenBuffers(1, &vbo_);
   glBindVertexArray(vao_);
   glBindBuffer(GL_ARRAY_BUFFER, vbo_);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, normal)));
-  glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, colour)));
-  for (GLuint i = 0; i < 3; ++i) glEnableVertexAttribArray(i);
+  describe_vertices();
   glBindVertexArray(0);
 
   glGenTextures(1, &shadow_texture_);
@@ -288,10 +292,7 @@ const Renderer::StaticSurface& Renderer::keep(const SurfaceView& s, const ViewOp
       glGenBuffers(1, &e.vbo);
       glBindVertexArray(e.vao);
       glBindBuffer(GL_ARRAY_BUFFER, e.vbo);
-      glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
-      glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, normal)));
-      glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, colour)));
-      for (GLuint i = 0; i < 3; ++i) glEnableVertexAttribArray(i);
+      describe_vertices();
     }
     glBindBuffer(GL_ARRAY_BUFFER, e.vbo);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STATIC_DRAW);

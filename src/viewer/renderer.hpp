@@ -62,6 +62,8 @@ class Renderer {
     GLint first = 0;
     GLsizei count = 0;
   };
+  /// Tells the bound vertex array how a Vertex lies in the bound buffer.
+  static void describe_vertices();
   /// Sends the batches as one buffer; ranges_ then says where each lies, in order.
   void upload(std::initializer_list<const std::vector<Vertex>*> batches);
   void draw(const Range& range, GLenum mode = GL_TRIANGLES);
