@@ -411,10 +411,10 @@ Action add_export(CLI::App& app) {
       ->check(CLI::ExistingDirectory)
       ->needs(vtk);
   return [f] {
-    if (f->csv.empty() && f->hdf5.empty() && f->vtk.empty())
-      throw InputError("tactus export: name an output: --csv FILE, --hdf5 FILE or --vtk DIR");
     if (f->csv.empty() && (!f->steps.empty() || !f->events.empty()))
       throw InputError("tactus export: --steps and --events come with --csv");
+    if (f->csv.empty() && f->hdf5.empty() && f->vtk.empty())
+      throw InputError("tactus export: name an output: --csv FILE, --hdf5 FILE or --vtk DIR");
     const runtime::Recording rec = runtime::read_recording(f->file);
     if (!rec.truncation.empty()) log::warn("{}: {}; exporting what was kept", f->file, rec.truncation);
     auto write = [](const std::string& path, auto&& writer) {
