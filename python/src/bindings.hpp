@@ -21,6 +21,7 @@ void bind_model(py::module_& m);       // model.cpp: Model and its parts, load_s
 void bind_run(py::module_& m);         // run.cpp: run() in lockstep and its RunResult
 void bind_simulation(py::module_& m);  // simulation.cpp: Simulation, stepped frame by frame
 void bind_solve(py::module_& m);       // solve.cpp: solve() and its results
+void bind_recording(py::module_& m);   // recording.cpp: read_recording()
 
 /// What tactus.Model holds: the scene and the text it was read from (a recording stores the
 /// text, so that it replays by itself).
@@ -33,6 +34,21 @@ using ModelHandle = std::shared_ptr<LoadedModel>;
 struct RunResult;
 /// The RunResult of a finished run (run.cpp).
 py::object make_run_result(runtime::SessionReport&& report, const scene::Model& model);
+
+/// A read-only NumPy view of one field of `rows` records stored `stride` bytes apart:
+/// (rows,) for a scalar (cols = 0), (rows, cols) for `cols` contiguous values; `first` is
+/// the field of the first record (any valid address when rows = 0). Kept valid by `owner`.
+template <class T>
+py::array field_view(const T* first, std::size_t rows, std::size_t stride, std::size_t cols, py::handle owner) {
+  std::vector<std::size_t> shape{rows}, strides{stride};
+  if (cols > 0) {
+    shape.push_back(cols);
+    strides.push_back(sizeof(T));
+  }
+  py::array a(py::dtype::of<T>(), shape, strides, rows ? first : nullptr, owner);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
 
 /// A NumPy view of `rows` 3-vectors stored `stride` bytes apart from `first`, kept valid by
 /// `owner` (the array holds a reference to it: the memory lives as long as the array).

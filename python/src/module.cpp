@@ -4,11 +4,12 @@
 
 PYBIND11_MODULE(_tactus, m) {
   namespace tp = tactus::python;
-  m.doc() = "Tactus engine bindings: scenes, lockstep runs, frame-by-frame simulation, static solves.";
+  m.doc() = "Tactus engine bindings: scenes, lockstep runs, frame-by-frame simulation, static solves, recordings.";
   m.attr("__version__") = tactus::kVersion;
   tp::bind_errors(m);
   tp::bind_model(m);
   tp::bind_run(m);
   tp::bind_simulation(m);
   tp::bind_solve(m);
+  tp::bind_recording(m);
 }

@@ -28,14 +28,7 @@ using RunHandle = std::shared_ptr<RunResult>;
 template <class T>
 py::array frame_field(const runtime::HapticFrame* frames, std::size_t count, const T* field_of_first,
                       std::size_t cols, py::handle owner) {
-  std::vector<std::size_t> shape{count}, strides{sizeof(runtime::HapticFrame)};
-  if (cols > 0) {
-    shape.push_back(cols);
-    strides.push_back(sizeof(T));
-  }
-  py::array a(py::dtype::of<T>(), shape, strides, frames ? field_of_first : nullptr, owner);
-  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return a;
+  return field_view(frames ? field_of_first : nullptr, frames ? count : 0, sizeof(runtime::HapticFrame), cols, owner);
 }
 
 std::size_t device_index(const RunResult& r, const py::object& device) {

@@ -142,3 +142,7 @@ class Simulation:
 
 def solve(model: Model, *, static: bool = True, until: float = 1.0,
           every: float = 0.0) -> list[dict[str, object]]: ...
+
+def read_recording(path: _Path) -> dict[str, object]:
+    """Header fields, complete, truncation, and 'frames', 'steps', 'events': dicts of read-only
+    NumPy views, one row per record (docs/python.md, "Recordings")."""

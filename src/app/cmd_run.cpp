@@ -26,6 +26,7 @@
 #include "runtime/devices.hpp"
 #include "report/force_map.hpp"
 #include "runtime/recording_csv.hpp"
+#include "runtime/recording_hdf5.hpp"
 #include "runtime/recording_reader.hpp"
 #include "report/report.hpp"
 #include "report/scenario_report.hpp"
@@ -121,6 +122,8 @@ struct RunFlags {
   double frame_budget_ms = 16.0;
   std::string view_script;
   bool no_mouse = false;
+  std::string vtk;        ///< folder of the ParaView time series (run only)
+  double vtk_rate = 30.0;  ///< its frames per second of simulated time
 };
 
 void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
@@ -230,6 +233,10 @@ int run_with(const RunFlags& f, bool bench) {
     o.replay = runtime::recorded_motion(runtime::read_recording(file), file);
   }
   o.keep_frames = !f.force_map.empty() || !f.trace.empty();
+  if (!f.vtk.empty()) {
+    o.vtk = f.vtk;
+    o.vtk_rate = f.vtk_rate;
+  }
   if (!bench) std::fputs(scene::summarize(scene.model, !f.lockstep).c_str(), stdout);
   install_interrupt_handlers();
   std::optional<viewer::WindowReport> window;
@@ -253,6 +260,7 @@ int run_with(const RunFlags& f, bool bench) {
   if (bench) std::fputs(report::format_scenario_measures(scene.model, report).c_str(), stdout);
   if (!f.trace.empty()) write_trace(f, scene.model, report);
   if (o.record) log::info("recording written to {}", o.record->string());
+  if (o.vtk) log::info("VTK series written to {}", o.vtk->string());
   if (!f.json.empty()) write_text(f.json, report::report_json(report));
   if (!f.force_map.empty())
     std::fputs(report::write_force_map_png(report::build_force_map(scene.model, 0, report.frames), f.force_map).c_str(),
@@ -277,6 +285,12 @@ Action add_run(CLI::App& app) {
   auto f = std::make_shared<RunFlags>();
   add_run_flags(app, *f, false);
   app.add_option("--force-map", f->force_map, "Write the first device's palpation force map to this PNG");
+  CLI::Option* vtk = app.add_option("--vtk", f->vtk,
+                                    "Write the run as a ParaView time series into this folder: NAME.pvd and one .vtu "
+                                    "per body and device and frame (docs/outputs.md)");
+  app.add_option("--vtk-rate", f->vtk_rate, "With --vtk: frames per second of simulated time (default 30)")
+      ->check(CLI::Range(1e-3, 1e6))
+      ->needs(vtk);
   CLI::Option* view = app.add_flag("--view", f->view,
                "Show the run in a window; the mouse drives the first device unless it is hardware or replayed");
   app.add_option("--view-seconds", f->view_seconds, "Close the window and end the run after this many seconds")
@@ -382,27 +396,82 @@ Action add_replay(CLI::App& app) {
 }
 
 Action add_export(CLI::App& app) {
-  auto file = std::make_shared<std::string>();
-  auto csv = std::make_shared<std::string>();
-  auto steps = std::make_shared<std::string>();
-  auto events = std::make_shared<std::string>();
-  app.add_option("recording", *file, "A recording written by tactus run --record")->required()->check(CLI::ExistingFile);
-  app.add_option("--csv", *csv, "Haptic frames as CSV (one row per frame)")->required();
-  app.add_option("--steps", *steps, "Simulation steps as CSV");
-  app.add_option("--events", *events, "Events as CSV");
-  return [file, csv, steps, events] {
-    const runtime::Recording rec = runtime::read_recording(*file);
-    if (!rec.truncation.empty()) log::warn("{}: {}; exporting what was kept", *file, rec.truncation);
+  struct ExportFlags {
+    std::string file, csv, steps, events, hdf5, vtk, scene_dir;
+    double vtk_rate = 30.0;
+  };
+  auto f = std::make_shared<ExportFlags>();
+  app.add_option("recording", f->file, "A recording written by tactus run --record")->required()->check(CLI::ExistingFile);
+  app.add_option("--csv", f->csv, "Haptic frames as CSV (one row per frame)");
+  app.add_option("--steps", f->steps, "Simulation steps as CSV");
+  app.add_option("--events", f->events, "Events as CSV");
+  app.add_option("--hdf5", f->hdf5, "Frames, steps and events as HDF5 datasets with units (docs/recording-format.md)");
+  CLI::Option* vtk = app.add_option(
+      "--vtk", f->vtk,
+      "Replay the recorded scene in lockstep with the recorded motion and write it as a ParaView time series into "
+      "this folder (docs/outputs.md)");
+  app.add_option("--vtk-rate", f->vtk_rate, "With --vtk: frames per second of simulated time (default 30)")
+      ->check(CLI::Range(1e-3, 1e6))
+      ->needs(vtk);
+  app.add_option("--scene-dir", f->scene_dir,
+                 "With --vtk: folder the recorded scene's relative paths resolve against (as tactus replay)")
+      ->check(CLI::ExistingDirectory)
+      ->needs(vtk);
+  return [f] {
+    if (f->csv.empty() && (!f->steps.empty() || !f->events.empty()))
+      throw InputError("tactus export: --steps and --events come with --csv");
+    if (f->csv.empty() && f->hdf5.empty() && f->vtk.empty())
+      throw InputError("tactus export: name an output: --csv FILE, --hdf5 FILE or --vtk DIR");
+    const runtime::Recording rec = runtime::read_recording(f->file);
+    if (!rec.truncation.empty()) log::warn("{}: {}; exporting what was kept", f->file, rec.truncation);
     auto write = [](const std::string& path, auto&& writer) {
       std::ofstream out(path, std::ios::binary);
       if (!out) throw InputError(SourceLocation{path, {}, {}, {}}, "cannot create the file");
       writer(out);
       if (!out) throw InputError(SourceLocation{path, {}, {}, {}}, "could not write the file");
     };
-    write(*csv, [&](std::ostream& out) { runtime::write_frames_csv(rec, out); });
-    if (!steps->empty()) write(*steps, [&](std::ostream& out) { runtime::write_steps_csv(rec, out); });
-    if (!events->empty()) write(*events, [&](std::ostream& out) { runtime::write_events_csv(rec, out); });
+    if (!f->csv.empty()) write(f->csv, [&](std::ostream& out) { runtime::write_frames_csv(rec, out); });
+    if (!f->steps.empty()) write(f->steps, [&](std::ostream& out) { runtime::write_steps_csv(rec, out); });
+    if (!f->events.empty()) write(f->events, [&](std::ostream& out) { runtime::write_events_csv(rec, out); });
+    if (!f->hdf5.empty()) runtime::write_recording_hdf5(rec, f->hdf5);
     log::info("{} frames, {} steps, {} events exported", rec.frames.size(), rec.steps.size(), rec.events.size());
+    if (f->vtk.empty()) return 0;
+
+    // The recording holds the device motion and forces, not the bodies' nodes: the series
+    // comes from replaying the recorded scene with that motion (what tactus replay runs).
+    if (rec.frames.empty()) throw InputError(SourceLocation{f->file, {}, {}, {}}, "the recording holds no haptic frame");
+    scene::LoadOptions load;
+    load.base_dir = f->scene_dir;
+    const scene::Model model = scene::parse_scene(rec.header.scene_text, rec.header.scene_source, load);
+    runtime::SessionOptions o;
+    o.scheduling = runtime::Scheduling::lockstep;
+    o.replay = runtime::recorded_motion(rec, f->file);
+    o.duration = rec.frames.back().t;
+    o.keep_frames = true;
+    o.vtk = f->vtk;
+    o.vtk_rate = f->vtk_rate;
+    o.interrupt = &g_interrupted;
+    install_interrupt_handlers();
+    const runtime::SessionReport report = runtime::run_session(model, o);
+    std::size_t compared = 0, identical = 0;
+    std::map<std::pair<std::uint16_t, std::uint64_t>, const runtime::HapticFrame*> replayed;
+    for (const auto& fr : report.frames) replayed[{fr.device, fr.frame}] = &fr;
+    for (const auto& fr : rec.frames)
+      if (const auto it = replayed.find({fr.device, fr.frame}); it != replayed.end()) {
+        ++compared;
+        identical += it->second->force == fr.force && it->second->torque == fr.torque;
+      }
+    std::printf("vtk series: %llu frames, %llu bytes in %s (replayed in lockstep: %zu of %zu frames' forces "
+                "identical to the recording's)\n",
+                static_cast<unsigned long long>(report.vtk_frames), static_cast<unsigned long long>(report.vtk_bytes),
+                f->vtk.c_str(), identical, compared);
+    if (rec.header.mode != "lockstep")
+      log::warn("{}: a real-time recording: the series is a lockstep re-simulation with the recorded motion, not the "
+                "run's own bodies (their forces differ where the real-time loops' timing did)",
+                f->file);
+    else if (identical != compared)
+      log::warn("{}: the lockstep replay differs from the recording in {} frames: the series is not the recorded run's",
+                f->file, compared - identical);
     return 0;
   };
 }

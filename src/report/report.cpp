@@ -143,6 +143,7 @@ std::string format_report(const SessionReport& r) {
   }
   if (r.recording_bytes > 0)
     out += fmt::format("recording: {} frames, {} bytes\n", r.recorded_frames, r.recording_bytes);
+  if (r.vtk_frames > 0) out += fmt::format("vtk series: {} frames, {} bytes\n", r.vtk_frames, r.vtk_bytes);
   for (const auto& note : r.realtime_notes) out += "  " + note + "\n";
   if (r.palpation) out += format_feedback(*r.palpation);
   for (const NeedleReport& n : r.needles) out += format_needle_report(n);

@@ -5,6 +5,7 @@
 //
 //   haptic ──ToolState──▶ interaction ──LocalContact──▶ haptic
 //   haptic ──ContactLoad──▶ simulation ──SurfaceSnapshot──▶ interaction, visual
+//                           simulation ──NodeSnapshot──▶ recorder (--vtk)
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -38,6 +39,18 @@ struct SurfaceSnapshot {
   double t = 0.0;
   std::uint64_t step = 0;
   std::vector<std::vector<Vec3>> positions;  ///< per body, per surface vertex
+};
+
+/// Every body's simulation nodes after a step, for the outputs that need more than the
+/// surfaces (`tactus run --vtk`). Sized once from the rest state, so the simulation copies
+/// into it without allocating.
+struct NodeSnapshot {
+  double t = 0.0;
+  std::uint64_t step = 0;
+  std::vector<VecX> x, v;  ///< per body, positions [m] and velocities [m/s], 3 per node
+  /// Per body, the devices' contact pushes on each node at the end of the step [N], 3 per
+  /// node (the pushes coupled into the step; a needle's shaft push is not included).
+  std::vector<VecX> contact;
 };
 
 }  // namespace tactus::runtime

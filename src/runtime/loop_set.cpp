@@ -51,6 +51,13 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
   loops.simulation->add_output(*loops.surfaces);
   if (o.visual) loops.simulation->add_output(o.visual->surface_buffer(loops.simulation->initial_snapshot()));
   loops.interaction = std::make_unique<InteractionLoop>(m, std::move(targets), std::move(target_channels), *loops.surfaces);
+  if (o.vtk) {
+    loops.nodes = std::make_unique<TripleBuffer<NodeSnapshot>>(loops.simulation->initial_nodes());
+    loops.simulation->add_node_output(*loops.nodes);
+    std::vector<const physics::Body*> bodies;
+    for (std::size_t b = 0; b < m.bodies.size(); ++b) bodies.push_back(loops.simulation->body(b));
+    loops.vtk = std::make_unique<VtkSeries>(m, *o.vtk, o.vtk_rate, std::move(bodies));
+  }
   return loops;
 }
 

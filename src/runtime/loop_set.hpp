@@ -13,6 +13,7 @@
 #include "runtime/recorder.hpp"
 #include "runtime/session.hpp"
 #include "runtime/simulation_loop.hpp"
+#include "runtime/vtk_series.hpp"
 
 namespace tactus::runtime {
 
@@ -25,6 +26,9 @@ struct Loops {
   std::unique_ptr<TripleBuffer<SurfaceSnapshot>> surfaces;
   std::unique_ptr<SimulationLoop> simulation;
   std::unique_ptr<InteractionLoop> interaction;
+  /// SessionOptions::vtk: the simulation's nodes for the series the recorder writes.
+  std::unique_ptr<TripleBuffer<NodeSnapshot>> nodes;
+  std::unique_ptr<VtkSeries> vtk;
 
   [[nodiscard]] std::vector<DeviceChannels*> channel_ptrs() const {
     std::vector<DeviceChannels*> out;

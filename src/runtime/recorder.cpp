@@ -43,6 +43,7 @@ bool Recorder::drain() {
       if (f.device < latest_.size()) latest_[f.device] = f;
       if (palpation_) palpation_->add(f);
       if (visual_) visual_->frame(f);
+      if (vtk_) vtk_->frame(f);
       auto& dev = report_.devices[f.device];
       dev.max_force_sent = std::max(dev.max_force_sent, f.force.norm());
       dev.contact_frames += f.contact;
@@ -67,6 +68,11 @@ bool Recorder::drain() {
     any = true;
     if (writer_ && record_steps_) writer_->append(s);
   }
+  // After the frames: the tools shown with the nodes are the newest drained.
+  if (vtk_ && nodes_->update()) {
+    any = true;
+    vtk_->nodes(nodes_->read());
+  }
   return any;
 }
 
@@ -76,6 +82,11 @@ void Recorder::close() {
     report_.palpation = palpation_->result();
     if (writer_ && record_events_)
       for (const Event& e : feedback_events(*report_.palpation)) writer_->append(e);
+  }
+  if (vtk_) {
+    vtk_->close();
+    report_.vtk_frames = vtk_->frames_written();
+    report_.vtk_bytes = vtk_->bytes_written();
   }
   if (writer_) {
     writer_->close();

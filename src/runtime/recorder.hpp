@@ -10,6 +10,7 @@
 #include "runtime/haptic_loop.hpp"
 #include "runtime/recording_writer.hpp"
 #include "runtime/session.hpp"
+#include "runtime/vtk_series.hpp"
 
 namespace tactus::runtime {
 
@@ -20,6 +21,12 @@ class Recorder {
   Recorder(const scene::Model& m, const SessionOptions& o, std::vector<DeviceChannels*> devices,
            SpscRing<SimulationStep>& steps, SessionReport& report);
 
+  /// Also writes the run's VTK series: the frames' tools and the simulation's nodes as they
+  /// are drained (both outlive the recorder).
+  void add_vtk(VtkSeries& series, TripleBuffer<NodeSnapshot>& nodes) {
+    vtk_ = &series;
+    nodes_ = &nodes;
+  }
   /// Drains every ring; returns whether anything was moved.
   bool drain();
   /// Writes out the partly filled chunks (a kill then loses nothing drained so far).
@@ -42,6 +49,8 @@ class Recorder {
   std::optional<RecordingWriter> writer_;
   std::optional<PalpationTracker> palpation_;  ///< scenes with nodules
   VisualSink* visual_;
+  VtkSeries* vtk_ = nullptr;
+  TripleBuffer<NodeSnapshot>* nodes_ = nullptr;
   std::vector<HapticFrame> latest_;
 };
 

@@ -42,6 +42,7 @@ SessionReport run_session(const scene::Model& model, const SessionOptions& optio
   Loops loops = build_loops(model, options);
   start_report(model, options, loops, report);
   Recorder recorder(model, options, loops.channel_ptrs(), loops.simulation->steps(), report);
+  if (loops.vtk) recorder.add_vtk(*loops.vtk, *loops.nodes);
 
   const Nanos wall0 = now_ns();
   if (options.scheduling == Scheduling::lockstep)

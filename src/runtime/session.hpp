@@ -75,6 +75,10 @@ struct SessionOptions {
   /// When set and it becomes true (a signal handler, another thread), the run ends
   /// cleanly: loops stop, the recording is closed.
   const std::atomic<bool>* interrupt = nullptr;
+  /// A ParaView time series of the run written into this folder (runtime/vtk_series.hpp),
+  /// `vtk_rate` frames per second of simulated time.
+  std::optional<std::filesystem::path> vtk;
+  double vtk_rate = 30.0;
   /// A viewer reading the run; null = none.
   VisualSink* visual = nullptr;
   /// Parameters edited during the run and the emergency stop (runtime/live_parameters.hpp);
@@ -140,6 +144,7 @@ struct SessionReport {
   std::vector<std::string> realtime_notes;      ///< what the real-time requests obtained
   std::uint64_t recorded_frames = 0;
   std::uint64_t recording_bytes = 0;
+  std::uint64_t vtk_frames = 0, vtk_bytes = 0;  ///< the --vtk series written
   std::uint64_t dropped_steps = 0;
   bool visual = false;  ///< a viewer read the run (SessionOptions::visual)
   std::vector<HapticFrame> frames;  ///< only with SessionOptions::keep_frames

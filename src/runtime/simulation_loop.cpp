@@ -69,6 +69,11 @@ void SimulationLoop::step(double t, Nanos deadline, Nanos start, bool real_time)
   const std::uint64_t step = state_.step;
   publish_shapes(model_, state_, in, tools_, {surfaces_, patches_, parts_});
   for (auto* out : outputs_) out->publish();
+  for (auto* out : node_outputs_) {
+    write_nodes(model_, state_, t, out->write_buffer());
+    out->write_buffer().step = step;
+    out->publish();
+  }
   for (DeviceChannels* d : devices_)
     if (d->patch) d->patch->publish();
 

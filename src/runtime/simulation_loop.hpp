@@ -29,6 +29,15 @@ class SimulationLoop {
   [[nodiscard]] SurfaceSnapshot initial_snapshot() const { return rest_surfaces(model_); }
   /// Adds a buffer that receives a surface snapshot after each step (before the loop runs).
   void add_output(TripleBuffer<SurfaceSnapshot>& output) { outputs_.push_back(&output); }
+  /// The rest nodes, sized as every node snapshot will be.
+  [[nodiscard]] NodeSnapshot initial_nodes() const { return rest_nodes(model_); }
+  /// Adds a buffer that receives every body's nodes after each step (before the loop runs).
+  void add_node_output(TripleBuffer<NodeSnapshot>& output) { node_outputs_.push_back(&output); }
+  /// Body i as the compile stage built it (null: not simulated). Immutable while the loop
+  /// runs, so another thread may read it (its const methods; never its scratch).
+  [[nodiscard]] const physics::Body* body(std::size_t i) const {
+    return i < model_.bodies.size() && model_.bodies[i].physics ? &*model_.bodies[i].physics : nullptr;
+  }
 
   /// Advances every body by one period (1 / rate) and publishes the surfaces and the devices' local
   /// patches; `t` is the time reached.
@@ -49,6 +58,7 @@ class SimulationLoop {
   SimulationState state_;
   std::vector<DeviceChannels*> devices_;
   std::vector<TripleBuffer<SurfaceSnapshot>*> outputs_;
+  std::vector<TripleBuffer<NodeSnapshot>*> node_outputs_;
   const LiveParameters* live_ = nullptr;
   // Per device and per output, sized once: the step's inputs and the buffers it writes.
   std::vector<ContactLoad> loads_;

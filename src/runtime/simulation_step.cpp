@@ -358,6 +358,34 @@ SurfaceSnapshot rest_surfaces(const SimulationModel& model) {
   return s;
 }
 
+NodeSnapshot rest_nodes(const SimulationModel& model) {
+  NodeSnapshot s;
+  for (const SimulationModel::Body& mb : model.bodies) {
+    s.x.push_back(mb.rest);
+    s.v.push_back(VecX::Zero(mb.rest.size()));
+    s.contact.push_back(VecX::Zero(mb.rest.size()));
+  }
+  return s;
+}
+
+void write_nodes(const SimulationModel& model, const SimulationState& state, double t, NodeSnapshot& s) {
+  s.t = t;
+  s.step = state.step;
+  for (std::size_t b = 0; b < model.bodies.size() && b < s.x.size(); ++b) {
+    const physics::BodyState& bs = state.bodies[b].state;
+    // Same sizes as the rest state: plain copies, no allocation.
+    if (bs.x.size() == s.x[b].size()) s.x[b] = bs.x;
+    if (bs.v.size() == s.v[b].size()) s.v[b] = bs.v;
+    else s.v[b].setZero();
+    VecX& contact = s.contact[b];
+    contact.setZero();
+    for (const physics::ContactSpring& c : state.bodies[b].springs)
+      for (const physics::NodeShare& n : c.nodes)
+        if (n.node >= 0 && 3 * static_cast<Eigen::Index>(n.node) + 2 < contact.size())
+          contact.segment<3>(3 * static_cast<Eigen::Index>(n.node)) += n.share * c.force * c.direction;
+  }
+}
+
 int advance_bodies(const SimulationModel& model, SimulationState& state, const SimulationInputs& in,
                    std::span<PartStats> parts) {
   apply_live_materials(model, state, in);

@@ -89,6 +89,11 @@ struct SimulationState {
 /// The rest surfaces, sized as every snapshot: the initial value of an output.
 [[nodiscard]] SurfaceSnapshot rest_surfaces(const SimulationModel& model);
 
+/// The rest nodes, sized as every node snapshot.
+[[nodiscard]] NodeSnapshot rest_nodes(const SimulationModel& model);
+/// Every body's positions, velocities and contact pushes into a snapshot sized by rest_nodes.
+void write_nodes(const SimulationModel& model, const SimulationState& state, double t, NodeSnapshot& s);
+
 /// The step's parts, in SimulationLoop::parts order.
 enum SimulationPart : std::size_t { contact_loads, integrate, publish_surfaces, local_models, embedded_surfaces,
                                     shaft_node_search, simulation_part_count };

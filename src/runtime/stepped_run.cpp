@@ -44,6 +44,7 @@ SteppedRun::SteppedRun(const scene::Model& model, SessionOptions options, const 
   loops_ = std::make_unique<Loops>(build_loops(model_, options_));
   start_report(model_, options_, *loops_, report_);
   recorder_ = std::make_unique<Recorder>(model_, options_, loops_->channel_ptrs(), loops_->simulation->steps(), report_);
+  if (loops_->vtk) recorder_->add_vtk(*loops_->vtk, *loops_->nodes);
 }
 
 SteppedRun::~SteppedRun() {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "core/counting_allocator.hpp"  // tests/core
 #include "runtime/simulation_step.hpp"
 #include "scene/scene.hpp"
 
@@ -153,6 +154,34 @@ TEST(SimulationStep, PartsAreTimedOnlyWithTheLoopsClock) {
   EXPECT_EQ(parts[integrate].time.count(), 1u);
   EXPECT_EQ(parts[publish_surfaces].time.count(), 1u);
   EXPECT_EQ(parts[local_models].time.count(), 0u);  // no patch device
+}
+
+TEST(SimulationStep, NodeSnapshotsHoldTheStateAndThePushWithoutAllocating) {
+  // What `--vtk` reads: positions, velocities and each node's share of the contact push,
+  // written into a snapshot sized once (the simulation thread allocates nothing for it).
+  const SimulationModel model = make_simulation_model(block(), {std::nullopt});
+  SimulationState state = make_simulation_state(model);
+  (void)sinking(model, state, press(2.0, 300.0), 3);
+  NodeSnapshot nodes = rest_nodes(model);
+  const testing::AllocationCounter counter;
+  write_nodes(model, state, 0.25, nodes);
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_EQ(nodes.t, 0.25);
+  EXPECT_EQ(nodes.x[0], state.bodies[0].state.x);
+  EXPECT_EQ(nodes.v[0], state.bodies[0].state.v);
+  // The pushes on the nodes add up to the spring's push at the end of the step (its shares
+  // sum to one), along its direction.
+  ASSERT_EQ(state.bodies[0].springs.size(), 1u);
+  const physics::ContactSpring& spring = state.bodies[0].springs[0];
+  Vec3 total = Vec3::Zero();
+  std::size_t pushed = 0;
+  for (Eigen::Index n = 0; n < nodes.contact[0].size() / 3; ++n) {
+    total += nodes.contact[0].segment<3>(3 * n);
+    pushed += nodes.contact[0].segment<3>(3 * n).norm() > 0.0;
+  }
+  EXPECT_GT(pushed, 1u);
+  EXPECT_GT(spring.force_end, 0.0);
+  EXPECT_LT((total - spring.force_end * spring.direction).norm(), 1e-12 * spring.force_end);
 }
 
 }  // namespace

@@ -196,7 +196,9 @@ std::string format_tetgen_node(const std::vector<Vec3>& vertices);
 std::string format_tetgen_face(const std::vector<Triangle>& faces, const std::vector<int>& markers);
 std::string format_vtk(const std::vector<Vec3>& vertices, const std::vector<Index>& cells, int nodes_per_cell,
                        const std::vector<int>* labels);
+/// nodes_per_cell 1 (points), 3 or 4; `fields`, when given, its point and cell arrays
+/// (not together with labels).
 std::string format_vtu(const std::vector<Vec3>& vertices, const std::vector<Index>& cells, int nodes_per_cell,
-                       const std::vector<int>* labels);
+                       const std::vector<int>* labels, const VtuFields* fields = nullptr);
 
 }  // namespace tactus::mesh::io

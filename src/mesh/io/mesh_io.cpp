@@ -164,4 +164,22 @@ void write_mesh(const std::filesystem::path& path, const TetMesh& mesh, const Wr
                        ".node/.ele, .vtk or .vtu for a volume");
 }
 
+void write_vtu(const std::filesystem::path& path, const std::vector<Vec3>& points, const std::vector<Index>& cells,
+               int nodes_per_cell, const VtuFields& fields) {
+  if (nodes_per_cell != 1 && nodes_per_cell != 3 && nodes_per_cell != 4)
+    throw std::invalid_argument("write_vtu: nodes_per_cell must be 1, 3 or 4");
+  const auto per = static_cast<std::size_t>(nodes_per_cell);
+  if (cells.size() % per != 0) throw std::invalid_argument("write_vtu: cells is not a whole number of cells");
+  for (const Index c : cells)
+    if (c < 0 || static_cast<std::size_t>(c) >= points.size()) throw std::invalid_argument("write_vtu: cell index out of range");
+  auto check = [](const std::vector<VtuArray>& arrays, std::size_t count) {
+    for (const VtuArray& a : arrays)
+      if (a.components < 1 || a.values.size() != count * static_cast<std::size_t>(a.components))
+        throw std::invalid_argument("write_vtu: array '" + a.name + "' has the wrong size");
+  };
+  check(fields.point_data, points.size());
+  check(fields.cell_data, cells.size() / per);
+  io::write_file(path, io::format_vtu(points, cells, nodes_per_cell, nullptr, &fields));
+}
+
 }  // namespace tactus::mesh

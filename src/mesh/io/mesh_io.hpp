@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "mesh/file_numbering.hpp"
 #include "mesh/tet_mesh.hpp"
@@ -51,5 +52,21 @@ const char* format_name(MeshFormat f);
 MeshFile read_mesh(const std::filesystem::path& path);
 void write_mesh(const std::filesystem::path& path, const TriMesh& mesh, const WriteOptions& = {});
 void write_mesh(const std::filesystem::path& path, const TetMesh& mesh, const WriteOptions& = {});
+
+/// A named array of a .vtu, `components` values per point or per cell.
+struct VtuArray {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;
+};
+struct VtuFields {
+  std::vector<VtuArray> point_data, cell_data;
+};
+/// An unstructured grid of points (nodes_per_cell 1), triangles (3) or tetrahedra (4) with
+/// point and cell arrays, as VTK XML with ASCII data (doubles in their shortest form that
+/// reads back to the same double). Throws InputError naming the file when it cannot be
+/// written.
+void write_vtu(const std::filesystem::path& path, const std::vector<Vec3>& points, const std::vector<Index>& cells,
+               int nodes_per_cell, const VtuFields& fields);
 
 }  // namespace tactus::mesh

@@ -632,5 +632,40 @@ TEST(MeshIoVtk, WritesTrianglesAndTets) {
   EXPECT_NE(read_bytes(dir / "s.vtu").find("Name=\"types\" format=\"ascii\">\n5\n5\n5\n5\n"), std::string::npos);
 }
 
+TEST(MeshIoVtk, WriteVtuWithArraysReadsBackItsMeshAndValues) {
+  const auto dir = scratch_dir();
+  const TetMesh m = two_tets();
+  std::vector<Index> cells;
+  for (const auto& t : m.tets) cells.insert(cells.end(), t.begin(), t.end());
+  VtuFields fields;
+  VtuArray displacement{"displacement", 3, {}};
+  for (std::size_t i = 0; i < m.vertices.size(); ++i)
+    for (int k = 0; k < 3; ++k) displacement.values.push_back(m.vertices[i][k] / 3.0 - 0.1 * static_cast<double>(k));
+  fields.point_data.push_back(displacement);
+  fields.cell_data.push_back({"strain", 1, {1.0 / 7.0, -2.5e-300}});
+  write_vtu(dir / "a.vtu", m.vertices, cells, 4, fields);
+  // The geometry through the reader, the arrays as written (every double in full).
+  const MeshFile back = read_mesh(dir / "a.vtu");
+  ASSERT_TRUE(back.volume);
+  EXPECT_EQ(back.volume->vertices, m.vertices);
+  EXPECT_EQ(back.volume->tets, m.tets);
+  const std::string text = read_bytes(dir / "a.vtu");
+  EXPECT_NE(text.find("<PointData>\n<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\""),
+            std::string::npos);
+  EXPECT_NE(text.find("<CellData>\n<DataArray type=\"Float64\" Name=\"strain\" NumberOfComponents=\"1\" "
+                      "format=\"ascii\">\n0.14285714285714285\n-2.5e-300\n</DataArray>"),
+            std::string::npos);
+  // Points as vertices (cell type 1).
+  write_vtu(dir / "p.vtu", {Vec3(0, 0, 0), Vec3(1, 2, 3)}, {0, 1}, 1, {{{"force", 3, {0, 0, 1, 0, 0, 1}}}, {}});
+  EXPECT_NE(read_bytes(dir / "p.vtu").find("Name=\"types\" format=\"ascii\">\n1\n1\n"), std::string::npos);
+  // Arrays of the wrong length, cells out of range.
+  VtuFields wrong = fields;
+  wrong.cell_data[0].values.push_back(1.0);
+  EXPECT_THROW(write_vtu(dir / "b.vtu", m.vertices, cells, 4, wrong), std::invalid_argument);
+  EXPECT_THROW(write_vtu(dir / "b.vtu", m.vertices, {0, 1, 2, 9}, 4, {}), std::invalid_argument);
+  EXPECT_THROW(write_vtu(dir / "b.vtu", m.vertices, {0, 1}, 2, {}), std::invalid_argument);
+  EXPECT_THROW(write_vtu(dir / "missing" / "c.vtu", m.vertices, cells, 4, {}), InputError);
+}
+
 }  // namespace
 }  // namespace tactus::mesh::test
