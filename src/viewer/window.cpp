@@ -119,7 +119,11 @@ class Window {
       open_window(0);
       view_.soft_shadows = false;
     }
-    if (options.frame_budget_ms > 0.0) {
+    // The scaled scene is stretched over the window by a blit, which a multisampled window
+    // cannot take (GL 3.3): there (a GPU's window) the scene stays at full size.
+    GLint samples = 0;
+    glGetIntegerv(GL_SAMPLES, &samples);
+    if (options.frame_budget_ms > 0.0 && samples == 0) {
       ResolutionGovernor::Settings budget;
       budget.budget_ms = options.frame_budget_ms;
       governor_.emplace(budget);
@@ -174,11 +178,6 @@ class Window {
   Window(const Window&) = delete;
   Window& operator=(const Window&) = delete;
 
-  /// The measured draw time [ms] of each touchable object's levels (empty without objects or
-  /// with no frame budget, when levels are chosen by triangles).
-  [[nodiscard]] const LevelCosts& level_draw_times() const { return level_cost_; }
-  [[nodiscard]] bool frame_budgeted() const { return options_.frame_budget_ms > 0.0; }
-
   /// The scene chosen in the switcher, to run after this one; empty = none.
   [[nodiscard]] const std::string& next_scene() const { return next_scene_; }
 
@@ -224,7 +223,7 @@ class Window {
       report.scale_p50 = scales[scales.size() / 2];
       report.scale_min = scales.front();
     }
-    for (std::size_t b = 0; b < level_cost_.size() && frame_budgeted(); ++b)
+    for (std::size_t b = 0; b < level_cost_.size() && options_.frame_budget_ms > 0.0; ++b)
       if (!level_cost_[b].empty()) report.level_draw_ms.emplace_back(body_names_[b], level_cost_[b]);
     report.software_renderer = software_;
     report.renderer = renderer_name_;
