@@ -239,26 +239,38 @@ Renderer::~Renderer() {
 
 namespace {
 
-/// A surface's triangles as vertices: smooth normals (area-weighted face normals), pressure
-/// blended over the colour.
-template <class V>
-void append_surface(const SurfaceView& s, const ViewOptions& options, double pressure_full_scale, double alpha,
-                    std::vector<V>& target, std::vector<V>* wire) {
+bool valid_triangle(const SurfaceView& s, const mesh::Triangle& t) {
+  return std::all_of(t.begin(), t.end(), [&](mesh::Index v) { return v >= 0 && static_cast<std::size_t>(v) < s.positions.size(); });
+}
+
+/// Smooth vertex normals: area-weighted face normals (not normalized).
+std::vector<Vec3> smooth_normals(const SurfaceView& s) {
   std::vector<Vec3> normals(s.positions.size(), Vec3::Zero());
-  auto valid = [&](const mesh::Triangle& t) {
-    return std::all_of(t.begin(), t.end(), [&](mesh::Index v) { return v >= 0 && static_cast<std::size_t>(v) < s.positions.size(); });
-  };
   for (const mesh::Triangle& t : s.triangles) {
-    if (!valid(t)) continue;
+    if (!valid_triangle(s, t)) continue;
     const Vec3& a = s.positions[static_cast<std::size_t>(t[0])];
     const Vec3 n = (s.positions[static_cast<std::size_t>(t[1])] - a).cross(s.positions[static_cast<std::size_t>(t[2])] - a);
     for (const mesh::Index v : t) normals[static_cast<std::size_t>(v)] += n;
   }
+  return normals;
+}
+
+bool pressed(const SurfaceView& s, const mesh::Triangle& t) {
+  return std::any_of(t.begin(), t.end(), [&](mesh::Index v) { return s.pressure[static_cast<std::size_t>(v)] > 0.0; });
+}
+
+/// A surface's triangles as vertices with `normals`, pressure blended over the colour; only
+/// those with a pressed vertex when `only_pressed` (the contact drawn over a kept surface).
+template <class V>
+void append_surface(const SurfaceView& s, const std::vector<Vec3>& normals, const ViewOptions& options,
+                    double pressure_full_scale, double alpha, std::vector<V>& target, std::vector<V>* wire,
+                    bool only_pressed = false) {
   const bool pressure = options.show_pressure && s.pressure.size() == s.positions.size();
+  if (only_pressed && !pressure) return;
   const bool per_triangle = s.triangle_colours.size() == s.triangles.size();
   for (std::size_t ti = 0; ti < s.triangles.size(); ++ti) {
     const mesh::Triangle& t = s.triangles[ti];
-    if (!valid(t)) continue;
+    if (!valid_triangle(s, t) || (only_pressed && !pressed(s, t))) continue;
     for (const mesh::Index vi : t) {
       const auto v = static_cast<std::size_t>(vi);
       Colour c = per_triangle ? s.triangle_colours[ti] : s.colour;
@@ -278,15 +290,17 @@ void append_surface(const SurfaceView& s, const ViewOptions& options, double pre
 
 bool Renderer::cacheable(const SurfaceView& s, const ViewOptions& options) {
   if (!s.static_id || s.recessed || options.wireframe || (options.reveal && s.translucent_when_revealing)) return false;
-  if (!s.triangle_colours.empty()) return false;
-  return !options.show_pressure || std::none_of(s.pressure.begin(), s.pressure.end(), [](double p) { return p > 0.0; });
+  return s.triangle_colours.empty();
 }
 
 const Renderer::StaticSurface& Renderer::keep(const SurfaceView& s, const ViewOptions& options, double full_scale) {
   StaticSurface& e = kept_[s.static_id];
   if (!e.vbo || !e.colour.isApprox(s.colour, 0.0)) {
+    e.normals = smooth_normals(s);
+    SurfaceView untouched = s;
+    untouched.pressure.clear();  // the contact is drawn over it, each frame
     std::vector<Vertex> vertices;
-    append_surface(s, options, full_scale, 1.0, vertices, static_cast<std::vector<Vertex>*>(nullptr));
+    append_surface(untouched, e.normals, options, full_scale, 1.0, vertices, static_cast<std::vector<Vertex>*>(nullptr));
     if (!e.vao) {
       glGenVertexArrays(1, &e.vao);
       glGenBuffers(1, &e.vbo);
@@ -318,7 +332,7 @@ void Renderer::build(const FrameView& frame, const ViewOptions& options, double 
     const SurfaceView& s = frame.surfaces[i];
     const bool translucent = options.reveal && s.translucent_when_revealing;
     std::vector<Vertex>& target = translucent ? out.translucent : s.recessed ? out.recessed : out.opaque;
-    append_surface(s, options, frame.pressure_full_scale, translucent ? 0.35 : 1.0, target,
+    append_surface(s, smooth_normals(s), options, frame.pressure_full_scale, translucent ? 0.35 : 1.0, target,
                    options.wireframe ? &out.wire : nullptr);
   }
   for (const SphereView& s : frame.spheres) {
@@ -399,10 +413,14 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
   ++frame_;
   kept_now_.clear();
   std::vector<bool> kept(frame.surfaces.size(), false);
+  std::vector<Vertex> contact;  // the pressed triangles of kept surfaces, drawn over them
   for (std::size_t i = 0; i < frame.surfaces.size(); ++i)
     if (cacheable(frame.surfaces[i], options)) {
-      kept_now_.push_back(&keep(frame.surfaces[i], options, frame.pressure_full_scale));
+      const StaticSurface& e = keep(frame.surfaces[i], options, frame.pressure_full_scale);
+      kept_now_.push_back(&e);
       kept[i] = true;
+      append_surface(frame.surfaces[i], e.normals, options, frame.pressure_full_scale, 1.0, contact,
+                     static_cast<std::vector<Vertex>*>(nullptr), true);
     }
   // Levels not drawn for a while (the viewer chose others) give their memory back.
   for (auto it = kept_.begin(); it != kept_.end();) {
@@ -448,9 +466,9 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
   glBindVertexArray(vao_);
   glBindBuffer(GL_ARRAY_BUFFER, vbo_);
   upload({&floor_quad, &batches.opaque, &batches.recessed, &batches.wire, &batches.lines, &batches.translucent,
-          &batches.overlay});
+          &batches.overlay, &contact});
   const Range floor_range = ranges_[0], opaque = ranges_[1], recessed = ranges_[2], wire = ranges_[3],
-              lines = ranges_[4], translucent = ranges_[5], overlay = ranges_[6];
+              lines = ranges_[4], translucent = ranges_[5], overlay = ranges_[6], pressed_range = ranges_[7];
   const auto draw_recessed = [&] {
     // Pushed back in depth, so that a layer on its boundary wins every pixel they share.
     glEnable(GL_POLYGON_OFFSET_FILL);
@@ -497,6 +515,13 @@ void Renderer::render(const FrameView& frame, const OrbitCamera& camera, const V
   if (options.floor) draw(floor_range);
   draw(opaque);
   draw_kept();
+  if (pressed_range.count > 0) {
+    // The contact's colours over a kept surface: the same triangles, pulled forward in depth.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-1.0f, -2.0f);
+    draw(pressed_range);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+  }
   draw_recessed();
 
   if (wire.count > 0) {

@@ -46,13 +46,14 @@ class Renderer {
   void build(const FrameView& frame, const ViewOptions& options, double extent, const std::vector<bool>& kept,
              Batches& out) const;
   /// Whether `s` may be drawn from the static cache this frame: marked static, opaque, not
-  /// recessed, no wireframe, and untouched (no pressure to colour).
+  /// recessed, no wireframe, one colour (its pressure is drawn over it).
   [[nodiscard]] static bool cacheable(const SurfaceView& s, const ViewOptions& options);
   /// The cache entry of a static surface, (re)built when missing or when its colour changed.
   struct StaticSurface {
     GLuint vao = 0, vbo = 0;
     GLsizei count = 0;
     Colour colour = Colour::Zero();
+    std::vector<Vec3> normals;    ///< its smooth normals, for the contact drawn over it
     std::uint64_t last_used = 0;  ///< the frame it was last drawn in
   };
   const StaticSurface& keep(const SurfaceView& s, const ViewOptions& options, double full_scale);

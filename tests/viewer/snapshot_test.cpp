@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "mesh/generators.hpp"
 #include "scene/scene.hpp"
 #include "viewer/debug_views.hpp"
 #include "viewer/overlay.hpp"
@@ -228,6 +229,38 @@ TEST(ViewerSnapshot, ALayerOnItsHostsFaceShowsWithoutZFighting) {
   EXPECT_GT(host_pixels(a, cx, cy, 20), 0) << "the defect this guards against did not show";
   // With the host recessed, the skin wins every pixel.
   EXPECT_EQ(host_pixels(b, cx, cy, 20), 0);
+}
+
+// A kept (static) surface looks as the same surface drawn afresh, its contact pressure
+// included: the renderer keeps the geometry and draws the pressed triangles over it.
+TEST(ViewerSnapshot, AKeptSurfaceLooksAsOneDrawnAfresh) {
+  const mesh::TriMesh plate = mesh::grid_plate(0.06, 0.06, 24, 24);
+  FrameView fresh;
+  SurfaceView& s = fresh.surfaces.emplace_back();
+  s.positions = plate.vertices;
+  s.triangles = plate.triangles;
+  s.pressure.assign(s.positions.size(), 0.0);
+  for (std::size_t v = 0; v < s.positions.size(); ++v)
+    if (s.positions[v].head<2>().norm() < 0.01) s.pressure[v] = 0.5 * fresh.pressure_full_scale;
+  FrameView kept = fresh;
+  kept.surfaces[0].static_id = &plate;
+  const OrbitCamera camera = OrbitCamera::framing(frame_bounds(fresh), 30.0, 60.0);
+  Snapshot a, b;
+  if (const auto why = render_pair(fresh, ViewOptions{}, kept, ViewOptions{}, camera, 320, 240, a, b))
+    GTEST_SKIP() << "no offscreen OpenGL context here: " << *why;
+  // Pressure-coloured (green-yellow at half scale) pixels at the centre in both, and the two
+  // pictures alike: every pixel within a few levels (rasterized twice, the contact's
+  // triangles pulled forward in depth).
+  double cx = 0.0, cy = 0.0;
+  ASSERT_TRUE(camera.project(Vec3::Zero(), 320, 240, cx, cy));
+  const Vec3 centre_a = pixel(a, static_cast<int>(cx), static_cast<int>(cy));
+  const Vec3 centre_b = pixel(b, static_cast<int>(cx), static_cast<int>(cy));
+  EXPECT_GT(centre_a.y(), centre_a.z()) << "the contact's colour at the centre";
+  EXPECT_LT((centre_a - centre_b).norm(), 0.05);
+  int differing = 0;
+  for (int y = 0; y < 240; ++y)
+    for (int x = 0; x < 320; ++x) differing += (pixel(a, x, y) - pixel(b, x, y)).norm() > 0.05;
+  EXPECT_LT(differing, 320 * 240 / 200) << "pixels that differ";
 }
 
 TEST(ViewerSnapshot, TheNeedlesShaftIsDrawnFromTipToHub) {
