@@ -22,6 +22,7 @@ void bind_run(py::module_& m);         // run.cpp: run() in lockstep and its Run
 void bind_simulation(py::module_& m);  // simulation.cpp: Simulation, stepped frame by frame
 void bind_solve(py::module_& m);       // solve.cpp: solve() and its results
 void bind_recording(py::module_& m);   // recording.cpp: read_recording()
+void bind_cspace(py::module_& m);      // cspace.cpp: ConfigurationSpace, read and queried
 
 /// What tactus.Model holds: the scene and the text it was read from (a recording stores the
 /// text, so that it replays by itself).

@@ -4,7 +4,7 @@
 
 PYBIND11_MODULE(_tactus, m) {
   namespace tp = tactus::python;
-  m.doc() = "Tactus engine bindings: scenes, lockstep runs, frame-by-frame simulation, static solves, recordings.";
+  m.doc() = "Tactus engine bindings: scenes, lockstep runs, frame-by-frame simulation, static solves, recordings, configuration spaces.";
   m.attr("__version__") = tactus::kVersion;
   tp::bind_errors(m);
   tp::bind_model(m);
@@ -12,4 +12,5 @@ PYBIND11_MODULE(_tactus, m) {
   tp::bind_simulation(m);
   tp::bind_solve(m);
   tp::bind_recording(m);
+  tp::bind_cspace(m);
 }

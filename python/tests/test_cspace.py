@@ -1,0 +1,106 @@
+"""tactus.ConfigurationSpace: a space built by `tactus precompute` on a small block, read
+back and queried. At its grid points the interpolators give the stored forces (both are
+interpolating); halfway along a grid edge trilinear gives the two ends' mean; bad input raises."""
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import tactus
+
+SCENE = """
+[materials.tissue]
+model = "stvk"
+young_modulus = 5.0e3
+poisson_ratio = 0.3
+density = 1000.0
+
+[bodies.block]
+kind = "fem"
+material = "tissue"
+solver = "cholesky"
+
+[bodies.block.mesh]
+generator = "box"
+size = [0.04, 0.04, 0.02]
+cells = [4, 4, 2]
+
+[[bodies.block.fixed]]
+side = "z_min"
+
+[precompute]
+contact_point = [0.0, 0.0, 0.01]
+spacing = 0.003
+min = [-0.003, -0.003, 0.004]
+max = [0.003, 0.003, 0.013]
+"""
+
+
+@pytest.fixture(scope="module")
+def space_file(tmp_path_factory):
+    binary = os.environ.get("TACTUS_BINARY")
+    if not binary:
+        pytest.skip("TACTUS_BINARY is not set")
+    folder = tmp_path_factory.mktemp("cspace")
+    (folder / "block.toml").write_text(SCENE)
+    subprocess.run([binary, "-q", "precompute", "block.toml", "-o", "space.h5", "--threads", "1"],
+                   cwd=folder, check=True, capture_output=True, env={**os.environ, "CI": "1"})
+    return folder / "space.h5"
+
+
+def test_the_grid_and_its_stored_forces(space_file):
+    space = tactus.ConfigurationSpace(space_file)
+    assert space.body == "block"
+    assert space.method == "trilinear"
+    assert space.spacing == pytest.approx(0.003)
+    assert list(space.counts) == [3, 3, 4]
+    assert space.points.shape == (36, 3)
+    assert space.solved.all()
+    # Pressing down on the block: it pushes the tool back up, more the deeper the point.
+    forces = space.point_forces
+    assert forces.shape == (36, 3)
+    deepest = np.argmin(space.points[:, 2])
+    assert forces[deepest, 2] > 0.0
+
+
+@pytest.mark.parametrize("method", ["trilinear", "rbf_cubic"])
+def test_queries_at_grid_points_give_the_stored_forces(space_file, method):
+    space = tactus.ConfigurationSpace(str(space_file), method)
+    forces, valid = space.force(space.points)
+    assert valid.all()
+    scale = np.abs(space.point_forces).max()
+    np.testing.assert_allclose(forces, space.point_forces, rtol=0, atol=1e-9 * scale)
+
+
+def test_trilinear_halfway_along_an_edge_is_the_mean_of_its_ends(space_file):
+    space = tactus.ConfigurationSpace(space_file)
+    points, stored = space.points, space.point_forces
+    # Points 0 and 1 are neighbours along x (x runs fastest).
+    np.testing.assert_allclose(points[1] - points[0], [0.003, 0.0, 0.0], atol=1e-12)
+    force, valid = space.force(0.5 * (points[0] + points[1]))
+    assert valid.all() and force.shape == (1, 3)
+    np.testing.assert_allclose(force[0], 0.5 * (stored[0] + stored[1]), rtol=1e-12, atol=1e-15)
+    # The shape query gives the same force, and a displacement per node of the 5 x 5 x 3 block.
+    shaped, displacement, ok = space.shape(0.5 * (points[0] + points[1]))
+    assert ok
+    np.testing.assert_allclose(shaped, force, rtol=1e-12, atol=1e-15)
+    assert displacement.shape == (75, 3)
+    assert np.isfinite(displacement).all() and np.abs(displacement).max() > 0.0
+
+
+def test_bad_input_raises(space_file, tmp_path):
+    with pytest.raises(tactus.InputError) as missing:
+        tactus.ConfigurationSpace(tmp_path / "nowhere.h5")
+    assert "nowhere.h5" in str(missing.value)
+    garbage = tmp_path / "garbage.h5"
+    garbage.write_text("not a space")
+    with pytest.raises(tactus.InputError):
+        tactus.ConfigurationSpace(garbage)
+    with pytest.raises(tactus.InputError):
+        tactus.ConfigurationSpace(space_file, "nearest")
+    space = tactus.ConfigurationSpace(space_file)
+    with pytest.raises(ValueError):
+        space.force(np.zeros((4, 2)))
+    with pytest.raises(ValueError):
+        space.shape(np.zeros((2, 3)))
