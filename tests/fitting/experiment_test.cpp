@@ -2,6 +2,7 @@
 #include "fitting/experiment.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>

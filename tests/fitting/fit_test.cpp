@@ -3,8 +3,11 @@
 // meshes: the forward model is the same in the synthesis and the fit, so the mesh's own
 // error does not enter.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "fit_test_util.hpp"
+#include "mesh/generators.hpp"
+#include "mesh/io/mesh_io.hpp"
 
 namespace tactus::fitting {
 namespace {
@@ -49,6 +52,31 @@ TEST(FitRecovers, PronyRelaxationWeightAndTime) {
   expect_recovered(e, r, truth, 15.0);
   EXPECT_LE(std::abs(r.values[0] - truth[0]), 0.05 * truth[0]);
   EXPECT_LE(std::abs(r.values[2] - truth[2]), 0.05 * truth[2]);
+}
+
+TEST(ForwardModel, SlidingBaseIsSofterAndAMeshFileGivesTheGeneratedBlocksForces) {
+  // A thin layer under a punch: bonded to its base it cannot bulge sideways at the bottom, so
+  // it is stiffer than on a frictionless base (Hayes et al. 1972).
+  Experiment e = block(IndenterShape::flat_punch, 0.006, FemLaw::linear, 0.004, {6, 6, 2});
+  add(e, "young_modulus", 1e4, false);
+  add(e, "poisson_ratio", 0.45, false);
+  const std::vector<double> depths{0.1e-3, 0.2e-3};
+  const physics::FemMaterial m = make_material(e, {1e4, 0.45});
+  const auto bonded = IndentationModel(e).forces(m, depths);
+  e.specimen.bottom = Support::sliding;
+  const auto sliding = IndentationModel(e).forces(m, depths);
+  for (std::size_t i = 0; i < depths.size(); ++i) {
+    EXPECT_GT(sliding[i], 0.0);
+    EXPECT_LT(sliding[i], 0.9 * bonded[i]);
+    EXPECT_NEAR(bonded[i] / depths[i], bonded[0] / depths[0], 1e-6 * bonded[0] / depths[0]);  // linear law
+  }
+  // The same block written to a file and read back as the specimen.
+  const auto path = std::filesystem::temp_directory_path() / ("tactus_fit_block_" + std::to_string(::getpid()) + ".vtu");
+  mesh::write_mesh(path, mesh::box_volume(Vec3(0.03, 0.03, 0.004), 6, 6, 2));
+  e.specimen.mesh = path;
+  const auto from_file = IndentationModel(e).forces(m, depths);
+  std::filesystem::remove(path);
+  for (std::size_t i = 0; i < depths.size(); ++i) EXPECT_NEAR(from_file[i], sliding[i], 1e-9 * sliding[i]);
 }
 
 TEST(Relaxation, HereditaryIntegralMatchesTheStandardLinearSolidClosedForm) {
