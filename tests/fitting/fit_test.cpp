@@ -8,6 +8,7 @@
 #include "fit_test_util.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/io/mesh_io.hpp"
+#include "scene/scene.hpp"
 
 namespace tactus::fitting {
 namespace {
@@ -52,6 +53,18 @@ TEST(FitRecovers, PronyRelaxationWeightAndTime) {
   expect_recovered(e, r, truth, 15.0);
   EXPECT_LE(std::abs(r.values[0] - truth[0]), 0.05 * truth[0]);
   EXPECT_LE(std::abs(r.values[2] - truth[2]), 0.05 * truth[2]);
+
+  // The block is a scene's material: it loads, with the fitted values (6 digits printed).
+  const std::string scene_text = material_toml(e, r, "tissue") +
+                                 "[bodies.block]\nkind = \"fem\"\nmaterial = \"tissue\"\n"
+                                 "mesh = { generator = \"box\", size = [0.01, 0.01, 0.01], cells = [1, 1, 1] }\n";
+  const scene::Model model = scene::parse_scene(scene_text, "fitted.toml");
+  ASSERT_EQ(model.materials.size(), 1U);
+  const scene::Material& m = model.materials[0];
+  EXPECT_NEAR(m.young_modulus, r.values[0], 1e-5 * r.values[0]);
+  ASSERT_EQ(m.viscoelastic.prony.size(), 1U);
+  EXPECT_NEAR(m.viscoelastic.prony[0].g, r.values[2], 1e-5);
+  EXPECT_NEAR(m.viscoelastic.prony[0].tau, r.values[3], 1e-5 * r.values[3]);
 }
 
 TEST(ForwardModel, SlidingBaseIsSofterAndAMeshFileGivesTheGeneratedBlocksForces) {
