@@ -19,5 +19,6 @@ Action add_export(CLI::App& app);
 Action add_precompute(CLI::App& app);
 Action add_snapshot(CLI::App& app);
 Action add_curves(CLI::App& app);
+Action add_fit(CLI::App& app);
 
 }  // namespace tactus::app

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   add(tactus::app::add_precompute, "precompute", "Build a scene's configuration space (HDF5), locally or under mpirun");
   add(tactus::app::add_snapshot, "snapshot", "Render a scene at a time of a lockstep run to PNG, offscreen");
   add(tactus::app::add_curves, "curves", "Press a scene's tissues and write seed 000's force and viscoelastic curves (CSV, PNG)");
+  add(tactus::app::add_fit, "fit", "Fit material parameters to a measured indentation or relaxation curve (TOML + CSV)");
 
   try {
     cli.parse(argc, argv);

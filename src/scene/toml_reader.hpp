@@ -1,6 +1,7 @@
 #pragma once
-// Typed, located access to TOML tables for the scene loader (private to src/scene; the
-// only header that includes toml++). Every getter records its key as known, so that
+// Typed, located access to TOML tables for the scene loader and the other TOML inputs that
+// share its messages (the experiment files of src/fitting); the only header that includes
+// toml++. Every getter records its key as known, so that
 // finish() can reject the keys nobody asked for and suggest the closest known one.
 #include <cstdint>
 #include <filesystem>

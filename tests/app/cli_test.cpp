@@ -555,3 +555,26 @@ TEST_F(Cli, NoduleSceneWritesForceMapAndFeedback) {
 }
 
 }  // namespace
+
+TEST_F(Cli, FitWritesTheMaterialBlockAndThePlot) {
+  // A straight loading curve under a flat punch: the linear law fits it exactly but for the
+  // noise-free round-off, so the residual is tiny and E positive.
+  std::ofstream(dir_ / "curve.csv") << "depth,force\n0.0001,0.01\n0.0002,0.02\n0.0003,0.03\n0.0004,0.04\n";
+  std::ofstream(dir_ / "exp.toml") << "[indenter]\nshape = \"flat_punch\"\nradius = 0.006\n"
+                                      "[specimen]\nsize = [0.03, 0.03]\nthickness = 0.01\ncells = [6, 6, 2]\n"
+                                      "[material]\nmodel = \"linear\"\npoisson_ratio = 0.45\n"
+                                      "[fit]\nfree = [\"young_modulus\"]\n[data]\nfile = \"curve.csv\"\n";
+  const auto r = run("fit '" + (dir_ / "exp.toml").string() + "' -o '" + (dir_ / "block.toml").string() +
+                     "' --name skin --plot '" + (dir_ / "fit.png").string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("[materials.skin]\nmodel = \"linear\"\nyoung_modulus = "), std::string::npos) << r.out;
+  EXPECT_EQ(slurp(dir_ / "block.toml"), r.out);
+  EXPECT_NE(r.err.find("residual: RMS"), std::string::npos) << r.err;
+  EXPECT_GT(fs::file_size(dir_ / "fit.png"), 1000U);
+
+  std::ofstream(dir_ / "curve.csv") << "depth,force\n0.0001,0.01\n0.0002,nan\n0.0003,0.03\n";
+  const auto bad = run("fit '" + (dir_ / "exp.toml").string() + "'");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(count_lines(bad.err), 1) << bad.err;
+  EXPECT_NE(bad.err.find("curve.csv:3"), std::string::npos) << bad.err;
+}

@@ -1,0 +1,311 @@
+#include "fitting/fit.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <unsupported/Eigen/NonLinearOptimization>
+
+#include "contact/hertz.hpp"
+#include "core/error.hpp"
+
+namespace tactus::fitting {
+namespace {
+
+/// How a parameter maps to the unconstrained coordinate the optimizer moves.
+enum class Transform { log, logit, poisson };
+
+Transform transform_of(const std::string& name) {
+  if (name == "poisson_ratio") return Transform::poisson;
+  if (name.front() == 'g') return Transform::logit;
+  return Transform::log;
+}
+
+double to_free(Transform t, double v) {
+  switch (t) {
+    case Transform::log: return std::log(v);
+    case Transform::logit: return std::log(v / (1.0 - v));
+    case Transform::poisson: {
+      const double s = (v + 1.0) / 1.5;  // ν in (−1, 0.5) ↔ s in (0, 1)
+      return std::log(s / (1.0 - s));
+    }
+  }
+  return v;
+}
+
+double from_free(Transform t, double p) {
+  const double s = 1.0 / (1.0 + std::exp(-p));
+  switch (t) {
+    case Transform::log: return std::exp(p);
+    case Transform::logit: return s;
+    case Transform::poisson: return -1.0 + 1.5 * s;
+  }
+  return p;
+}
+
+/// dθ/dp at the coordinate p: the delta method's factor for the uncertainty.
+double slope(Transform t, double p) {
+  const double s = 1.0 / (1.0 + std::exp(-p));
+  switch (t) {
+    case Transform::log: return std::exp(p);
+    case Transform::logit: return s * (1.0 - s);
+    case Transform::poisson: return 1.5 * s * (1.0 - s);
+  }
+  return 1.0;
+}
+
+/// The misfit for Eigen's Levenberg–Marquardt: residuals (model − data) / max |data| of the
+/// free coordinates, and their forward-difference Jacobian.
+class Misfit {
+ public:
+  Misfit(const Experiment& e, const IndentationModel& model, std::vector<double> start)
+      : e_(e), model_(model), values_(std::move(start)) {
+    for (std::size_t i = 0; i < e.parameters.size(); ++i)
+      if (e.parameters[i].free) free_.push_back(i);
+    scale_ = 0.0;
+    for (double y : e.y) scale_ = std::max(scale_, std::abs(y));
+    if (scale_ == 0.0) scale_ = 1.0;
+  }
+
+  [[nodiscard]] int values() const { return static_cast<int>(e_.y.size()); }
+  [[nodiscard]] int inputs() const { return static_cast<int>(free_.size()); }
+
+  [[nodiscard]] Eigen::VectorXd coordinates() const {
+    Eigen::VectorXd p(inputs());
+    for (std::size_t k = 0; k < free_.size(); ++k)
+      p[static_cast<Eigen::Index>(k)] = to_free(transform_of(e_.parameters[free_[k]].name), values_[free_[k]]);
+    return p;
+  }
+  [[nodiscard]] std::vector<double> parameters(const Eigen::VectorXd& p) const {
+    std::vector<double> v = values_;
+    for (std::size_t k = 0; k < free_.size(); ++k)
+      v[free_[k]] = from_free(transform_of(e_.parameters[free_[k]].name), p[static_cast<Eigen::Index>(k)]);
+    return v;
+  }
+  [[nodiscard]] const std::vector<std::size_t>& free() const { return free_; }
+  [[nodiscard]] double scale() const { return scale_; }
+  [[nodiscard]] int evaluations() const { return evaluations_; }
+
+  /// The forward model's curve at p; empty where the solve fails (an unreachable material).
+  std::vector<double> curve(const Eigen::VectorXd& p) const {
+    ++evaluations_;
+    try {
+      const physics::FemMaterial m = make_material(e_, parameters(p));
+      m.validate();
+      return model_.curve(m);
+    } catch (const std::exception&) {
+      return {};
+    }
+  }
+
+  int operator()(const Eigen::VectorXd& p, Eigen::VectorXd& r) const {
+    // The optimizer asks for the Jacobian where it has just evaluated the residuals.
+    if (last_p_.size() == p.size() && last_p_ == p) {
+      r = last_r_;
+      return 0;
+    }
+    const auto c = curve(p);
+    r.resize(values());
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+      r[i] = c.empty() ? 1e3 : (c[static_cast<std::size_t>(i)] - e_.y[static_cast<std::size_t>(i)]) / scale_;
+    last_p_ = p;
+    last_r_ = r;
+    return 0;
+  }
+
+  int df(const Eigen::VectorXd& p, Eigen::MatrixXd& j) const {
+    Eigen::VectorXd r0, r1;
+    (*this)(p, r0);
+    j.resize(values(), inputs());
+    for (Eigen::Index k = 0; k < p.size(); ++k) {
+      Eigen::VectorXd q = p;
+      const double h = kJacobianStep * std::max(1.0, std::abs(p[k]));
+      q[k] += h;
+      (*this)(q, r1);
+      j.col(k) = (r1 - r0) / h;
+    }
+    return 0;
+  }
+
+ private:
+  const Experiment& e_;
+  const IndentationModel& model_;
+  std::vector<double> values_;  ///< every parameter; the free ones are overwritten from p
+  std::vector<std::size_t> free_;
+  double scale_ = 1.0;
+  mutable int evaluations_ = 0;
+  mutable Eigen::VectorXd last_p_, last_r_;
+};
+
+std::string status_text(int status) {
+  switch (status) {
+    case 1: return "relative reduction of the misfit below ftol";
+    case 2: return "relative change of the parameters below xtol";
+    case 3: return "misfit and parameters both converged";
+    case 4: return "residuals orthogonal to the Jacobian's columns";
+    case 5: return "too many evaluations (fit.max_iterations)";
+    case 6: return "ftol too small: no further reduction possible";
+    case 7: return "xtol too small: no further improvement possible";
+    case 8: return "gtol too small";
+    default: return fmt::format("stopped (status {})", status);
+  }
+}
+
+}  // namespace
+
+std::vector<double> initial_guess(const Experiment& e, std::string& method) {
+  std::vector<double> v;
+  for (const auto& p : e.parameters) v.push_back(p.value.value_or(std::numeric_limits<double>::quiet_NaN()));
+  auto at = [&](const char* name) -> double& {
+    for (std::size_t i = 0; i < e.parameters.size(); ++i)
+      if (e.parameters[i].name == name) return v[i];
+    throw std::logic_error(name);
+  };
+  auto unset = [&](const char* name) { return e.find(name) && !e.find(name)->value; };
+
+  // The plane-strain modulus E* = E / (1 − ν²) of a half-space from the loading curve:
+  // least squares of F = E*·shape(d), Hertz's shape (4/3)√R d^{3/2} for a sphere, Sneddon's
+  // 2 a d for a flat punch. A relaxation uses its peak force at the held depth.
+  const double r = e.indenter.radius;
+  auto shape = [&](double d) {
+    return e.indenter.shape == IndenterShape::sphere ? contact::hertz_force(1.0, r, d) : 2.0 * r * d;
+  };
+  double e_star = 0.0;
+  if (e.kind == CurveKind::depth_force) {
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = 0; i < e.x.size(); ++i) {
+      num += e.y[i] * shape(e.x[i]);
+      den += shape(e.x[i]) * shape(e.x[i]);
+    }
+    e_star = num / den;
+  } else {
+    e_star = *std::max_element(e.y.begin(), e.y.end()) / shape(e.hold.value);
+  }
+  method = e.indenter.shape == IndenterShape::sphere ? "Hertz (sphere on a half-space)"
+                                                      : "Sneddon (flat punch on a half-space)";
+  const double nu = e.find("poisson_ratio") && e.find("poisson_ratio")->value ? *e.find("poisson_ratio")->value : 0.45;
+  const double young = e_star * (1.0 - nu * nu);
+  if (unset("young_modulus")) at("young_modulus") = young;
+  const double mu = young / (2.0 * (1.0 + nu)), kappa = young / (3.0 * (1.0 - 2.0 * nu));
+  if (unset("mu")) at("mu") = mu;
+  if (unset("kappa")) at("kappa") = kappa;
+  if (e.find("c10")) {
+    const bool c01_free = e.find("c01")->free;
+    if (unset("c10")) at("c10") = c01_free ? 0.25 * mu : std::max(0.5 * mu - at("c01"), 0.05 * mu);
+    if (c01_free && at("c01") <= 0.0) at("c01") = 0.25 * mu;
+  }
+  if (e.prony_terms > 0) {
+    // One exponential through the hold: g = 1 − F_end / F_peak, τ where the force has
+    // fallen by 1 − 1/e of its drop; several terms share g and spread τ by decades.
+    const auto peak = std::max_element(e.y.begin(), e.y.end());
+    const double f_peak = *peak, f_end = e.y.back();
+    const double g_total = std::clamp(1.0 - f_end / f_peak, 0.05, 0.9);
+    const double target = f_end + (f_peak - f_end) / std::exp(1.0);
+    auto i = static_cast<std::size_t>(peak - e.y.begin());
+    while (i + 1 < e.y.size() && e.y[i] > target) ++i;
+    const double t_peak = e.x[static_cast<std::size_t>(peak - e.y.begin())];
+    const double tau = std::max(e.x[i] - t_peak, 1e-3 * (e.x.back() - e.x.front()));
+    for (std::size_t t = 0; t < e.prony_terms; ++t) {
+      const std::string n = std::to_string(t + 1);
+      const double spread = std::pow(10.0, static_cast<double>(t) - 0.5 * static_cast<double>(e.prony_terms - 1));
+      if (unset(("g" + n).c_str())) at(("g" + n).c_str()) = g_total / static_cast<double>(e.prony_terms);
+      if (unset(("tau" + n).c_str())) at(("tau" + n).c_str()) = tau * spread;
+    }
+    method += ", one exponential through the hold";
+  }
+  return v;
+}
+
+FitResult fit(const Experiment& e, const IndentationModel& model) {
+  FitResult out;
+  out.initial = initial_guess(e, out.guess_method);
+  for (const auto& p : e.parameters) {
+    out.names.push_back(p.name);
+    out.free.push_back(p.free);
+  }
+  Misfit misfit(e, model, out.initial);
+  if (misfit.values() < misfit.inputs())
+    throw InputError(SourceLocation{e.data_file.string(), {}, {}, {}},
+                     fmt::format("{} data points cannot determine {} free parameters", misfit.values(), misfit.inputs()));
+
+  Eigen::VectorXd p = misfit.coordinates();
+  Eigen::LevenbergMarquardt<Misfit> lm(misfit);
+  lm.parameters.maxfev = e.max_iterations;
+  lm.parameters.ftol = 1e-10;
+  lm.parameters.xtol = 1e-8;
+  const int status = lm.minimize(p);
+  out.iterations = static_cast<int>(lm.iter);
+  out.status = status_text(status);
+  out.converged = status >= 1 && status <= 4;
+  out.values = misfit.parameters(p);
+
+  // Residual and covariance at the optimum: σ² = SSR / (n − p), cov = σ² (JᵀJ)⁻¹ in the
+  // free coordinates, carried to the parameters by the transforms' slopes (delta method).
+  Eigen::VectorXd r;
+  misfit(p, r);
+  Eigen::MatrixXd j;
+  misfit.df(p, j);
+  const auto n = static_cast<double>(r.size()), k = static_cast<double>(p.size());
+  const double ssr = r.squaredNorm();
+  const double sigma2 = n > k ? ssr / (n - k) : 0.0;
+  const Eigen::MatrixXd jtj = j.transpose() * j;
+  const Eigen::MatrixXd cov = sigma2 * jtj.completeOrthogonalDecomposition().pseudoInverse();
+  out.sigma.assign(e.parameters.size(), 0.0);
+  for (std::size_t f = 0; f < misfit.free().size(); ++f) {
+    const std::size_t i = misfit.free()[f];
+    const auto fi = static_cast<Eigen::Index>(f);
+    out.sigma[i] = std::abs(slope(transform_of(e.parameters[i].name), p[fi])) * std::sqrt(std::max(cov(fi, fi), 0.0));
+  }
+  out.model = misfit.curve(p);
+  if (out.model.empty()) throw std::runtime_error("the forward model fails at the fitted parameters");
+  out.rms = std::sqrt(ssr / n) * misfit.scale();
+  out.relative_rms = std::sqrt(ssr / n);
+  const double mean = std::accumulate(e.y.begin(), e.y.end(), 0.0) / n;
+  double ss_tot = 0.0;
+  for (double y : e.y) ss_tot += (y - mean) * (y - mean);
+  out.r_squared = ss_tot > 0.0 ? 1.0 - ssr * misfit.scale() * misfit.scale() / ss_tot : 1.0;
+  out.evaluations = misfit.evaluations();
+  return out;
+}
+
+std::string material_toml(const Experiment& e, const FitResult& r, const std::string& name) {
+  std::string s = fmt::format("[materials.{}]\nmodel = \"{}\"\n", name, physics::to_string(e.law));
+  auto line = [&](std::size_t i) {
+    s += fmt::format("{} = {:.6g}", r.names[i], r.values[i]);
+    if (r.free[i]) s += fmt::format("  # fitted, ± {:.3g} (1σ)", r.sigma[i]);
+    s += "\n";
+  };
+  for (std::size_t i = 0; i < r.names.size(); ++i)
+    if (r.names[i].front() != 'g' && r.names[i].rfind("tau", 0) != 0) line(i);
+  s += fmt::format("density = {:.6g}\n", e.density);
+  if (e.prony_terms > 0) {
+    s += fmt::format("[materials.{}.viscoelastic]\nmodel = \"prony\"\nterms = [\n", name);
+    for (std::size_t t = 0; t < e.prony_terms; ++t) {
+      const std::size_t g = r.names.size() - 2 * e.prony_terms + 2 * t;
+      s += fmt::format("  {{ g = {:.6g}, tau = {:.6g} }},  # ± {:.3g}, ± {:.3g} s\n", r.values[g], r.values[g + 1],
+                       r.sigma[g], r.sigma[g + 1]);
+    }
+    s += "]\n";
+  }
+  return s;
+}
+
+std::string summary(const Experiment& e, const FitResult& r) {
+  std::string s;
+  const char* unit = e.kind == CurveKind::time_depth ? "m" : "N";
+  for (std::size_t i = 0; i < r.names.size(); ++i) {
+    if (r.free[i])
+      s += fmt::format("  {:<14} {:>12.6g} ± {:<10.3g} ({:.2f} %)  start {:.6g}\n", r.names[i], r.values[i], r.sigma[i],
+                       100.0 * r.sigma[i] / std::abs(r.values[i]), r.initial[i]);
+    else
+      s += fmt::format("  {:<14} {:>12.6g} (fixed)\n", r.names[i], r.values[i]);
+  }
+  s += fmt::format("  residual: RMS {:.4g} {} ({:.3f} % of the largest value), R² {:.6f}\n", r.rms, unit,
+                   100.0 * r.relative_rms, r.r_squared);
+  s += fmt::format("  {} iterations, {} forward runs; {}; initial guess: {}\n", r.iterations, r.evaluations, r.status,
+                   r.guess_method);
+  return s;
+}
+
+}  // namespace tactus::fitting

@@ -1,0 +1,321 @@
+#include "fitting/indentation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "mesh/generators.hpp"
+#include "mesh/io/mesh_io.hpp"
+#include "physics/body.hpp"
+#include "physics/fem/tet_fem.hpp"
+
+namespace tactus::fitting {
+namespace {
+
+/// Ramp steps of a relaxation's loading (the hereditary integral's quadrature).
+constexpr int kRampSteps = 10;
+/// Halvings of a depth step whose static solve fails before the forward model gives up.
+constexpr int kMaxHalvings = 6;
+/// Active-set passes of the sphere's contact at one depth.
+constexpr int kMaxActiveSetPasses = 30;
+/// Newton's tolerance, relative to the forces: the curve is this accurate, far below the
+/// Jacobian's step (fit.hpp, kJacobianStep) and any measurement's noise.
+constexpr double kNewtonTolerance = 1e-8;
+
+double horizontal_distance(const Vec3& p, const Vec3& axis) { return std::hypot(p.x() - axis.x(), p.y() - axis.y()); }
+
+/// One pressing of the specimen: the body, its supports and the contact set.
+class Press {
+ public:
+  Press(const IndentationModel& model, const Experiment& e, const Vec3& top_centre, const std::vector<std::int32_t>& top,
+        const std::vector<std::int32_t>& bottom, const physics::FemMaterial& material)
+      : e_(e), top_centre_(top_centre), top_(top) {
+    physics::FemMaterial elastic = material;
+    elastic.prony.clear();  // relaxation is the hereditary integral's, not the body's
+    body_.model = std::make_shared<physics::TetFem>(model.mesh(), elastic);
+    body_.settings.solver = physics::LinearSolver::cholesky;
+    const std::size_t n = model.mesh().vertices.size();
+    body_.fixed_dofs.assign(3 * n, 0);
+    for (auto b : bottom) {
+      const auto i = 3 * static_cast<std::size_t>(b);
+      body_.fixed_dofs[i + 2] = 1;
+      if (e.specimen.bottom == Support::fixed) body_.fixed_dofs[i] = body_.fixed_dofs[i + 1] = 1;
+    }
+    if (e.specimen.bottom == Support::sliding) {
+      // A sliding base leaves the block free to shift and turn in its plane: pin the bottom
+      // node nearest the axis in x and y, and the one farthest along +x in y (both carry no
+      // load in a symmetric press).
+      std::int32_t centre = bottom.front(), far = bottom.front();
+      const auto& v = model.mesh().vertices;
+      for (auto b : bottom) {
+        const auto k = static_cast<std::size_t>(b);
+        if (horizontal_distance(v[k], top_centre) < horizontal_distance(v[static_cast<std::size_t>(centre)], top_centre))
+          centre = b;
+        if (v[k].x() > v[static_cast<std::size_t>(far)].x()) far = b;
+      }
+      body_.fixed_dofs[3 * static_cast<std::size_t>(centre)] = 1;
+      body_.fixed_dofs[3 * static_cast<std::size_t>(centre) + 1] = 1;
+      body_.fixed_dofs[3 * static_cast<std::size_t>(far) + 1] = 1;
+    }
+    support_ = body_.fixed_dofs;
+    state_ = physics::make_state(body_);
+    rest_ = state_.x;
+    equilibrium_ = rest_;
+    in_contact_.assign(top_.size(), 0);
+    if (e.indenter.shape == IndenterShape::flat_punch) {
+      for (std::size_t k = 0; k < top_.size(); ++k)
+        in_contact_[k] = horizontal_distance(node_rest(top_[k]), top_centre_) <= e.indenter.radius * (1 + 1e-9);
+      apply_contact_set();
+    }
+  }
+
+  /// Presses from the last equilibrium to `depth`, halving the step where a solve fails.
+  /// Returns the force on the indenter.
+  double press_to(double depth) {
+    double size = depth - reached_;
+    int halvings = 0;
+    while (reached_ < depth) {
+      const double target = std::min(depth, reached_ + size);
+      if (balance_at(target)) {
+        reached_ = target;
+        equilibrium_ = state_.x;
+      } else if (halvings++ < kMaxHalvings) {
+        size *= 0.5;
+        state_.x = equilibrium_;
+      } else {
+        throw std::runtime_error(fmt::format("the static solve at depth {:.4g} m does not converge ({}, {})", target,
+                                             physics::to_string(e_.law), why_));
+      }
+    }
+    return indenter_force();
+  }
+
+ private:
+  Vec3 node_rest(std::int32_t n) const { return rest_.segment<3>(3 * n); }
+
+  void apply_contact_set() {
+    body_.fixed_dofs = support_;
+    const bool punch = e_.indenter.shape == IndenterShape::flat_punch;
+    for (std::size_t k = 0; k < top_.size(); ++k) {
+      if (!in_contact_[k]) continue;
+      const auto i = 3 * static_cast<std::size_t>(top_[k]);
+      body_.fixed_dofs[i + 2] = 1;
+      if (punch) body_.fixed_dofs[i] = body_.fixed_dofs[i + 1] = 1;
+    }
+    state_.solver_scratch.reset();  // the free dofs changed
+  }
+
+  /// The sphere's lower surface above (x, y) at the current depth; +inf outside its radius.
+  double sphere_z(double depth, double x, double y) const {
+    const double r = e_.indenter.radius;
+    const double rho2 = (x - top_centre_.x()) * (x - top_centre_.x()) + (y - top_centre_.y()) * (y - top_centre_.y());
+    if (rho2 >= r * r) return std::numeric_limits<double>::infinity();
+    return top_centre_.z() - depth + r - std::sqrt(r * r - rho2);
+  }
+
+  /// Places the held contact nodes for `depth` and balances; the sphere iterates its
+  /// active set. False when a solve fails.
+  bool balance_at(double depth) {
+    const bool punch = e_.indenter.shape == IndenterShape::flat_punch;
+    for (int pass = 0; pass < (punch ? 1 : kMaxActiveSetPasses); ++pass) {
+      if (!punch) {
+        // Nodes now inside the sphere join the contact.
+        bool added = false;
+        for (std::size_t k = 0; k < top_.size(); ++k) {
+          const Vec3 p = state_.x.segment<3>(3 * top_[k]);
+          if (!in_contact_[k] && p.z() > sphere_z(depth, p.x(), p.y())) {
+            in_contact_[k] = 1;
+            added = true;
+          }
+        }
+        if (added || pass == 0) apply_contact_set();
+      }
+      const VecX previous = state_.x;
+      for (std::size_t k = 0; k < top_.size(); ++k) {
+        if (!in_contact_[k]) continue;
+        const auto i = 3 * static_cast<Eigen::Index>(top_[k]);
+        if (punch) {
+          state_.x.segment<3>(i) = rest_.segment<3>(i) - Vec3(0, 0, depth);
+        } else {
+          state_.x[i + 2] = sphere_z(depth, state_.x[i], state_.x[i + 1]);
+          if (!std::isfinite(state_.x[i + 2])) state_.x[i + 2] = previous[i + 2];
+        }
+      }
+      physics::StaticResult r;
+      try {
+        physics::predict_static(body_, state_, pass == 0 ? equilibrium_ : previous);
+        r = physics::solve_static(body_, state_, {}, physics::StaticSettings{100, kNewtonTolerance, 1e-12});
+      } catch (const std::runtime_error& err) {
+        why_ = err.what();
+        return false;
+      }
+      if (!r.converged || !state_.x.allFinite()) {
+        why_ = r.inverted ? "an element turned inside out"
+                          : fmt::format("out-of-balance force {:.3g} of the loads", r.residual);
+        return false;
+      }
+      if (punch) return true;
+      // Release nodes the body pulls into the sphere; re-project the held ones that slid.
+      forces_.resize(state_.x.size());
+      body_.model->forces(state_.x, state_.v, state_.q, forces_, *state_.model_scratch);
+      bool changed = false;
+      // A held node off the sphere by 1e-6 of the depth changes the force by about as much.
+      const double tolerance = 1e-6 * depth;
+      for (std::size_t k = 0; k < top_.size(); ++k) {
+        const Vec3 p = state_.x.segment<3>(3 * top_[k]);
+        const double surface = sphere_z(depth, p.x(), p.y());
+        if (in_contact_[k] && forces_[3 * top_[k] + 2] < 0.0) {
+          in_contact_[k] = 0;
+          changed = true;
+        } else if (in_contact_[k] && std::abs(p.z() - surface) > tolerance) {
+          changed = true;
+        } else if (!in_contact_[k] && p.z() > surface + tolerance) {
+          changed = true;
+        }
+      }
+      if (!changed) return true;
+      apply_contact_set();
+    }
+    return true;  // the set still flickers at its rim: the last balanced state stands
+  }
+
+  /// Σ over the contact nodes of the body's force along +z: what the indenter feels.
+  double indenter_force() {
+    forces_.resize(state_.x.size());
+    body_.model->forces(state_.x, state_.v, state_.q, forces_, *state_.model_scratch);
+    double f = 0.0;
+    for (std::size_t k = 0; k < top_.size(); ++k)
+      if (in_contact_[k]) f += forces_[3 * top_[k] + 2];
+    return f;
+  }
+
+  const Experiment& e_;
+  Vec3 top_centre_;
+  const std::vector<std::int32_t>& top_;
+  physics::Body body_;
+  physics::BodyState state_;
+  std::vector<std::uint8_t> support_;
+  std::vector<char> in_contact_;
+  VecX rest_, equilibrium_, forces_;
+  double reached_ = 0.0;
+  std::string why_;
+};
+
+}  // namespace
+
+IndentationModel::IndentationModel(const Experiment& experiment) : experiment_(&experiment) {
+  const Specimen& s = experiment.specimen;
+  if (s.mesh.empty()) {
+    mesh_ = mesh::box_volume(Vec3(s.size.x(), s.size.y(), s.thickness), s.cells[0], s.cells[1], s.cells[2]);
+    if (s.refine > 1.0) {
+      // u in [−1, 1] → u (c + (1 − c) u²): slope c at the centre, 3 − 2c at the edges.
+      const double c = 1.0 / s.refine;
+      auto grade = [c](double u) { return u * (c + (1.0 - c) * u * u); };
+      for (Vec3& v : mesh_.vertices) {
+        v.x() = 0.5 * s.size.x() * grade(v.x() / (0.5 * s.size.x()));
+        v.y() = 0.5 * s.size.y() * grade(v.y() / (0.5 * s.size.y()));
+        // From the top face (t = 0) down to the bottom (t = 1), dense at the top.
+        const double t = (0.5 * s.thickness - v.z()) / s.thickness;
+        v.z() = 0.5 * s.thickness - s.thickness * grade(t);
+      }
+    }
+  } else {
+    mesh::MeshFile file = mesh::read_mesh(s.mesh);
+    if (!file.volume || file.volume->tets.empty())
+      throw InputError(SourceLocation{s.mesh.string(), {}, {}, {}}, "holds no tetrahedra (the specimen needs a volume mesh)");
+    mesh_ = std::move(*file.volume);
+  }
+  double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo;
+  Vec3 lo = Vec3::Constant(z_lo), hi = Vec3::Constant(z_hi);
+  for (const Vec3& v : mesh_.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  z_lo = lo.z();
+  z_hi = hi.z();
+  const double tolerance = 1e-6 * (hi - lo).norm();
+  for (std::size_t i = 0; i < mesh_.vertices.size(); ++i) {
+    if (mesh_.vertices[i].z() > z_hi - tolerance) top_nodes_.push_back(static_cast<std::int32_t>(i));
+    if (mesh_.vertices[i].z() < z_lo + tolerance) bottom_nodes_.push_back(static_cast<std::int32_t>(i));
+  }
+  top_centre_ = Vec3(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), z_hi);
+  const std::string where = s.mesh.empty() ? experiment.file.string() : s.mesh.string();
+  const double reach = experiment.indenter.radius;
+  if (2 * reach >= std::min(hi.x() - lo.x(), hi.y() - lo.y()))
+    throw InputError(SourceLocation{where, {}, {}, {}},
+                     fmt::format("the indenter's diameter {:.4g} m is not smaller than the specimen's top face", 2 * reach));
+  if (experiment.indenter.shape == IndenterShape::flat_punch) {
+    const auto covered = std::count_if(top_nodes_.begin(), top_nodes_.end(), [&](std::int32_t n) {
+      return horizontal_distance(mesh_.vertices[static_cast<std::size_t>(n)], top_centre_) <= reach * (1 + 1e-9);
+    });
+    if (covered == 0)
+      throw InputError(SourceLocation{where, {}, {}, {}},
+                       fmt::format("the flat punch of radius {:.4g} m covers no node of the top face; refine the mesh", reach));
+  }
+}
+
+std::vector<double> IndentationModel::forces(const physics::FemMaterial& material, std::span<const double> depths) const {
+  Press press(*this, *experiment_, top_centre_, top_nodes_, bottom_nodes_, material);
+  std::vector<double> out;
+  out.reserve(depths.size());
+  for (double d : depths) out.push_back(d > 0.0 ? press.press_to(d) : 0.0);
+  return out;
+}
+
+double IndentationModel::hold_depth(double t) const {
+  const Hold& h = experiment_->hold;
+  if (h.ramp_time <= 0.0 || t >= h.ramp_time) return h.value;
+  return h.value * std::max(t, 0.0) / h.ramp_time;
+}
+
+std::vector<double> IndentationModel::curve(const physics::FemMaterial& material) const {
+  const Experiment& e = *experiment_;
+  if (e.kind == CurveKind::depth_force) return forces(material, e.x);
+  // Relaxation: the elastic force along the ramp, relaxed by the hereditary integral.
+  std::vector<double> times, depths;
+  const int steps = e.hold.ramp_time > 0.0 ? kRampSteps : 1;
+  for (int k = 1; k <= steps; ++k) {
+    times.push_back(e.hold.ramp_time * k / steps);
+    depths.push_back(e.hold.value * k / steps);
+  }
+  const std::vector<double> elastic = forces(material, depths);
+  return hereditary_relaxation(material.prony, times, elastic, e.x);
+}
+
+std::vector<double> hereditary_relaxation(const std::vector<physics::PronyTerm>& prony, std::span<const double> ramp_times,
+                                          std::span<const double> ramp_forces, std::span<const double> times) {
+  double g_inf = 1.0;
+  for (const auto& p : prony) g_inf -= p.weight;
+  auto modulus = [&](double s) {
+    double g = g_inf;
+    for (const auto& p : prony) g += p.weight * std::exp(-s / p.tau);
+    return g;
+  };
+  std::vector<double> out;
+  out.reserve(times.size());
+  for (double t : times) {
+    // Each ramp step adds its force increment at its midpoint; a step the time t is inside
+    // adds the part of it loaded so far (the force interpolated linearly within the step).
+    double f = 0.0, t0 = 0.0, f0 = 0.0;
+    for (std::size_t k = 0; k < ramp_times.size(); ++k) {
+      const double t1 = ramp_times[k], f1 = ramp_forces[k];
+      if (t1 <= t0) {  // a step load at t0
+        if (t >= t0) f += modulus(t - t0) * (f1 - f0);
+      } else if (t > t0) {
+        const double end = std::min(t, t1);
+        const double df = (f1 - f0) * (end - t0) / (t1 - t0);
+        f += modulus(t - 0.5 * (t0 + end)) * df;
+      }
+      t0 = t1;
+      f0 = f1;
+    }
+    out.push_back(f);
+  }
+  return out;
+}
+
+}  // namespace tactus::fitting

@@ -1,0 +1,143 @@
+// The experiment file and its CSV: what is read, and a located error for each mistake.
+#include "fitting/experiment.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.hpp"
+
+namespace tactus::fitting {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ExperimentFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("tactus_fit_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    write("curve.csv", "# a loading curve\ndepth,force\n0.0001,0.01\n0.0002,0.03\n0.0003,0.05\n");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+
+  static std::string experiment(const std::string& material = "model = \"corotational\"\npoisson_ratio = 0.45\n",
+                                const std::string& data = "file = \"curve.csv\"\n",
+                                const std::string& free = "young_modulus") {
+    return "[indenter]\nshape = \"sphere\"\nradius = 0.005\n"
+           "[specimen]\nsize = [0.04, 0.04]\nthickness = 0.01\ncells = [8, 8, 4]\n"
+           "[material]\n" + material + "[fit]\nfree = [\"" + free + "\"]\n[data]\n" + data;
+  }
+
+  /// The error's text for `toml`, or "" when it reads.
+  std::string error_of(const std::string& toml) const {
+    try {
+      (void)parse_experiment(toml, "exp.toml", dir_);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(ExperimentFile, ReadsTheIndenterSpecimenMaterialAndCurve) {
+  const Experiment e = parse_experiment(experiment(), "exp.toml", dir_);
+  EXPECT_EQ(e.indenter.shape, IndenterShape::sphere);
+  EXPECT_DOUBLE_EQ(e.indenter.radius, 0.005);
+  EXPECT_EQ(e.specimen.cells[2], 4);
+  EXPECT_EQ(e.kind, CurveKind::depth_force);
+  ASSERT_EQ(e.x.size(), 3U);
+  EXPECT_DOUBLE_EQ(e.y[2], 0.05);
+  ASSERT_NE(e.find("young_modulus"), nullptr);
+  EXPECT_TRUE(e.find("young_modulus")->free);
+  EXPECT_FALSE(e.find("young_modulus")->value.has_value());  // the analytic guess fills it
+  EXPECT_DOUBLE_EQ(*e.find("poisson_ratio")->value, 0.45);
+  EXPECT_FALSE(e.find("poisson_ratio")->free);
+}
+
+TEST_F(ExperimentFile, MooneyRivlinAndPronyParameters) {
+  write("relax.csv", "time,force\n0,0\n0.1,1\n0.5,0.8\n2,0.6\n");
+  const Experiment e = parse_experiment(
+      experiment("model = \"mooney_rivlin\"\nc10 = 1000\nc01 = 200\nkappa = 1e5\n"
+                 "viscoelastic = { model = \"prony\", terms = [{ g = 0.3, tau = 0.5 }] }\n",
+                 "file = \"relax.csv\"\ndepth = 0.001\nramp_time = 0.1\n", "c10"),
+      "exp.toml", dir_);
+  std::vector<std::string> names;
+  for (const auto& p : e.parameters) names.push_back(p.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"c10", "c01", "kappa", "g1", "tau1"}));
+  EXPECT_EQ(e.kind, CurveKind::time_force);
+  EXPECT_DOUBLE_EQ(e.hold.value, 0.001);
+  const physics::FemMaterial m = make_material(e, {1000, 200, 1e5, 0.3, 0.5});
+  EXPECT_DOUBLE_EQ(*m.c10, 1000);
+  EXPECT_NEAR(m.shear_modulus(), 2 * 1200, 1e-6);  // μ = 2 (C10 + C01) through E and ν
+  ASSERT_EQ(m.prony.size(), 1U);
+  EXPECT_DOUBLE_EQ(m.prony[0].tau, 0.5);
+}
+
+TEST_F(ExperimentFile, MisspeltKeyIsLocatedWithASuggestion) {
+  const std::string err = error_of(experiment("model = \"corotational\"\npoison_ratio = 0.45\n"));
+  EXPECT_NE(err.find("exp.toml:"), std::string::npos) << err;
+  EXPECT_NE(err.find("did you mean 'poisson_ratio'"), std::string::npos) << err;
+}
+
+TEST_F(ExperimentFile, KeyOfAnotherLawIsRefused) {
+  const std::string err = error_of(experiment("model = \"corotational\"\nc10 = 100\n"));
+  EXPECT_NE(err.find("'c10' does not belong"), std::string::npos) << err;
+}
+
+TEST_F(ExperimentFile, WrongColumnIsNamedWithItsLine) {
+  write("bad.csv", "depth,pressure\n0.1,1\n");
+  const std::string err = error_of(experiment("model = \"linear\"\n", "file = \"bad.csv\"\n"));
+  EXPECT_NE(err.find("bad.csv:1"), std::string::npos) << err;
+  EXPECT_NE(err.find("depth,force"), std::string::npos) << err;
+}
+
+TEST_F(ExperimentFile, MissingColumnIsNamedWithItsLine) {
+  write("bad.csv", "depth,force\n0.1,1\n0.2\n");
+  const std::string err = error_of(experiment("model = \"linear\"\n", "file = \"bad.csv\"\n"));
+  EXPECT_NE(err.find("bad.csv:3"), std::string::npos) << err;
+  EXPECT_NE(err.find("two comma-separated columns"), std::string::npos) << err;
+}
+
+TEST_F(ExperimentFile, DepthThatDoesNotIncreaseIsNamedWithItsLine) {
+  write("bad.csv", "depth,force\n0.1,1\n0.3,2\n0.2,3\n");
+  const std::string err = error_of(experiment("model = \"linear\"\n", "file = \"bad.csv\"\n"));
+  EXPECT_NE(err.find("bad.csv:4"), std::string::npos) << err;
+  EXPECT_NE(err.find("does not increase"), std::string::npos) << err;
+}
+
+TEST_F(ExperimentFile, NanIsNamedWithItsLine) {
+  write("bad.csv", "depth,force\n0.1,1\n0.2,nan\n0.3,3\n");
+  const std::string err = error_of(experiment("model = \"linear\"\n", "file = \"bad.csv\"\n"));
+  EXPECT_NE(err.find("bad.csv:3"), std::string::npos) << err;
+  EXPECT_NE(err.find("NaN"), std::string::npos) << err;
+}
+
+TEST_F(ExperimentFile, UnreadableDataFileIsNamed) {
+  const std::string err = error_of(experiment("model = \"linear\"\n", "file = \"absent.csv\"\n"));
+  EXPECT_NE(err.find("absent.csv"), std::string::npos) << err;
+}
+
+TEST_F(ExperimentFile, RelaxationNeedsItsHoldAndPronyTerms) {
+  write("relax.csv", "time,force\n0,0\n0.1,1\n0.5,0.8\n");
+  EXPECT_NE(error_of(experiment("model = \"linear\"\n", "file = \"relax.csv\"\n")).find("missing"), std::string::npos);
+  EXPECT_NE(error_of(experiment("model = \"linear\"\n", "file = \"relax.csv\"\ndepth = 0.001\nramp_time = 0.1\n"))
+                .find("needs [material.viscoelastic]"),
+            std::string::npos);
+}
+
+TEST_F(ExperimentFile, FreeParameterMustBelongToTheLaw) {
+  std::string toml = experiment();
+  toml.replace(toml.find("[\"young_modulus\"]"), 17, "[\"mu\"]");
+  const std::string err = error_of(toml);
+  EXPECT_NE(err.find("'mu' is not one of"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace tactus::fitting
