@@ -64,6 +64,10 @@ int main(int argc, char** argv) {
 
     // Dynamics: the load is applied at once, the beam swings and its damping settles it.
     const int steps = argc > 1 ? std::atoi(argv[1]) : 50;
+    if (steps < 1) {
+      std::fprintf(stderr, "usage: offline_body [steps >= 1]\n");
+      return 1;
+    }
     const double dt = 0.01;  // [s]
     for (int i = 1; i <= steps; ++i) {
       physics::step(body, state, dt, loads);

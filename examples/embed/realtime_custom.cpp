@@ -76,9 +76,14 @@ int main(int argc, char** argv) {
     // Any scene works the same way: scene::load_scene("my.toml") or parse_scene(text, name).
     const scene::Model model = scene::default_scene();
 
+    const double seconds = argc > 1 ? std::atof(argv[1]) : 1.5;
+    if (!(seconds > 0.0 && seconds <= 60.0)) {
+      std::fprintf(stderr, "usage: realtime_custom [seconds in (0, 60]]\n");
+      return 1;
+    }
     runtime::SessionOptions options;
     options.scheduling = runtime::Scheduling::real_time;  // a thread per loop, wall clock
-    options.duration = argc > 1 ? std::atof(argv[1]) : 1.5;  // [s]
+    options.duration = seconds;
     // Our device replaces the scene's device 0 (returning null keeps the scene's).
     options.device_override = [](const scene::Model& m, std::size_t index) -> std::unique_ptr<haptics::Device> {
       if (index != 0) return nullptr;
