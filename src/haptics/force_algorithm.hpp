@@ -64,7 +64,9 @@ struct Rendering {
   double law_force = 0.0;       ///< normal force of the contact law [N]
   double contact_radius = 0.0;  ///< of the contact disc a load may be spread over [m]
   contact::PatchContact on_patch;  ///< patch algorithms: the contact the patch is dented by
-  /// When the model rendered was published (loop time) [s]: the watchdog's measure.
+  /// When the model rendered was published (loop time) [s]: the watchdog's measure. An
+  /// algorithm that renders nothing the simulation publishes (a fixed virtual wall) gives
+  /// the frame's time.
   double surface_time = 0.0;
   /// Unit axis the interaction loop casts its ray along next (needle, multi-surface); zero otherwise.
   Vec3 tool_axis = Vec3::Zero();

@@ -22,6 +22,7 @@ Loops build_loops(const scene::Model& m, const SessionOptions& o) {
   loops.touchables = o.touchables ? *o.touchables : compile::load_touchables(m);
   for (std::size_t i = 0; i < m.devices.size(); ++i) {
     compile::DeviceSetup setup = compile::setup_device(m, i, cspaces, &loops.touchables);
+    if (o.customize_haptics) o.customize_haptics(m, i, setup.model);
     std::unique_ptr<haptics::Device> device;
     if (const auto it = o.replay.find(m.devices[i].name); it != o.replay.end())
       device = std::make_unique<haptics::ReplayDevice>(it->second.poses, compile::device_limits(m.devices[i]), it->second.source);

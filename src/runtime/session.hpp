@@ -28,6 +28,10 @@
 #include "runtime/recording.hpp"
 #include "scene/model.hpp"
 
+namespace tactus::haptics {
+struct HapticModel;
+}
+
 namespace tactus::runtime {
 
 enum class Scheduling { real_time, lockstep };
@@ -89,6 +93,12 @@ struct SessionOptions {
   const compile::Touchables* touchables = nullptr;
   /// Replaces the device of scene entry `index` (the viewer's mouse) when it returns one.
   std::function<std::unique_ptr<haptics::Device>(const scene::Model&, std::size_t index)> device_override;
+  /// Edits what scene device `index` renders, as compiled from the scene, before its haptic
+  /// loop is built: a program embedding the engine appends its own force algorithms here
+  /// (haptics/force_algorithm.hpp; at most one contact-stage algorithm per device, the
+  /// scene's included) or changes the smoothing and safety settings. Called once per device,
+  /// on the thread that starts the run (docs/api.md).
+  std::function<void(const scene::Model&, std::size_t index, haptics::HapticModel& model)> customize_haptics;
 };
 
 struct DeviceReport {

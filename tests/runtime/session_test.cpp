@@ -13,6 +13,8 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "haptics/force_algorithm.hpp"
+#include "haptics/haptic_step.hpp"
 #include "runtime/recording_reader.hpp"
 #include "runtime/session.hpp"
 #include "scene/scene.hpp"
@@ -276,6 +278,69 @@ TEST(Session, TheDefaultSceneRunsWithAMultiSurfaceAlgorithm) {
   ASSERT_EQ(r.devices.size(), 1u);
   EXPECT_EQ(r.devices.front().safety.non_finite, 0u);
   EXPECT_GT(r.events.count("contact_begin"), 0u);  // the press reaches the block in 0.2 s
+}
+
+// A force law written outside the engine: a spring pushing the tool up out of the plane z = 0.
+class SpringWall final : public haptics::ForceAlgorithm {
+ public:
+  explicit SpringWall(double stiffness) : stiffness_(stiffness) {}
+  [[nodiscard]] std::unique_ptr<haptics::AlgorithmState> make_state() const override {
+    return std::make_unique<haptics::AlgorithmState>();
+  }
+  [[nodiscard]] haptics::Rendering render(const haptics::FrameInputs& frame, haptics::AlgorithmState&) const override {
+    haptics::Rendering r;
+    r.surface_time = frame.t;  // the wall is no simulated surface: never stale for the watchdog
+    r.touching = frame.position.z() < 0.0;
+    if (r.touching) r.force = Vec3(0.0, 0.0, -stiffness_ * frame.position.z());
+    return r;
+  }
+
+ private:
+  double stiffness_;
+};
+
+TEST(Session, CustomizeHapticsAddsAForceAlgorithmTheSceneLacks) {
+  // A device with no tool feels nothing from the scene; the hook gives it the wall.
+  const scene::Model m = scene::parse_scene(R"(
+[bodies.block]
+kind = "rigid"
+mesh = { generator = "box", size = [0.02, 0.02, 0.02], translate = [0, 0, -0.5] }
+[devices.hand]
+type = "scripted"
+[devices.hand.trajectory]
+type = "waypoints"
+points = [ { time = 0.0, position = [0, 0, 0.01] }, { time = 0.5, position = [0, 0, -0.01] } ]
+)",
+                                            "wall.toml");
+  SessionOptions o = lockstep(0.5);
+  std::vector<std::size_t> customized;
+  o.customize_haptics = [&](const scene::Model&, std::size_t index, haptics::HapticModel& model) {
+    customized.push_back(index);
+    EXPECT_EQ(model.contact(), nullptr);  // the scene gave it no algorithm
+    model.algorithms.push_back(std::make_shared<SpringWall>(300.0));
+  };
+  const SessionReport r = run_session(m, o);
+  EXPECT_EQ(customized, std::vector<std::size_t>{0});
+  // Past the 5 ms ramp in, every frame sends the spring's force at the pose it read.
+  std::size_t checked = 0;
+  for (const HapticFrame& f : r.frames) {
+    if (f.flags & frame_ramping) continue;
+    const double expected = f.position.z() < 0.0 ? -300.0 * f.position.z() : 0.0;
+    ASSERT_NEAR(f.force.z(), expected, 1e-12) << "t = " << f.t;
+    EXPECT_EQ(f.contact, f.position.z() < 0.0 ? 1 : 0);
+    checked += f.contact;
+  }
+  EXPECT_GT(checked, 200u);
+  // 10 mm below the wall at the end: 3 N.
+  EXPECT_NEAR(r.devices[0].max_force_sent, 3.0, 0.01);
+}
+
+TEST(Session, CustomizeHapticsCannotGiveADeviceTwoContactAlgorithms) {
+  SessionOptions o = lockstep(0.1);
+  o.customize_haptics = [](const scene::Model&, std::size_t, haptics::HapticModel& model) {
+    model.algorithms.push_back(std::make_shared<SpringWall>(300.0));  // beside the scene's proxy
+  };
+  EXPECT_THROW(run_session(scene::default_scene(), o), std::invalid_argument);
 }
 
 TEST(Session, ReplayOfADeviceTheSceneLacksIsAnError) {

@@ -18,7 +18,7 @@
 namespace tactus::mesh::io {
 
 /// A token made safe to quote in a message: at most 32 characters, non-printable
-/// bytes as \xNN.
+/// bytes as `\xNN`.
 std::string quote(std::string_view token);
 
 /// Reads a whole file; throws InputError naming the file if it cannot be opened.
@@ -26,7 +26,7 @@ std::string read_file(const std::filesystem::path& path);
 /// Writes a whole file; throws InputError if it cannot be written.
 void write_file(const std::filesystem::path& path, std::string_view data);
 
-/// Text split into lines; line numbers are 1-based. A trailing '\r' is dropped.
+/// Text split into lines; line numbers are 1-based. A trailing carriage return is dropped.
 class LineReader {
  public:
   LineReader(std::string_view data, std::string file) : data_(data), file_(std::move(file)) {}

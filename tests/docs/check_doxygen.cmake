@@ -1,0 +1,22 @@
+# Script mode: runs docs/Doxyfile into a scratch folder and fails on any warning.
+if(NOT DOXYGEN)
+  message(FATAL_ERROR "doxygen was not found: install the Debian package doxygen (scripts/setup does)")
+endif()
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+# The project's configuration with the output moved here (a later setting overrides an earlier).
+file(READ ${SOURCE_DIR}/docs/Doxyfile config)
+string(APPEND config "\nOUTPUT_DIRECTORY = ${WORK_DIR}\nWARN_LOGFILE = ${WORK_DIR}/warnings.log\n")
+file(WRITE ${WORK_DIR}/Doxyfile "${config}")
+execute_process(COMMAND ${DOXYGEN} ${WORK_DIR}/Doxyfile WORKING_DIRECTORY ${SOURCE_DIR}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "doxygen failed (${rc}):\n${out}\n${err}")
+endif()
+file(READ ${WORK_DIR}/warnings.log warnings)
+if(NOT warnings STREQUAL "" OR NOT err STREQUAL "")
+  message(FATAL_ERROR "doxygen warned:\n${warnings}${err}")
+endif()
+if(NOT EXISTS ${WORK_DIR}/html/index.html)
+  message(FATAL_ERROR "doxygen wrote no html/index.html")
+endif()
