@@ -1,9 +1,11 @@
-# Warnings and sanitizers shared by every Tactus target (through tactus_options).
+# Warnings and sanitizers shared by every Tactus target (through tactus_options). The warnings
+# hold inside this build only: a program that links the installed package gets C++20 and the
+# sanitizers its libraries need, not our -Werror.
 add_library(tactus_options INTERFACE)
 target_compile_features(tactus_options INTERFACE cxx_std_20)
 target_compile_options(tactus_options INTERFACE
-  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor>
-  $<$<AND:$<CXX_COMPILER_ID:GNU,Clang>,$<BOOL:${TACTUS_WERROR}>>:-Werror>)
+  $<BUILD_INTERFACE:$<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor>>
+  $<BUILD_INTERFACE:$<$<AND:$<CXX_COMPILER_ID:GNU,Clang>,$<BOOL:${TACTUS_WERROR}>>:-Werror>>)
 
 if(TACTUS_SANITIZE STREQUAL "address")
   set(_san -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
