@@ -138,6 +138,31 @@ class Pool {
   void* context_ = nullptr;
 };
 
+}  // namespace
+
+void Team::sync() {
+  if (members_ <= 1) return;
+  const std::uint32_t round = round_.load(std::memory_order_acquire);
+  if (arrived_.fetch_add(1, std::memory_order_acq_rel) + 1 == members_) {
+    // The last to arrive opens the next round; the release publishes every member's writes.
+    arrived_.store(0, std::memory_order_relaxed);
+    round_.fetch_add(1, std::memory_order_acq_rel);
+    round_.notify_all();
+    return;
+  }
+  // A phase between two syncs lasts tens of microseconds: spin about that long (a wake-up
+  // from a futex costs as much), then block.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::microseconds(50);
+  for (int i = 0;; ++i) {
+    if (round_.load(std::memory_order_acquire) != round) return;
+    pause();
+    if ((i & 63) == 63 && std::chrono::steady_clock::now() > deadline) break;
+  }
+  while (round_.load(std::memory_order_acquire) == round) round_.wait(round, std::memory_order_acquire);
+}
+
+namespace {
+
 unsigned default_threads(unsigned limit) {
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
   return limit == 0 ? hardware : std::min(limit, hardware);
@@ -170,6 +195,30 @@ unsigned thread_count() { return global().pool->threads(); }
 void set_spin_wait(std::chrono::microseconds wait) { g_spin_us.store(static_cast<long>(wait.count())); }
 
 namespace detail {
+
+void run_team(unsigned wanted, MemberFn fn, void* context) {
+  Global& g = global();
+  if (!t_inside_chunk && wanted > 1 && g.pool->threads() > 1) {
+    std::unique_lock lock(g.dispatch, std::try_to_lock);
+    if (lock.owns_lock()) {
+      const unsigned members = std::min(g.pool->threads(), wanted);
+      Team team(members);
+      struct Call {
+        MemberFn fn;
+        void* context;
+        Team* team;
+      } call{fn, context, &team};
+      // One chunk per member over [0, members): chunk i is member i.
+      g.pool->run(0, members, members, [](void* c, std::size_t member, std::size_t) {
+        const auto* job = static_cast<Call*>(c);
+        job->fn(job->context, static_cast<unsigned>(member), *job->team);
+      }, &call);
+      return;
+    }
+  }
+  Team alone(1);
+  fn(context, 0, alone);
+}
 
 void run_parallel(std::size_t begin, std::size_t end, std::size_t min_chunk, ChunkFn fn, void* context) {
   if (end <= begin) return;

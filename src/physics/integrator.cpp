@@ -12,6 +12,7 @@
 #include <string>
 #include <utility>
 
+#include "physics/block_cg.hpp"
 #include "physics/body.hpp"
 
 namespace tactus::physics {
@@ -72,10 +73,7 @@ struct SolverScratch {
   VecX force, rhs, delta, residual, z, p, Ap, diag, x_trial, v_trial;
   /// The last three velocity changes of implicit steps (newest first), CG's starting guess.
   VecX warm, warm_previous, warm_older;
-  /// Assembled systems: the transformed residual, the sweeps' results and L t (solve_assembled),
-  /// the node blocks and their inverses (fixed dofs zeroed).
-  VecX rhat, t, u, lower;
-  std::vector<Mat3> diagonal, blocks;
+  BlockCgScratch block_cg;  ///< assembled systems (solve_block_cg)
   int warm_count = 0;  ///< how many of warm, warm_previous, warm_older hold one
   std::vector<Triplet> triplets;
   SparseMatrix matrix;
@@ -136,174 +134,6 @@ void total_force(const Body& body, const VecX& x, const VecX& v, const VecX& q, 
   f.resize(x.size());  // no-op (no allocation) once sized
   body.model->forces(x, v, q, f, *s.model_scratch);
   add_loads(body, f_ext, f);
-}
-
-/// Inverts a symmetric positive definite 3x3 block; returns false if B is not one.
-bool invert_spd(const Mat3& B, Mat3& inverse) {
-  // Leading minors (Sylvester), then the adjugate over the determinant.
-  const double m2 = B(0, 0) * B(1, 1) - B(0, 1) * B(1, 0);
-  Mat3 adj;
-  adj(0, 0) = B(1, 1) * B(2, 2) - B(1, 2) * B(2, 1);
-  adj(0, 1) = B(0, 2) * B(2, 1) - B(0, 1) * B(2, 2);
-  adj(0, 2) = B(0, 1) * B(1, 2) - B(0, 2) * B(1, 1);
-  adj(1, 0) = B(1, 2) * B(2, 0) - B(1, 0) * B(2, 2);
-  adj(1, 1) = B(0, 0) * B(2, 2) - B(0, 2) * B(2, 0);
-  adj(1, 2) = B(0, 2) * B(1, 0) - B(0, 0) * B(1, 2);
-  adj(2, 0) = B(1, 0) * B(2, 1) - B(1, 1) * B(2, 0);
-  adj(2, 1) = B(0, 1) * B(2, 0) - B(0, 0) * B(2, 1);
-  adj(2, 2) = m2;
-  const double det = B(0, 0) * adj(0, 0) + B(0, 1) * adj(1, 0) + B(0, 2) * adj(2, 0);
-  if (!(B(0, 0) > 0.0 && m2 > 0.0 && det > 0.0)) return false;
-  inverse = adj / det;
-  return true;
-}
-
-/// out += B in (Sign 1) or out -= B in (Sign -1), B or B^T (Transposed) a 3x3 block of a
-/// BlockMatrix: plain scalar code, inlined in the loops below.
-template <bool Transposed, int Sign>
-inline void add_product(const Mat3& B, const double* in, double* out) {
-  const double* b = B.data();  // column-major
-  for (int i = 0; i < 3; ++i) {
-    const double sum = Transposed ? b[3 * i] * in[0] + b[3 * i + 1] * in[1] + b[3 * i + 2] * in[2]
-                                  : b[i] * in[0] + b[i + 3] * in[1] + b[i + 6] * in[2];
-    out[i] += Sign * sum;
-  }
-}
-
-/// Conjugate gradients on an assembled system A over the free dofs, warm started from x and
-/// preconditioned by symmetric block Gauss-Seidel: M = W D^-1 W^T with W = D + L, D the node
-/// blocks and L the blocks below them. On soft, nearly incompressible tissue it takes about
-/// half the iterations of Jacobi. Eisenstat's trick (1981) saves the product with A: CG on
-/// W^-1 A W^-T (which is W^-T + W^-1 (I - D W^-T)) preconditioned by D^-1 has the same
-/// iterates, at the cost of one backward and one forward sweep. The residual of A that
-/// decides convergence is kept alongside, as plain CG keeps it. Fixed dofs are decoupled
-/// through D and D^-1 (zero rows and columns there), so A itself stays as assembled. Returns
-/// the number of iterations, or -1 where a node block is not positive definite.
-int solve_assembled(const Body& body, SolverScratch& w, const BlockMatrix& A, const VecX& rhs, VecX& x) {
-  const auto nodes = static_cast<Eigen::Index>(A.diagonal.size());
-  const double* mask = w.free_mask.data();
-  w.blocks.resize(A.diagonal.size());
-  w.diagonal.resize(A.diagonal.size());
-  for (Eigen::Index i = 0; i < nodes; ++i) {
-    Mat3 D = A.diagonal[static_cast<std::size_t>(i)];
-    for (Eigen::Index k = 0; k < 3; ++k)
-      if (mask[3 * i + k] == 0.0) {
-        D.row(k).setZero();
-        D.col(k).setZero();
-        D(k, k) = 1.0;
-      }
-    Mat3& inverse = w.blocks[static_cast<std::size_t>(i)];
-    if (!invert_spd(D, inverse)) return -1;
-    for (Eigen::Index k = 0; k < 3; ++k)
-      if (mask[3 * i + k] == 0.0) D(k, k) = inverse(k, k) = 0.0;  // the rest of row and column k is zero
-    w.diagonal[static_cast<std::size_t>(i)] = D;
-  }
-  auto row = [&](Eigen::Index i) {
-    return std::pair{A.row_start[static_cast<std::size_t>(i)], A.row_start[static_cast<std::size_t>(i) + 1]};
-  };
-  auto column = [&](std::int32_t k) { return 3 * Eigen::Index{A.column[static_cast<std::size_t>(k)]}; };
-  auto block = [&](std::int32_t k) -> const Mat3& { return A.upper[static_cast<std::size_t>(k)]; };
-
-  // Initial residual r = rhs - A x on the free dofs (x is zero on the fixed ones): row i takes
-  // its upper blocks' products and hands the transposed ones to the later rows.
-  x.array() *= w.free_mask.array();
-  w.residual = rhs.cwiseProduct(w.free_mask);
-  const double rhs_norm = w.residual.norm();
-  if (rhs_norm == 0.0) {
-    x.setZero();
-    return 0;
-  }
-  for (Eigen::Index i = 0; i < nodes; ++i) {
-    double* ri = w.residual.data() + 3 * i;
-    const double* xi = x.data() + 3 * i;
-    add_product<false, -1>(A.diagonal[static_cast<std::size_t>(i)], xi, ri);
-    const auto [begin, end] = row(i);
-    for (auto k = begin; k < end; ++k) {
-      add_product<false, -1>(block(k), x.data() + column(k), ri);
-      add_product<true, -1>(block(k), xi, w.residual.data() + column(k));
-    }
-  }
-  w.residual.array() *= w.free_mask.array();
-  double rr = w.residual.squaredNorm();
-  const double target = body.settings.cg_tolerance * rhs_norm;
-
-  // The transformed residual W^-1 r (forward sweep: row i solves its block, then takes the
-  // transposed upper blocks' share out of the later rows), z = D r^, p^ = z.
-  w.rhat = w.residual;
-  for (Eigen::Index i = 0; i < nodes; ++i) {
-    double* ri = w.rhat.data() + 3 * i;
-    const double s[3] = {ri[0], ri[1], ri[2]};
-    ri[0] = ri[1] = ri[2] = 0.0;
-    add_product<false, 1>(w.blocks[static_cast<std::size_t>(i)], s, ri);
-    const auto [begin, end] = row(i);
-    for (auto k = begin; k < end; ++k) add_product<true, -1>(block(k), ri, w.rhat.data() + column(k));
-  }
-  double rz = 0.0;
-  for (Eigen::Index i = 0; i < nodes; ++i) {
-    double* zi = w.z.data() + 3 * i;
-    zi[0] = zi[1] = zi[2] = 0.0;
-    add_product<false, 1>(w.diagonal[static_cast<std::size_t>(i)], w.rhat.data() + 3 * i, zi);
-    for (int d = 0; d < 3; ++d) rz += w.rhat[3 * i + d] * zi[d];
-  }
-  w.p = w.z;
-
-  double* t = w.t.data();
-  double* u = w.u.data();          // W^-1 (p^ - D t), then B p^ = t + u
-  double* lower = w.lower.data();  // L t
-  int it = 0;
-  for (; it < body.settings.cg_max_iterations && std::sqrt(rr) > target; ++it) {
-    // Backward sweep, W^T t = p^: row i gathers its upper blocks' products with the later t.
-    for (Eigen::Index i = nodes - 1; i >= 0; --i) {
-      double s[3] = {w.p[3 * i], w.p[3 * i + 1], w.p[3 * i + 2]};
-      const auto [begin, end] = row(i);
-      for (auto k = begin; k < end; ++k) add_product<false, -1>(block(k), t + column(k), s);
-      double* ti = t + 3 * i;
-      ti[0] = ti[1] = ti[2] = 0.0;
-      add_product<false, 1>(w.blocks[static_cast<std::size_t>(i)], s, ti);
-    }
-    // Forward sweep, W u = p^ - D t, and L t with the same blocks; B p^ = t + u.
-    std::fill(u, u + x.size(), 0.0);
-    std::fill(lower, lower + x.size(), 0.0);
-    double pBp = 0.0;
-    for (Eigen::Index i = 0; i < nodes; ++i) {
-      double* ui = u + 3 * i;
-      const double* ti = t + 3 * i;
-      double s[3] = {w.p[3 * i] + ui[0], w.p[3 * i + 1] + ui[1], w.p[3 * i + 2] + ui[2]};
-      add_product<false, -1>(w.diagonal[static_cast<std::size_t>(i)], ti, s);
-      ui[0] = ui[1] = ui[2] = 0.0;
-      add_product<false, 1>(w.blocks[static_cast<std::size_t>(i)], s, ui);
-      const auto [begin, end] = row(i);
-      for (auto k = begin; k < end; ++k) {
-        add_product<true, -1>(block(k), ui, u + column(k));
-        add_product<true, 1>(block(k), ti, lower + column(k));
-      }
-      for (int d = 0; d < 3; ++d) {
-        ui[d] += ti[d];
-        pBp += w.p[3 * i + d] * ui[d];
-      }
-    }
-    if (!(pBp > 0.0)) break;  // not positive definite along p: keep the best so far
-    const double alpha = rz / pBp;
-    // x += alpha W^-T p^ = alpha t; A t = W B p^ = p^ + L t, so r -= alpha (p^ + L t).
-    rr = 0.0;
-    double rz_next = 0.0;
-    for (Eigen::Index i = 0; i < nodes; ++i) {
-      for (Eigen::Index d = 3 * i; d < 3 * i + 3; ++d) {
-        x[d] += alpha * t[d];
-        w.residual[d] -= alpha * (w.p[d] + lower[d]) * mask[d];
-        rr += w.residual[d] * w.residual[d];
-        w.rhat[d] -= alpha * u[d];
-      }
-      double* zi = w.z.data() + 3 * i;
-      zi[0] = zi[1] = zi[2] = 0.0;
-      add_product<false, 1>(w.diagonal[static_cast<std::size_t>(i)], w.rhat.data() + 3 * i, zi);
-      for (int d = 0; d < 3; ++d) rz_next += w.rhat[3 * i + d] * zi[d];
-    }
-    const double beta = rz_next / rz;
-    for (Eigen::Index d = 0; d < x.size(); ++d) w.p[d] = w.z[d] + beta * w.p[d];
-    rz = rz_next;
-  }
-  return it;
 }
 
 /// Debian's CHOLMOD is built with OpenMP: each factorization runs its bookkeeping loops
@@ -407,7 +237,8 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
   }
   if (assembled) {
     const ProfileScope timed(s, &StepProfile::solve);
-    const int it = solve_assembled(body, w, *assembled, rhs, x);
+    const int it = solve_block_cg(*assembled, w.free_mask, body.settings.cg_tolerance, body.settings.cg_max_iterations,
+                                  rhs, x, w.block_cg);
     if (it >= 0) return it;
   }
   w.matrix_free = true;
@@ -466,7 +297,7 @@ void prepare(const Body& body, BodyState& s) {
       if (body.fixed_dofs[i]) w.free_mask[static_cast<Eigen::Index>(i)] = 0.0;
     // Sized once so that stepping allocates nothing.
     for (VecX* v : {&w.warm, &w.warm_previous, &w.warm_older, &w.force, &w.rhs, &w.delta, &w.residual, &w.z,
-                    &w.p, &w.Ap, &w.diag, &w.x_trial, &w.v_trial, &w.rhat, &w.t, &w.u, &w.lower})
+                    &w.p, &w.Ap, &w.diag, &w.x_trial, &w.v_trial})
       *v = VecX::Zero(n);
   }
 }

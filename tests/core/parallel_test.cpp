@@ -130,5 +130,43 @@ TEST(ParallelFor, ManyShortJobsInARow) {
   set_spin_wait(std::chrono::microseconds(0));
 }
 
+TEST(RunTeam, MembersRunTogetherAndSyncRoundByRound) {
+  ThreadLimit limit(2);
+  std::vector<int> slot(4, -1);
+  std::atomic<unsigned> calls{0}, members_seen{0};
+  std::atomic<int> mismatches{0};
+  run_team(4, [&](unsigned member, Team& team) {
+    ++calls;
+    members_seen = team.members();
+    for (int round = 0; round < 500; ++round) {
+      slot[member] = round;
+      team.sync();
+      for (unsigned m = 0; m < team.members(); ++m) mismatches += slot[m] != round;
+      team.sync();  // nobody writes the next round before all have read this one
+    }
+  });
+  EXPECT_EQ(members_seen.load(), 2u);  // at most the pool's threads
+  EXPECT_EQ(calls.load(), 2u);
+  EXPECT_EQ(mismatches.load(), 0);
+}
+
+TEST(RunTeam, AloneWhereNoOtherThreadIsFree) {
+  ThreadLimit limit(2);
+  unsigned one = 0;
+  run_team(1, [&](unsigned member, Team& team) { one = team.members() + member; });
+  EXPECT_EQ(one, 1u);
+  // Inside a parallel loop's chunk (the pool is taken) a team is its caller alone, and a
+  // sync returns at once instead of waiting for members that will never come.
+  std::vector<unsigned> nested(2, 0);
+  parallel_for(0, 2, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i)
+      run_team(2, [&](unsigned, Team& team) {
+        team.sync();
+        nested[i] = team.members();
+      });
+  });
+  EXPECT_EQ(nested, (std::vector<unsigned>{1, 1}));
+}
+
 }  // namespace
 }  // namespace tactus
