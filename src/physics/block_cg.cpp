@@ -137,8 +137,12 @@ void prepare(const BlockMatrix& A, Eigen::Index dofs, BlockCgScratch& w) {
 }  // namespace
 
 std::size_t block_cg_ranges(std::size_t nodes) {
+  // One thread sweeps the separator while the others wait, and it grows with the ranges:
+  // two ranges up to 32k nodes (on the 24^3 cube, 82,944 tets, the step took 179 ns per tet
+  // with two ranges, 191 with four and 206 with eight on two threads).
   if (nodes < 2048) return 1;
-  return std::min<std::size_t>(8, std::bit_floor(nodes / 1024));
+  if (nodes < 32768) return 2;
+  return nodes < 131072 ? 4 : 8;
 }
 
 int solve_block_cg(const BlockMatrix& A, const VecX& free_mask, double tolerance, int max_iterations, const VecX& rhs,

@@ -34,9 +34,9 @@ struct BlockCgScratch {
   std::size_t pattern_blocks = 0;
 };
 
-/// How many node ranges a system of `nodes` nodes is swept in: 1 below 2,048 nodes, then
-/// about one per 1,024 nodes, a power of two, at most 8. It depends on the system alone, not
-/// on the threads, so the result is the same bits on any number of threads.
+/// How many node ranges a system of `nodes` nodes is swept in: 1 below 2,048 nodes, 2 below
+/// 32,768, 4 below 131,072, then 8. It depends on the system alone, not on the threads, so the
+/// result is the same bits on any number of threads.
 [[nodiscard]] std::size_t block_cg_ranges(std::size_t nodes);
 
 /// Solves A x = rhs on the dofs where free_mask is 1 (x is 0 on the others) to

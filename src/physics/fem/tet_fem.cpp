@@ -657,9 +657,9 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
   BlockMatrix& K = cc.system;
   const double stiffness = c_stiffness + b_damping * material().rayleigh_stiffness;
   const double mass = a_mass + b_damping * material().rayleigh_mass;
-  for (std::size_t i = 0; i < K.diagonal.size(); ++i)
+  auto start_diagonal = [&](std::size_t i) {
     K.diagonal[i] = (mass * mass_diagonal_.segment<3>(3 * static_cast<Eigen::Index>(i))).asDiagonal();
-  std::fill(K.upper.begin(), K.upper.end(), Mat3::Zero());
+  };
   // Element block (a, b) of R K0 R^T: lambda r_a r_b^T + mu r_b r_a^T + mu (r_a . r_b) I with
   // r = sqrt(V) R g (the columns of the rotated gradients). Computed from local copies into a
   // local block, so the compiler need not reload anything after each store into the matrix.
@@ -680,10 +680,13 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
   if (thread_count() > 1 && elements_.size() >= 2 * kElementGrain) {
     // Row by row on every thread: each diagonal and upper block gathers its elements' terms
     // in element order, so the sums are the serial loop's, bit for bit.
+    // Each block is summed in a local array from zero (or the mass) and stored once.
     parallel_for(0, node_count(), [&](std::size_t begin, std::size_t end) {
       double ra[3], rb[3];
       for (std::size_t i = begin; i < end; ++i) {
-        double* d = K.diagonal[i].data();
+        start_diagonal(i);
+        double d[9];
+        std::copy(K.diagonal[i].data(), K.diagonal[i].data() + 9, d);
         for (auto k = node_start_[i]; k < node_start_[i + 1]; ++k) {
           const auto slot = static_cast<std::size_t>(node_slot_[static_cast<std::size_t>(k)]);
           const double* g = gradients(slot / 4) + 3 * (slot % 4);
@@ -691,8 +694,9 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
           const LawParams& law = law_of(elements_[slot / 4]);
           add_block(one_region ? lambda_one : stiffness * law.lambda, one_region ? mu_one : stiffness * law.mu, ra, ra, d);
         }
+        std::copy(d, d + 9, K.diagonal[i].data());
         for (auto k = block_row_start_[i]; k < block_row_start_[i + 1]; ++k) {
-          double* out = K.upper[static_cast<std::size_t>(k)].data();
+          double out[9] = {};
           for (auto t = block_pair_start_[static_cast<std::size_t>(k)]; t < block_pair_start_[static_cast<std::size_t>(k) + 1]; ++t) {
             const std::int32_t stored = block_pair_[static_cast<std::size_t>(t)];
             const auto code = static_cast<std::size_t>(stored >= 0 ? stored : -1 - stored);
@@ -714,11 +718,14 @@ const BlockMatrix* TetFem::assemble_system(double a_mass, double b_damping, doub
             else
               add_block(lambda, mu, rb, ra, out);
           }
+          std::copy(out, out + 9, K.upper[static_cast<std::size_t>(k)].data());
         }
       }
     }, kNodeGrain);
     return &K;
   }
+  for (std::size_t i = 0; i < K.diagonal.size(); ++i) start_diagonal(i);
+  std::fill(K.upper.begin(), K.upper.end(), Mat3::Zero());
   double r[4][3];
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     const TetElement& el = elements_[e];

@@ -78,8 +78,8 @@ TEST(BlockCg, RangesFollowTheSystemSizeNotTheThreads) {
   EXPECT_EQ(block_cg_ranges(100), 1u);
   EXPECT_EQ(block_cg_ranges(2047), 1u);
   EXPECT_EQ(block_cg_ranges(2145), 2u);
-  EXPECT_EQ(block_cg_ranges(4096), 4u);
-  EXPECT_EQ(block_cg_ranges(15625), 8u);
+  EXPECT_EQ(block_cg_ranges(15625), 2u);
+  EXPECT_EQ(block_cg_ranges(40000), 4u);
   EXPECT_EQ(block_cg_ranges(1000000), 8u);
 }
 
