@@ -23,6 +23,7 @@ void bind_simulation(py::module_& m);  // simulation.cpp: Simulation, stepped fr
 void bind_solve(py::module_& m);       // solve.cpp: solve() and its results
 void bind_recording(py::module_& m);   // recording.cpp: read_recording()
 void bind_cspace(py::module_& m);      // cspace.cpp: ConfigurationSpace, read and queried
+void bind_mesh(py::module_& m);        // mesh.cpp: read_mesh(), write_mesh()
 
 /// What tactus.Model holds: the scene and the text it was read from (a recording stores the
 /// text, so that it replays by itself).

@@ -4,7 +4,7 @@
 
 PYBIND11_MODULE(_tactus, m) {
   namespace tp = tactus::python;
-  m.doc() = "Tactus engine bindings: scenes, lockstep runs, frame-by-frame simulation, static solves, recordings, configuration spaces.";
+  m.doc() = "Tactus engine bindings: scenes, lockstep runs, frame-by-frame simulation, static solves, recordings, configuration spaces, meshes.";
   m.attr("__version__") = tactus::kVersion;
   tp::bind_errors(m);
   tp::bind_model(m);
@@ -13,4 +13,5 @@ PYBIND11_MODULE(_tactus, m) {
   tp::bind_solve(m);
   tp::bind_recording(m);
   tp::bind_cspace(m);
+  tp::bind_mesh(m);
 }

@@ -4,7 +4,11 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <algorithm>
+#include <atomic>
+#include <csignal>
 #include <optional>
+
+#include <fmt/format.h>
 
 #include "bindings.hpp"
 #include "core/error.hpp"
@@ -22,6 +26,39 @@ struct RunResult {
 namespace {
 
 using RunHandle = std::shared_ptr<RunResult>;
+
+std::atomic<bool> g_interrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+
+extern "C" void on_interrupt(int) { g_interrupted.store(true); }
+
+/// While a run holds no GIL, Python cannot run its own SIGINT handler. On the main thread
+/// this routes Ctrl-C to the run's interrupt flag (the run ends cleanly, its recording
+/// closed) and puts Python's handler back afterwards; interrupted() then says whether it
+/// came. Elsewhere (signals reach only the main thread's Python) it does nothing.
+class CtrlC {
+ public:
+  CtrlC() {
+    const py::module_ threading = py::module_::import("threading");
+    if (!threading.attr("current_thread")().is(threading.attr("main_thread")())) return;
+    g_interrupted.store(false);
+    struct sigaction action {};
+    action.sa_handler = on_interrupt;
+    sigemptyset(&action.sa_mask);
+    installed_ = sigaction(SIGINT, &action, &previous_) == 0;
+  }
+  ~CtrlC() {
+    if (installed_) sigaction(SIGINT, &previous_, nullptr);
+  }
+  CtrlC(const CtrlC&) = delete;
+  CtrlC& operator=(const CtrlC&) = delete;
+  [[nodiscard]] const std::atomic<bool>* flag() const { return installed_ ? &g_interrupted : nullptr; }
+  [[nodiscard]] bool interrupted() const { return installed_ && g_interrupted.load(); }
+
+ private:
+  struct sigaction previous_ {};
+  bool installed_ = false;
+};
 
 /// A view of one field of `count` consecutive frames: (count,) for a scalar, (count, cols)
 /// for a vector whose doubles are contiguous.
@@ -96,9 +133,17 @@ RunHandle run(const ModelHandle& model, double duration, double max_duration,
   o.scene_source = model->source;
   o.keep_frames = true;
   runtime::SessionReport report;
+  CtrlC ctrl_c;
+  o.interrupt = ctrl_c.flag();
   {
     py::gil_scoped_release release;
     report = runtime::run_session(*model, o);
+  }
+  if (ctrl_c.interrupted()) {
+    PyErr_SetString(PyExc_KeyboardInterrupt,
+                    fmt::format("run interrupted at t = {:.3f} s{}", report.simulated_time,
+                                record ? "; the recording is closed and readable" : "").c_str());
+    throw py::error_already_set();
   }
   return sorted_result(std::move(report), *model);
 }
@@ -150,7 +195,8 @@ void bind_run(py::module_& m) {
         "Runs the scene in lockstep (one thread, virtual time: the same forces bit for bit as\n"
         "`tactus run SCENE --lockstep`). duration [s]; 0 = until every device has finished its\n"
         "input, at most max_duration. record: a recording file to write (docs/recording-format.md).\n"
-        "The GIL is released during the run. Raises tactus.InputError for a scene the runtime\n"
+        "The GIL is released during the run; Ctrl-C (on the main thread) ends it cleanly, closes the\n"
+        "recording and raises KeyboardInterrupt. Raises tactus.InputError for a scene the runtime\n"
         "cannot run, RuntimeError when the simulation diverges.");
 }
 

@@ -5,16 +5,74 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
+#include <array>
+#include <map>
 #include <optional>
 
 #include "bindings.hpp"
+#include "haptics/force_algorithm.hpp"
+#include "haptics/haptic_step.hpp"
+#include "runtime/live_parameters.hpp"
 #include "runtime/stepped_run.hpp"
 
 namespace tactus::python {
 namespace {
 
+/// The first error a Python force algorithm raised, kept until step() raises it.
+struct CallbackError {
+  std::optional<py::error_already_set> error;
+};
+
+/// A force written in Python, as an overlay of a device's haptic loop: every frame it calls
+/// fn(t, position, velocity, contact_force, touching) and adds the 3 values it returns (force
+/// on the hand, scene coordinates [N]) to the contact's force, before the safety layer (which
+/// clamps it and stops a NaN as it stops any algorithm's). The haptic step calls render()
+/// with the GIL released (step() releases it); this takes it back for the call. A lockstep
+/// run's one thread is the only caller, so a Python call in the haptic loop is possible
+/// there and nowhere else: it is not real-time code.
+class PythonOverlay final : public haptics::ForceAlgorithm {
+ public:
+  PythonOverlay(py::function fn, std::shared_ptr<CallbackError> error) : fn_(std::move(fn)), error_(std::move(error)) {}
+  ~PythonOverlay() override {
+    py::gil_scoped_acquire gil;  // the run may be torn down where the GIL is released
+    fn_ = py::function();
+  }
+  PythonOverlay(const PythonOverlay&) = delete;
+  PythonOverlay& operator=(const PythonOverlay&) = delete;
+
+  [[nodiscard]] Stage stage() const override { return Stage::overlay; }
+  [[nodiscard]] std::unique_ptr<haptics::AlgorithmState> make_state() const override {
+    return std::make_unique<haptics::AlgorithmState>();
+  }
+  [[nodiscard]] haptics::Rendering render(const haptics::FrameInputs& f, haptics::AlgorithmState&) const override {
+    haptics::Rendering r;
+    r.surface_time = f.t;  // it renders nothing the simulation publishes
+    py::gil_scoped_acquire gil;
+    if (error_->error) return r;  // after an error, nothing more until step() raises it
+    try {
+      auto triple = [](const Vec3& v) { return py::make_tuple(v.x(), v.y(), v.z()); };
+      const py::object out = fn_(f.t, triple(f.position), triple(f.velocity), triple(f.contact_force), f.contact_touching);
+      const auto force = out.cast<std::array<double, 3>>();
+      r.force = Vec3(force[0], force[1], force[2]);
+    } catch (py::error_already_set& e) {
+      error_->error = std::move(e);
+    } catch (const py::cast_error&) {
+      PyErr_SetString(PyExc_TypeError, "a force algorithm must return 3 numbers: the force on the hand [N]");
+      error_->error = py::error_already_set();
+    }
+    return r;
+  }
+
+ private:
+  py::function fn_;
+  std::shared_ptr<CallbackError> error_;
+};
+
 struct Simulation {
   ModelHandle model;  // the run reads the model for its whole life
+  std::unique_ptr<runtime::LiveParameters> live;  // edits the run reads at its steps
+  std::shared_ptr<CallbackError> callback_error = std::make_shared<CallbackError>();
   std::unique_ptr<runtime::SteppedRun> run;
 };
 
@@ -57,7 +115,8 @@ py::array latest_field(const py::object& self, const T* (*field)(const runtime::
 }
 
 std::unique_ptr<Simulation> make(const ModelHandle& model, const std::vector<std::string>& controlled,
-                                 const std::optional<std::filesystem::path>& record, bool keep_frames) {
+                                 const std::optional<std::filesystem::path>& record, bool keep_frames,
+                                 const std::map<std::string, py::function>& force_algorithms) {
   runtime::SessionOptions o;
   o.scheduling = runtime::Scheduling::lockstep;
   o.record = record;
@@ -66,6 +125,18 @@ std::unique_ptr<Simulation> make(const ModelHandle& model, const std::vector<std
   o.keep_frames = keep_frames;
   auto sim = std::make_unique<Simulation>();
   sim->model = model;
+  sim->live = std::make_unique<runtime::LiveParameters>(*model);
+  o.live = sim->live.get();
+  const std::vector<std::string> devices = device_names(*model);
+  for (const auto& [name, fn] : force_algorithms)
+    if (std::find(devices.begin(), devices.end(), name) == devices.end())
+      throw py::key_error("force_algorithms: no device '" + name + "'");
+  std::map<std::string, std::shared_ptr<const haptics::ForceAlgorithm>> overlays;
+  for (const auto& [name, fn] : force_algorithms)
+    overlays[name] = std::make_shared<PythonOverlay>(fn, sim->callback_error);
+  o.customize_haptics = [overlays](const scene::Model& m, std::size_t device, haptics::HapticModel& haptic) {
+    if (const auto it = overlays.find(m.devices[device].name); it != overlays.end()) haptic.algorithms.push_back(it->second);
+  };
   py::gil_scoped_release release;  // building the loops compiles the bodies
   sim->run = std::make_unique<runtime::SteppedRun>(*model, std::move(o), controlled);
   return sim;
@@ -85,12 +156,37 @@ void bind_simulation(py::module_& m) {
                          "a value); they keep the Simulation alive. body_positions() returns a copy.")
       .def(py::init(&make), py::arg("model"), py::arg("controlled") = std::vector<std::string>{},
            py::arg("record") = std::nullopt, py::arg("keep_frames") = false,
-           "controlled: names of devices whose pose Python sets; record: a recording file to write;\n"
-           "keep_frames: keep every frame for the RunResult finish() returns (memory grows with the run).")
+           py::arg("force_algorithms") = std::map<std::string, py::function>{},
+           "controlled: names of devices whose pose Python sets (a device written in Python: pose it\n"
+           "before each step); record: a recording file to write; keep_frames: keep every frame for the\n"
+           "RunResult finish() returns (memory grows with the run); force_algorithms: device name ->\n"
+           "fn(t, position, velocity, contact_force, touching) returning the force (3 numbers, scene\n"
+           "coordinates [N]) added to that device's contact force every haptic frame, as an overlay of its\n"
+           "haptic loop (positions of the tool [m], velocity [m/s], the contact's force after smoothing\n"
+           "[N], all scene coordinates). An exception it raises stops step() and is raised from it.")
       .def("step", [](Simulation& s, std::uint64_t frames) {
-        py::gil_scoped_release release;
-        for (std::uint64_t i = 0; i < frames; ++i) s.run->step();
-      }, py::arg("frames") = 1, "Advances `frames` haptic periods (the GIL is released meanwhile).")
+        // In slices of 1,000 periods (about a second of scene time at 1 kHz), between which
+        // Python's pending signals run: Ctrl-C raises KeyboardInterrupt after the slice.
+        constexpr std::uint64_t kSlice = 1000;
+        for (std::uint64_t done = 0; done < frames;) {
+          const std::uint64_t slice = std::min(kSlice, frames - done);
+          {
+            py::gil_scoped_release release;
+            for (std::uint64_t i = 0; i < slice && !s.callback_error->error; ++i) s.run->step();
+          }
+          if (s.callback_error->error) {
+            // A force algorithm raised: its exception, here (the frame went on without it).
+            py::error_already_set e = std::move(*s.callback_error->error);
+            s.callback_error->error.reset();
+            throw e;
+          }
+          done += slice;
+          if (done < frames && PyErr_CheckSignals() != 0) throw py::error_already_set();
+        }
+      }, py::arg("frames") = 1,
+         "Advances `frames` haptic periods (the GIL is released meanwhile). Ctrl-C stops it after\n"
+         "the current slice of 1,000 periods with KeyboardInterrupt; the periods stepped stay and\n"
+         "the Simulation can go on.")
       .def_property_readonly("frame", [](const Simulation& s) { return s.run->frames(); },
                              "Haptic periods stepped so far; the next runs at frame / haptic rate.")
       .def_property_readonly("time", [](const Simulation& s) { return s.run->time(); },
@@ -138,6 +234,27 @@ void bind_simulation(py::module_& m) {
       }, py::arg("body"),
          "(nodes, 3) current positions of a body's simulation nodes [m] (a copy), or None for a body\n"
          "without dynamics (rigid, embedded, cspace).")
+      .def("set_material", [](Simulation& s, const py::object& body, double young_modulus,
+                              const std::optional<double>& damping, const std::optional<double>& from_time) {
+        s.live->set_material(index_of(body_names(*s.model), body, "body"), young_modulus, damping.value_or(-1.0),
+                             from_time.value_or(s.run->time()));
+      }, py::arg("body"), py::arg("young_modulus"), py::arg("damping") = std::nullopt, py::arg("from_time") = std::nullopt,
+         "Edits a deformable body's Young's modulus [Pa] and, when given, its mass-proportional\n"
+         "damping alpha [1/s], as the viewer's panel does (docs/viewer.md): the body's internal forces\n"
+         "scale by E'/E, every law being linear in its moduli at a fixed Poisson ratio. The edit applies\n"
+         "from simulated time from_time [s] (default: now), so a script edits at exact instants. Each\n"
+         "call replaces the last; give the scene's modulus back to undo. Raises InputError for a body\n"
+         "that cannot be edited (rigid, cspace, embedded) or a value out of range.")
+      .def("set_surface", [](Simulation& s, const py::object& device, double stiffness, double static_friction,
+                             double kinetic_friction, const std::optional<double>& from_time) {
+        s.live->set_surface(index_of(device_names(*s.model), device, "device"), stiffness, static_friction,
+                            kinetic_friction, from_time.value_or(s.run->time()));
+      }, py::arg("device"), py::arg("stiffness"), py::arg("static_friction") = 0.0, py::arg("kinetic_friction") = 0.0,
+         py::arg("from_time") = std::nullopt,
+         "Edits a device's contact: the coupling stiffness [N/m] of its proxy or penalty plane (at most\n"
+         "the device's max_stiffness) and the proxy's friction coefficients (kinetic <= static), from\n"
+         "simulated time from_time [s] (default: now). Raises InputError for a contact without a\n"
+         "stiffness to edit (Hertz, fingerpad, needle, multi-surface, configuration space).")
       .def("emergency_stop", [](Simulation& s) { s.run->emergency_stop(); },
            "Latches every device's emergency stop from the next step on.")
       .def_property_readonly("finished", [](const Simulation& s) { return s.run->finished(); })

@@ -1,5 +1,5 @@
 """Tactus from Python: scenes, lockstep runs, frame-by-frame simulation, static solves,
-recordings, configuration spaces.
+recordings, configuration spaces, meshes.
 
 Build the module with the project (CMake option TACTUS_BUILD_PYTHON) and put the build's
 python folder on the path:
@@ -28,10 +28,12 @@ from ._tactus import (  # noqa: F401  (re-exported)
     solve,
     read_recording,
     ConfigurationSpace,
+    read_mesh,
+    write_mesh,
 )
 
 __all__ = [
     "InputError", "Model", "Material", "Body", "FixedRegion", "Probe", "Device", "Tool",
     "Algorithm", "RunResult", "Simulation", "load_scene", "parse_scene", "default_scene", "run", "solve",
-    "read_recording", "ConfigurationSpace",
+    "read_recording", "ConfigurationSpace", "read_mesh", "write_mesh",
 ]

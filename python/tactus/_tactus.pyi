@@ -1,6 +1,6 @@
 """Type stubs of the compiled module tactus._tactus (python/src/*.cpp)."""
 from os import PathLike
-from typing import Optional, Sequence, Union
+from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -122,7 +122,10 @@ def run(model: Model, duration: float = 0.0, max_duration: float = 30.0,
 
 class Simulation:
     def __init__(self, model: Model, controlled: Sequence[str] = ..., record: Optional[_Path] = None,
-                 keep_frames: bool = False) -> None: ...
+                 keep_frames: bool = False,
+                 force_algorithms: dict[str, Callable[[float, tuple[float, float, float], tuple[float, float, float],
+                                                       tuple[float, float, float], bool], Sequence[float]]] = ...
+                 ) -> None: ...
     def step(self, frames: int = 1) -> None: ...
     frame: int
     time: float
@@ -137,6 +140,10 @@ class Simulation:
     def set_device_pose(self, device: _Index, position: Sequence[float],
                         orientation_wxyz: Optional[Sequence[float]] = None, buttons: int = 0) -> None: ...
     def body_positions(self, body: _Index) -> Optional[_F64]: ...
+    def set_material(self, body: _Index, young_modulus: float, damping: Optional[float] = None,
+                     from_time: Optional[float] = None) -> None: ...
+    def set_surface(self, device: _Index, stiffness: float, static_friction: float = 0.0,
+                    kinetic_friction: float = 0.0, from_time: Optional[float] = None) -> None: ...
     def emergency_stop(self) -> None: ...
     def finish(self) -> RunResult: ...
 
@@ -167,3 +174,11 @@ class ConfigurationSpace:
 def read_recording(path: _Path) -> dict[str, object]:
     """Header fields, complete, truncation, and 'frames', 'steps', 'events': dicts of read-only
     NumPy views, one row per record (docs/python.md, "Recordings")."""
+
+def read_mesh(path: _Path) -> dict[str, object]:
+    """format, skipped, flipped_tets, and 'surface' / 'volume': None or dicts of read-only NumPy
+    views of the mesh read (docs/python.md, "Meshes")."""
+
+def write_mesh(path: _Path, vertices: npt.ArrayLike, tets: Optional[npt.ArrayLike] = None,
+               triangles: Optional[npt.ArrayLike] = None, regions: Optional[Sequence[int]] = None,
+               binary: bool = False, msh_version: int = 41) -> None: ...
