@@ -1,15 +1,36 @@
 """The Python examples run and write what they say."""
 import os
+import re
 import subprocess
 import sys
 
 from conftest import SOURCE_DIR
 
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+def run_example(name, *args):
+    """Runs examples/python/NAME with this interpreter and returns what it printed."""
+    script = SOURCE_DIR / "examples/python" / name
+    done = subprocess.run([sys.executable, script, *args], check=True, capture_output=True, text=True,
+                          env={**os.environ, "MPLBACKEND": "Agg"})
+    return done.stdout
+
 
 def test_force_indentation_example_writes_a_png(tmp_path):
     out = tmp_path / "curve.png"
-    script = SOURCE_DIR / "examples/python/force_indentation.py"
-    done = subprocess.run([sys.executable, script, out], check=True, capture_output=True, text=True,
-                          env={**os.environ, "MPLBACKEND": "Agg"})
-    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert "peak force" in done.stdout
+    stdout = run_example("force_indentation.py", out)
+    assert out.read_bytes()[:8] == PNG
+    assert "peak force" in stdout
+
+
+def test_stiffness_sweep_force_grows_with_the_modulus(tmp_path):
+    out = tmp_path / "sweep.png"
+    stdout = run_example("stiffness_sweep.py", out)
+    assert out.read_bytes()[:8] == PNG
+    # "5 kPa: 0.6136 N, 10 kPa: 1.1996 N, ..." in the order of the sweep
+    found = [(float(e), float(f)) for e, f in re.findall(r"([\d.]+) kPa: ([-\d.]+) N", stdout)]
+    assert [e for e, _ in found] == [5.0, 10.0, 20.0, 40.0]
+    forces = [f for _, f in found]
+    assert forces[0] > 0.0
+    assert all(b > a for a, b in zip(forces, forces[1:])), forces
