@@ -4,6 +4,9 @@ import re
 import subprocess
 import sys
 
+import numpy as np
+
+import tactus
 from conftest import SOURCE_DIR
 
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -34,3 +37,17 @@ def test_stiffness_sweep_force_grows_with_the_modulus(tmp_path):
     forces = [f for _, f in found]
     assert forces[0] > 0.0
     assert all(b > a for a, b in zip(forces, forces[1:])), forces
+
+
+def test_palpation_replay_gives_the_recorded_forces_bit_for_bit(tmp_path):
+    out = tmp_path / "replay.png"
+    stdout = run_example("palpation_replay.py", out)
+    assert out.read_bytes()[:8] == PNG
+    difference = re.search(r"max difference (\S+) N", stdout)
+    assert difference and float(difference.group(1)) == 0.0, stdout
+    assert "bit for bit" in stdout and "NOT identical" not in stdout
+    # The recording it compared against has the finger pressing in most of the time.
+    frames = tactus.read_recording(out.with_suffix(".tacrec"))["frames"]
+    assert f"{len(frames['t'])} frames" in stdout
+    assert frames["contact"].sum() > len(frames["t"]) // 2
+    assert np.linalg.norm(frames["force"], axis=1).max() > 1.0
