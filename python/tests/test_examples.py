@@ -12,11 +12,11 @@ from conftest import SOURCE_DIR
 PNG = b"\x89PNG\r\n\x1a\n"
 
 
-def run_example(name, *args):
+def run_example(name, *args, env=None):
     """Runs examples/python/NAME with this interpreter and returns what it printed."""
     script = SOURCE_DIR / "examples/python" / name
     done = subprocess.run([sys.executable, script, *args], check=True, capture_output=True, text=True,
-                          env={**os.environ, "MPLBACKEND": "Agg"})
+                          env={**os.environ, "MPLBACKEND": "Agg", **(env or {})})
     return done.stdout
 
 
@@ -51,3 +51,23 @@ def test_palpation_replay_gives_the_recorded_forces_bit_for_bit(tmp_path):
     assert f"{len(frames['t'])} frames" in stdout
     assert frames["contact"].sum() > len(frames["t"]) // 2
     assert np.linalg.norm(frames["force"], axis=1).max() > 1.0
+
+
+def test_cspace_surface_queries_give_the_stored_forces_at_the_grid_points(tmp_path, tactus_binary):
+    out = tmp_path / "surface.png"
+    stdout = run_example("cspace_surface.py", out, env={"TACTUS_BINARY": str(tactus_binary)})
+    assert out.read_bytes()[:8] == PNG
+    space = tactus.ConfigurationSpace(out.with_suffix(".h5"))
+    assert space.points.shape == (196, 3) and space.solved.all()
+    # What the script printed for each interpolator ...
+    printed = dict(re.findall(r"(\w+) at the 196 grid points: max relative difference (\S+), 196 valid", stdout))
+    assert sorted(printed) == ["rbf_cubic", "trilinear"], stdout
+    assert all(float(value) <= 1e-9 for value in printed.values()), printed
+    # ... and the same queries here, on a space that presses back (z up, deeper harder).
+    stored = space.point_forces
+    for method in printed:
+        forces, valid = tactus.ConfigurationSpace(out.with_suffix(".h5"), method).force(space.points)
+        assert valid.all()
+        np.testing.assert_allclose(forces, stored, rtol=0, atol=1e-9 * np.abs(stored).max())
+    deepest = np.argmin(space.points[:, 2])
+    assert stored[deepest, 2] > 0.05
