@@ -4,12 +4,19 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <functional>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "bindings.hpp"
 #include "core/input_file.hpp"
 #include "scene/scene.hpp"
+#include "scene/scene_text.hpp"
 
 namespace tactus::python {
 namespace {
@@ -47,6 +54,94 @@ ModelHandle parse(const std::string& text, const std::string& name, bool allow_f
   py::gil_scoped_release release;  // meshing a large scene takes seconds
   auto model = std::make_shared<Model>(Model{scene::parse_scene(text, name, options), text});
   return model;
+}
+
+/// A TOML node from a Python value: bool, int, float, str, a list of them, or a dict (a table).
+toml::table table_of(const py::dict& d, const std::string& path);
+toml::array array_of(const py::handle& list, const std::string& path);
+
+template <class Insert>
+void insert_value(const py::handle& v, const std::string& path, Insert&& insert) {
+  if (py::isinstance<py::bool_>(v)) insert(v.cast<bool>());
+  else if (py::isinstance<py::int_>(v)) insert(v.cast<std::int64_t>());
+  else if (py::isinstance<py::float_>(v)) insert(v.cast<double>());
+  else if (py::isinstance<py::str>(v)) insert(v.cast<std::string>());
+  else if (py::isinstance<py::dict>(v)) insert(table_of(v.cast<py::dict>(), path));
+  else if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) insert(array_of(v, path));
+  else
+    throw py::type_error("'" + path + "': a scene value is a bool, int, float, str, list or dict, not " +
+                         std::string(py::str(v.get_type().attr("__name__"))));
+}
+
+toml::table table_of(const py::dict& d, const std::string& path) {
+  toml::table t;
+  for (const auto& [key, value] : d) {
+    const auto name = py::str(key).cast<std::string>();
+    insert_value(value, path + "." + name, [&](auto&& x) { t.insert_or_assign(name, std::forward<decltype(x)>(x)); });
+  }
+  return t;
+}
+
+toml::array array_of(const py::handle& list, const std::string& path) {
+  toml::array a;
+  std::size_t i = 0;
+  for (const auto& item : list)
+    insert_value(item, path + "[" + std::to_string(i++) + "]", [&](auto&& x) { a.push_back(std::forward<decltype(x)>(x)); });
+  return a;
+}
+
+/// The scene's text with `changes` ("table.sub.key": value) set: the tables along a path must
+/// exist; a dict value merges key by key into a table already there (as a scene's `base`
+/// does), any other value replaces or adds the key. The model is parsed again from that text.
+ModelHandle with_changes(const Model& model, const py::dict& changes) {
+  // The scene with its base chain merged in, so that every table a change names is there.
+  scene::LoadOptions options;
+  options.base_dir = std::filesystem::path(model.source).parent_path();
+  toml::table root = scene::flatten_scene(model.text, model.source, options);
+  for (const auto& [key, value] : changes) {
+    const auto path = py::str(key).cast<std::string>();
+    std::vector<std::string> parts;
+    std::stringstream ss(path);
+    for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+    if (parts.empty() || std::find(parts.begin(), parts.end(), std::string()) != parts.end())
+      throw py::key_error("'" + path + "': a change names a key as table.sub.key");
+    toml::table* table = &root;
+    for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+      // The tables along the path must be there (a misspelt name would otherwise add a table
+      // the loader then finds incomplete); a new table is a dict given to its parent.
+      if (!table->contains(parts[i])) {
+        std::string known;
+        for (auto&& [k, node] : *table) known += (known.empty() ? "" : ", ") + std::string(k.str());
+        throw py::key_error("'" + path + "': the scene has no table '" + parts[i] + "' there (it has: " + known + ")");
+      }
+      table = (*table)[parts[i]].as_table();
+      if (!table)
+        throw py::key_error("'" + path + "': '" + parts[i] + "' is not a table in the scene (an array of tables, such as a "
+                            "body's [[fixed]] regions, is changed whole: give the list of dicts)");
+    }
+    toml::table* target = table;
+    const std::string& last = parts.back();
+    if (py::isinstance<py::dict>(value) && (*target)[last].as_table()) {
+      // Merge key by key, recursively, as a scene's base does.
+      std::function<void(toml::table&, const toml::table&)> merge = [&](toml::table& into, const toml::table& over) {
+        for (auto&& [k, node] : over) {
+          toml::table* inner = into[k].as_table();
+          if (inner && node.as_table()) merge(*inner, *node.as_table());
+          else into.insert_or_assign(k, node);
+        }
+      };
+      merge(*(*target)[last].as_table(), table_of(value.cast<py::dict>(), path));
+    } else {
+      insert_value(value, path, [&](auto&& x) { target->insert_or_assign(last, std::forward<decltype(x)>(x)); });
+    }
+  }
+  std::ostringstream text;
+  text << "# " << model.source << " with changes made from Python\n" << scene::format_scene(root);
+  // Relative paths (meshes) resolve against the original file's folder.
+  const std::string source = model.source;
+  const std::string new_text = text.str();
+  py::gil_scoped_release release;
+  return std::make_shared<Model>(Model{scene::parse_scene(new_text, source + " (changed)", options), new_text});
 }
 
 ModelHandle load(const std::filesystem::path& path) {
@@ -190,6 +285,12 @@ void bind_model(py::module_& m) {
         if (!b.material) return py::none();
         return py::cast(&self.cast<const Model&>().materials.at(*b.material), py::return_value_policy::reference_internal, self);
       }, py::arg("body"), "The material of a body of this model, or None.")
+      .def("with_changes", &with_changes, py::arg("changes"),
+           "A new Model: this scene with changes made before it is compiled, as a dict of\n"
+           "'table.sub.key': value (bool, int, float, str, list, or a dict merged key by key into the\n"
+           "table there), e.g. {'materials.block.young_modulus': 40e3, 'rates.haptic': 2000}. The scene\n"
+           "text is changed and parsed again (its text() holds the result, so recordings replay it);\n"
+           "an unknown key or a bad value raises tactus.InputError naming the key path.")
       .def("summary", [](const Model& x, bool real_time) { return scene::summarize(x, real_time); },
            py::arg("real_time") = true, "The multi-line summary `tactus inspect SCENE` prints.")
       .def("__repr__", [](const Model& x) {

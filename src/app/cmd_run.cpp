@@ -28,6 +28,7 @@
 #include "runtime/recording_csv.hpp"
 #include "runtime/recording_hdf5.hpp"
 #include "runtime/recording_reader.hpp"
+#include "report/latency_plot.hpp"
 #include "report/report.hpp"
 #include "report/scenario_report.hpp"
 #include "runtime/session.hpp"
@@ -117,6 +118,7 @@ struct RunFlags {
   int online_threads = 1;
   std::string force_map;  ///< PNG of the first device's force map (run only)
   std::string trace;      ///< folder for the force-trace CSVs and plot (bench only)
+  std::string plot;       ///< PNG of the loops' latency histograms (bench only)
   bool view = false;        ///< run in a window (run only; docs/viewer.md)
   double view_seconds = 0.0;
   double frame_budget_ms = 16.0;
@@ -259,6 +261,10 @@ int run_with(const RunFlags& f, bool bench) {
   if (window) std::fputs(viewer::format_window_report(*window).c_str(), stdout);
   if (bench) std::fputs(report::format_scenario_measures(scene.model, report).c_str(), stdout);
   if (!f.trace.empty()) write_trace(f, scene.model, report);
+  if (!f.plot.empty()) {
+    report::write_latency_plot(f.plot, report.loops, o.scheduling == runtime::Scheduling::real_time);
+    std::printf("latency plot: %s\n", f.plot.c_str());
+  }
   if (o.record) log::info("recording written to {}", o.record->string());
   if (o.vtk) log::info("VTK series written to {}", o.vtk->string());
   if (!f.json.empty()) write_text(f.json, report::report_json(report));
@@ -311,6 +317,8 @@ Action add_bench(CLI::App& app) {
   auto f = std::make_shared<RunFlags>();
   add_run_flags(app, *f, true);
   app.add_option("--trace", f->trace, "Write the force magnitudes and needle ruptures as CSV (and a PNG plot) here");
+  app.add_option("--plot", f->plot,
+                 "Write the loops' latency histograms (compute time and, in real time, period per loop) as a PNG");
   // --fem: the FEM bodies' implicit step alone (offline/fem_bench.hpp).
   auto fem = std::make_shared<bool>(false);
   auto o = std::make_shared<offline::FemBenchOptions>();

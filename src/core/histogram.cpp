@@ -55,6 +55,14 @@ void LatencyHistogram::record(Nanos value) {
   sum_squares_ += static_cast<double>(value) * static_cast<double>(value);
 }
 
+std::uint64_t LatencyHistogram::count_below(Nanos value) const {
+  if (value <= 0) return 0;
+  const std::size_t end = bucket_of(static_cast<std::uint64_t>(value));
+  std::uint64_t n = 0;
+  for (std::size_t b = 0; b < end; ++b) n += buckets_[b];
+  return n;
+}
+
 double LatencyHistogram::mean() const { return count_ == 0 ? 0.0 : sum_ / static_cast<double>(count_); }
 
 double LatencyHistogram::standard_deviation() const {

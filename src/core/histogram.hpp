@@ -33,6 +33,10 @@ class LatencyHistogram {
   /// percentile(100) is max(); 0 when empty. Throws std::invalid_argument unless 0 <= p <= 100.
   [[nodiscard]] Nanos percentile(double p) const;
 
+  /// How many recorded values lie below `value`, to the resolution of the buckets: the values
+  /// in the buckets below value's own (so within 1/128 of value, exact below 128 ns).
+  [[nodiscard]] std::uint64_t count_below(Nanos value) const;
+
   /// Adds every value recorded in `other`.
   void merge(const LatencyHistogram& other);
   /// Forgets every value; keeps the storage.

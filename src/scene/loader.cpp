@@ -5,6 +5,7 @@
 
 #include "scene/loader.hpp"
 #include "scene/scene.hpp"
+#include "scene/scene_text.hpp"
 
 #include "core/input_file.hpp"
 
@@ -220,6 +221,26 @@ void apply_base(toml::table& root, const detail::Context& ctx, int depth) {
 }
 
 }  // namespace
+
+toml::table flatten_scene(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
+  detail::Context ctx;
+  ctx.file = source_name;
+  ctx.base_dir = options.base_dir.empty() ? std::filesystem::path(source_name).parent_path() : options.base_dir;
+  ctx.options = options;
+  check_nesting(toml_text, source_name);
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source_name);
+    apply_base(root, ctx, 0);
+  } catch (const toml::parse_error& e) {
+    throw InputError(detail::location(ctx, e.source()), std::string(e.description()));
+  }
+  return root;
+}
+
+std::string flatten_scene_text(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
+  return format_scene(flatten_scene(toml_text, source_name, options));
+}
 
 Model parse_scene(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
   detail::Context ctx;

@@ -554,6 +554,32 @@ TEST_F(Cli, NoduleSceneWritesForceMapAndFeedback) {
   EXPECT_NE(bad.err.find("could not write the PNG file"), std::string::npos) << bad.err;
 }
 
+// `tactus bench --plot`: the loops' latency histograms as a PNG, one panel per loop.
+TEST_F(Cli, BenchPlotsTheLoopLatencies) {
+  const fs::path png = dir_ / "latency.png";
+  const Result r = run("bench --lockstep --duration 1 --plot '" + png.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("latency plot: " + png.string()), std::string::npos) << r.out;
+  const std::string bytes = slurp(png);
+  ASSERT_GE(bytes.size(), 24u);
+  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  // IHDR: width and height, big endian. The default scene has three loops (haptic,
+  // simulation, interaction): three 170-pixel panels 44 apart under an 80-pixel header,
+  // 52 pixels of axis title below.
+  auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned>(static_cast<unsigned char>(bytes[at])) << 24) |
+           (static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 1])) << 16) |
+           (static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 2])) << 8) |
+           static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 3]));
+  };
+  EXPECT_EQ(be32(16), 760u);
+  EXPECT_EQ(be32(20), 80u + 3u * (170u + 44u) - 44u + 52u);
+
+  const Result bad = run("bench --lockstep --duration 0.2 --plot '" + (dir_ / "missing" / "p.png").string() + "'");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("could not write the PNG file"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 
 TEST_F(Cli, FitWritesTheMaterialBlockAndThePlot) {

@@ -87,6 +87,30 @@ TEST(LatencyHistogram, FewValuesAndIdenticalValues) {
   expect_percentiles_match(std::vector<Nanos>(1000, 123'456'789), "identical");
 }
 
+TEST(LatencyHistogram, CountBelowAgreesWithTheValuesToTheBucketWidth) {
+  LatencyHistogram h;
+  std::mt19937_64 rng(11);
+  std::lognormal_distribution<double> dist(std::log(50'000.0), 1.5);
+  std::vector<Nanos> values;
+  for (int i = 0; i < 20'000; ++i) values.push_back(static_cast<Nanos>(dist(rng)));
+  for (Nanos v : values) h.record(v);
+  EXPECT_EQ(h.count_below(0), 0u);
+  EXPECT_EQ(h.count_below(Nanos{1} << 41), values.size());
+  for (Nanos edge : {Nanos{100}, Nanos{5'000}, Nanos{50'000}, Nanos{1'000'000}, Nanos{30'000'000}}) {
+    // Every value below edge·(1 − 1/128) is counted, none at or above the edge.
+    const auto exact_low = static_cast<std::uint64_t>(std::count_if(
+        values.begin(), values.end(), [&](Nanos v) { return static_cast<double>(v) < edge * (1.0 - 1.0 / 128); }));
+    const auto exact_high = static_cast<std::uint64_t>(
+        std::count_if(values.begin(), values.end(), [&](Nanos v) { return v < edge; }));
+    EXPECT_GE(h.count_below(edge), exact_low) << edge;
+    EXPECT_LE(h.count_below(edge), exact_high) << edge;
+  }
+  LatencyHistogram small;
+  for (Nanos v : {3, 3, 7, 100}) small.record(v);
+  EXPECT_EQ(small.count_below(7), 2u);  // exact below 128 ns
+  EXPECT_EQ(small.count_below(8), 3u);
+}
+
 TEST(LatencyHistogram, MinMaxAndMeanAreExact) {
   LatencyHistogram h;
   std::mt19937_64 rng(7);

@@ -44,6 +44,41 @@ TEST(SceneFiles, EveryBundledSceneLoads) {
   EXPECT_GE(count, 3);
 }
 
+TEST(SceneFiles, AFlattenedScenarioIsItsBaseWithItsOwnKeys) {
+  // S2 names femoral.toml as its base: flattened, its text holds no base and parses to the
+  // same scene (the patient's bodies from the base, the name and devices its own).
+  const fs::path s2 = kScenes / "femoral_s2_palpation.toml";
+  const std::string text = read_text(s2);
+  ASSERT_NE(text.find("base = \"femoral.toml\""), std::string::npos);
+  const std::string flat = flatten_scene_text(text, s2.string());
+  EXPECT_EQ(flat.find("base ="), std::string::npos);
+  const Model original = load_scene(s2);
+  const Model again = parse_scene(flat, "flat.toml", LoadOptions{kScenes, true, 20'000'000});
+  EXPECT_EQ(again.name, original.name);
+  ASSERT_EQ(again.bodies.size(), original.bodies.size());
+  for (std::size_t i = 0; i < again.bodies.size(); ++i) {
+    EXPECT_EQ(again.bodies[i].name, original.bodies[i].name);
+    EXPECT_EQ(again.bodies[i].simulation_vertices().size(), original.bodies[i].simulation_vertices().size());
+  }
+  EXPECT_EQ(again.devices.size(), original.devices.size());
+  EXPECT_EQ(again.rates.haptic, original.rates.haptic);
+  // Other scenes keep their bodies, devices and algorithms in order too.
+  for (const char* name : {"default.toml", "nodule.toml", "fabric.toml", "room.toml", "pulse_demo.toml"}) {
+    const Model m = load_scene(kScenes / name);
+    const Model flat_m = parse_scene(flatten_scene_text(read_text(kScenes / name), (kScenes / name).string()),
+                                     "flat.toml", LoadOptions{kScenes, true, 20'000'000});
+    ASSERT_EQ(flat_m.bodies.size(), m.bodies.size()) << name;
+    for (std::size_t i = 0; i < m.bodies.size(); ++i) EXPECT_EQ(flat_m.bodies[i].name, m.bodies[i].name) << name;
+    ASSERT_EQ(flat_m.devices.size(), m.devices.size()) << name;
+    for (std::size_t i = 0; i < m.devices.size(); ++i) EXPECT_EQ(flat_m.devices[i].name, m.devices[i].name) << name;
+    ASSERT_EQ(flat_m.algorithms.size(), m.algorithms.size()) << name;
+    for (std::size_t i = 0; i < m.algorithms.size(); ++i)
+      EXPECT_EQ(flat_m.algorithms[i].name, m.algorithms[i].name) << name;
+  }
+  // A broken base is the same located error as for parse_scene.
+  EXPECT_THROW(flatten_scene_text("[scene]\nbase = \"missing.toml\"\n", "x.toml"), InputError);
+}
+
 TEST(SceneFiles, BundledSceneContents) {
   const Model liver = load_scene(kScenes / "liver.toml");
   const Body& organ = *liver.find_body("liver");
