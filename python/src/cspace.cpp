@@ -4,9 +4,16 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <thread>
 
 #include "bindings.hpp"
+#include "compile/bodies.hpp"
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+#include "precompute/builder.hpp"
+#include "precompute/configuration_solver.hpp"
 #include "precompute/interpolator.hpp"
 #include "precompute/space_file.hpp"
 
@@ -109,6 +116,52 @@ void bind_cspace(py::module_& m) {
           py::arg("point"),
           "The interpolated force (1, 3) [N], the body's nodal displacements (nodes, 3) [m] and whether the\n"
           "point had solved neighbours.");
+  m.def(
+      "build_space",
+      [](const ModelHandle& model, const std::filesystem::path& output, unsigned threads) {
+        if (!model->precompute)
+          throw InputError(SourceLocation{model->source, {}, {}, {}},
+                           "the scene has no [precompute] table (docs/scene-format.md)");
+        const precompute::SpaceSettings& settings = *model->precompute;
+        std::size_t index = 0;
+        while (model->bodies[index].name != settings.body) ++index;
+        py::dict out;
+        py::gil_scoped_release release;
+        const physics::Body body = compile::make_physics_body(*model, index);
+        precompute::Space space = precompute::make_space(body, settings, model->text);
+        precompute::BuildOptions options;
+        options.threads = threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+        // As `tactus precompute`: the solvers run side by side, each one's element loops on
+        // its own thread; the pool's size is put back afterwards.
+        const unsigned pool = thread_count();
+        set_thread_limit(1);
+        precompute::BuildStats stats;
+        try {
+          stats = precompute::build_local(
+              space, [&] { return std::make_unique<precompute::ConfigurationSolver>(body, settings); }, options);
+        } catch (...) {
+          set_thread_limit(pool);
+          throw;
+        }
+        set_thread_limit(pool);
+        precompute::write_space(output, space);
+        std::size_t solved = 0;
+        for (std::size_t p = 0; p < space.grid.size(); ++p) solved += space.solved(p);
+        py::gil_scoped_acquire gil;
+        out["points"] = space.grid.size();
+        out["solved"] = solved;
+        out["unreachable"] = stats.unreachable;
+        out["solves"] = stats.computed;
+        out["wall_seconds"] = stats.wall_seconds;
+        out["threads"] = stats.workers;
+        return out;
+      },
+      py::arg("model"), py::arg("output"), py::arg("threads") = 0,
+      "Builds the scene's configuration space ([precompute] table) on this machine's threads, as\n"
+      "`tactus precompute SCENE -o OUTPUT` without MPI, and writes it (HDF5). threads: solver threads\n"
+      "(0: every core). Returns {points, solved, unreachable, solves, wall_seconds, threads}; open the\n"
+      "file with ConfigurationSpace. The GIL is released while it builds; it is not interruptible.\n"
+      "Raises tactus.InputError for a scene without [precompute] or a file that cannot be written.");
 }
 
 }  // namespace tactus::python

@@ -28,6 +28,7 @@ from ._tactus import (  # noqa: F401  (re-exported)
     solve,
     read_recording,
     ConfigurationSpace,
+    build_space,
     read_mesh,
     write_mesh,
 )
@@ -35,5 +36,5 @@ from ._tactus import (  # noqa: F401  (re-exported)
 __all__ = [
     "InputError", "Model", "Material", "Body", "FixedRegion", "Probe", "Device", "Tool",
     "Algorithm", "RunResult", "Simulation", "load_scene", "parse_scene", "default_scene", "run", "solve",
-    "read_recording", "ConfigurationSpace", "read_mesh", "write_mesh",
+    "read_recording", "ConfigurationSpace", "build_space", "read_mesh", "write_mesh",
 ]

@@ -104,3 +104,21 @@ def test_bad_input_raises(space_file, tmp_path):
         space.force(np.zeros((4, 2)))
     with pytest.raises(ValueError):
         space.shape(np.zeros((2, 3)))
+
+
+def test_build_space_from_python_equals_the_command_line(space_file, tmp_path):
+    model = tactus.parse_scene(SCENE, str(tmp_path / "block.toml"))
+    out = tmp_path / "python_space.h5"
+    stats = tactus.build_space(model, out, threads=1)
+    assert stats["points"] == 36 and stats["solved"] == 36 and stats["threads"] == 1
+    ours, theirs = tactus.ConfigurationSpace(out), tactus.ConfigurationSpace(space_file)
+    assert np.array_equal(ours.points, theirs.points)
+    assert np.array_equal(ours.point_forces, theirs.point_forces)  # one thread: the same solves, bit for bit
+    _, u_ours, _ = ours.shape(ours.points[5])
+    _, u_theirs, _ = theirs.shape(theirs.points[5])
+    assert np.array_equal(u_ours, u_theirs)
+
+
+def test_build_space_needs_a_precompute_table(tmp_path):
+    with pytest.raises(tactus.InputError, match="no \\[precompute\\] table"):
+        tactus.build_space(tactus.default_scene(), tmp_path / "x.h5")
