@@ -234,6 +234,23 @@ void bind_simulation(py::module_& m) {
       }, py::arg("body"),
          "(nodes, 3) current positions of a body's simulation nodes [m] (a copy), or None for a body\n"
          "without dynamics (rigid, embedded, cspace).")
+      .def("surface_positions", [](const Simulation& s, const py::object& body) -> py::object {
+        const std::size_t b = index_of(body_names(*s.model), body, "body");
+        const VecX* x = s.run->positions(b);
+        if (!x || x->size() == 0) return py::none();
+        const scene::Body& sb = s.model->bodies[b];
+        // The surface's vertices are nodes of the body: through surface_to_volume for a
+        // volumetric body, one for one otherwise (surface mass-spring, cloth).
+        py::array_t<double> a({sb.surface.vertices.size(), std::size_t{3}});
+        auto w = a.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < sb.surface.vertices.size(); ++i) {
+          const auto node = static_cast<Eigen::Index>(sb.volume ? sb.surface_to_volume[i] : static_cast<mesh::Index>(i));
+          for (py::ssize_t k = 0; k < 3; ++k) w(static_cast<py::ssize_t>(i), k) = (*x)[3 * node + k];
+        }
+        return a;
+      }, py::arg("body"),
+         "(surface vertices, 3) current positions of a body's surface [m] (a copy): with the body's\n"
+         "Model triangles, its deformed surface mesh. None for a body without dynamics.")
       .def("set_material", [](Simulation& s, const py::object& body, double young_modulus,
                               const std::optional<double>& damping, const std::optional<double>& from_time) {
         s.live->set_material(index_of(body_names(*s.model), body, "body"), young_modulus, damping.value_or(-1.0),

@@ -72,6 +72,22 @@ def test_live_views_and_copies():
     assert forces[0, 2] > 0.1  # the view keeps the run alive
 
 
+def test_the_deformed_surface_follows_the_nodes():
+    model = tactus.default_scene()
+    body = model.bodies[0]
+    sim = tactus.Simulation(model)
+    np.testing.assert_array_equal(sim.surface_positions(0), body.surface_vertices)  # at rest
+    sim.step(2000)  # the finger is pressed in
+    surface, nodes = sim.surface_positions("block"), sim.body_positions("block")
+    assert surface.shape == body.surface_vertices.shape
+    # Each surface vertex is the body node at its rest place (a volumetric body's boundary).
+    rest = {tuple(p): i for i, p in enumerate(body.rest_positions)}
+    index = np.array([rest[tuple(p)] for p in body.surface_vertices])
+    np.testing.assert_array_equal(surface, nodes[index])
+    top = body.surface_vertices[:, 2].max()
+    assert (body.surface_vertices[:, 2] - surface[:, 2])[body.surface_vertices[:, 2] == top].max() > 1e-3  # dented
+
+
 def test_simulation_refuses_what_it_cannot_do():
     model = tactus.default_scene()
     with pytest.raises(tactus.InputError, match="no device 'foot'"):
