@@ -45,10 +45,14 @@ Action add_fit(CLI::App& app) {
     }
     fitting::CurvePlot p;
     const bool loading = e.kind == fitting::CurveKind::depth_force;
-    p.title = fmt::format("{} fit: RMS {:.3g} N ({:.2f} %)", physics::to_string(e.law), r.rms, 100.0 * r.relative_rms);
+    const bool creep = e.kind == fitting::CurveKind::time_depth;
+    p.title = creep ? fmt::format("{} fit: RMS {:.3g} mm ({:.2f} %)", physics::to_string(e.law), 1e3 * r.rms,
+                                  100.0 * r.relative_rms)
+                    : fmt::format("{} fit: RMS {:.3g} N ({:.2f} %)", physics::to_string(e.law), r.rms, 100.0 * r.relative_rms);
     p.x_label = loading ? "depth [mm]" : "time [s]";
     p.x_scale = loading ? 1e3 : 1.0;
-    p.y_label = "force [N]";
+    p.y_label = creep ? "depth [mm]" : "force [N]";
+    p.y_scale = creep ? 1e3 : 1.0;
     p.x = e.x;
     p.data = e.y;
     p.fit = r.model;

@@ -242,16 +242,20 @@ Experiment parse_experiment(const std::string& toml_text, const std::string& sou
     if (!ramp) data->fail_missing("ramp_time", "the time [s] over which the depth was ramped");
     e.hold = {*hold_depth, *ramp};
   } else if (e.kind == CurveKind::time_depth) {
-    data->fail("file", fmt::format("{}: creep curves (time,depth) are not fitted yet; fit the relaxation (time,force) "
-                                   "or the loading curve (depth,force)",
-                                   e.data_file.string()));
+    if (!hold_force) data->fail_missing("force", "the held force [N] of a creep (time,depth) curve");
+    if (!ramp) data->fail_missing("ramp_time", "the time [s] over which the force was ramped");
+    if (hold_depth) data->fail("depth", "a creep curve (time,depth) holds a force: give [data] force, not depth");
+    e.hold = {*hold_force, *ramp};
   } else if (hold_depth || hold_force || ramp) {
     data->fail("file", "a depth,force curve takes no depth, force or ramp_time");
   }
-  if (e.kind != CurveKind::time_force && e.prony_terms > 0)
-    r.fail("material", "Prony terms are fitted to a relaxation curve (time,force); this curve is depth,force");
-  if (e.kind == CurveKind::time_force && e.prony_terms == 0)
-    r.fail("material", "a relaxation curve (time,force) needs [material.viscoelastic] terms to fit");
+  if (e.kind == CurveKind::time_force && hold_force)
+    data->fail("force", "a relaxation curve (time,force) holds a depth: give [data] depth, not force");
+  if (e.kind == CurveKind::depth_force && e.prony_terms > 0)
+    r.fail("material", "Prony terms are fitted to a relaxation (time,force) or creep (time,depth) curve; this curve is "
+                       "depth,force");
+  if (e.kind != CurveKind::depth_force && e.prony_terms == 0)
+    r.fail("material", "a relaxation (time,force) or creep (time,depth) curve needs [material.viscoelastic] terms to fit");
   data->finish();
   r.finish();
   return e;

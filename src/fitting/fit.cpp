@@ -166,7 +166,8 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
 
   // The plane-strain modulus E* = E / (1 − ν²) of a half-space from the loading curve:
   // least squares of F = E*·shape(d), Hertz's shape (4/3)√R d^{3/2} for a sphere, Sneddon's
-  // 2 a d for a flat punch. A relaxation uses its peak force at the held depth.
+  // 2 a d for a flat punch. A relaxation uses its peak force at the held depth, a creep the
+  // held force at its first depth after the ramp.
   const double r = e.indenter.radius;
   auto shape = [&](double d) {
     return e.indenter.shape == IndenterShape::sphere ? contact::hertz_force(1.0, r, d) : 2.0 * r * d;
@@ -179,8 +180,12 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
       den += shape(e.x[i]) * shape(e.x[i]);
     }
     e_star = num / den;
-  } else {
+  } else if (e.kind == CurveKind::time_force) {
     e_star = *std::max_element(e.y.begin(), e.y.end()) / shape(e.hold.value);
+  } else {
+    const auto first = std::lower_bound(e.x.begin(), e.x.end(), e.hold.ramp_time);
+    const double d0 = e.y[static_cast<std::size_t>(std::min(first, e.x.end() - 1) - e.x.begin())];
+    e_star = e.hold.value / shape(d0);
   }
   method = e.indenter.shape == IndenterShape::sphere ? "Hertz (sphere on a half-space)"
                                                       : "Sneddon (flat punch on a half-space)";
@@ -196,16 +201,31 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
     if (c01_free && at("c01") <= 0.0) at("c01") = 0.25 * mu;
   }
   if (e.prony_terms > 0) {
-    // One exponential through the hold: g = 1 − F_end / F_peak, τ where the force has
-    // fallen by 1 − 1/e of its drop; several terms share g and spread τ by decades.
-    const auto peak = std::max_element(e.y.begin(), e.y.end());
-    const double f_peak = *peak, f_end = e.y.back();
-    const double g_total = std::clamp(1.0 - f_end / f_peak, 0.05, 0.9);
-    const double target = f_end + (f_peak - f_end) / std::exp(1.0);
-    auto i = static_cast<std::size_t>(peak - e.y.begin());
-    while (i + 1 < e.y.size() && e.y[i] > target) ++i;
-    const double t_peak = e.x[static_cast<std::size_t>(peak - e.y.begin())];
-    const double tau = std::max(e.x[i] - t_peak, 1e-3 * (e.x.back() - e.x.front()));
+    // One exponential through the hold. Relaxation: g = 1 − F_end / F_peak, τ where the force
+    // has fallen by 1 − 1/e of its drop. Creep: the elastic force F_e ∝ d^n (n = 1.5 sphere,
+    // 1 punch) rises by 1/g_inf, so g = 1 − (d_0 / d_end)^n, and the creep's time constant
+    // is τ / g_inf. Several terms share g and spread τ by decades.
+    double g_total = 0.0, tau = 0.0;
+    if (e.kind == CurveKind::time_force) {
+      const auto peak = std::max_element(e.y.begin(), e.y.end());
+      const double f_peak = *peak, f_end = e.y.back();
+      g_total = std::clamp(1.0 - f_end / f_peak, 0.05, 0.9);
+      const double target = f_end + (f_peak - f_end) / std::exp(1.0);
+      auto i = static_cast<std::size_t>(peak - e.y.begin());
+      while (i + 1 < e.y.size() && e.y[i] > target) ++i;
+      const double t_peak = e.x[static_cast<std::size_t>(peak - e.y.begin())];
+      tau = std::max(e.x[i] - t_peak, 1e-3 * (e.x.back() - e.x.front()));
+    } else {
+      const auto first = static_cast<std::size_t>(
+          std::min(std::lower_bound(e.x.begin(), e.x.end(), e.hold.ramp_time), e.x.end() - 1) - e.x.begin());
+      const double d0 = e.y[first], d_end = e.y.back();
+      const double power = e.indenter.shape == IndenterShape::sphere ? 1.5 : 1.0;
+      g_total = std::clamp(1.0 - std::pow(d0 / d_end, power), 0.05, 0.9);
+      const double target = d_end - (d_end - d0) / std::exp(1.0);
+      std::size_t i = first;
+      while (i + 1 < e.y.size() && e.y[i] < target) ++i;
+      tau = std::max(e.x[i] - e.x[first], 1e-3 * (e.x.back() - e.x.front())) * (1.0 - g_total);
+    }
     for (std::size_t t = 0; t < e.prony_terms; ++t) {
       const std::string n = std::to_string(t + 1);
       const double spread = std::pow(10.0, static_cast<double>(t) - 0.5 * static_cast<double>(e.prony_terms - 1));

@@ -18,6 +18,11 @@ namespace {
 
 /// Ramp steps of a relaxation's loading (the hereditary integral's quadrature).
 constexpr int kRampSteps = 10;
+/// A creep's elastic curve: depths pressed up to its limit; its quadrature's ramp steps and
+/// most steps.
+constexpr int kCreepDepths = 12;
+constexpr int kCreepRampSteps = 50;
+constexpr double kCreepMaxSteps = 20000;
 /// Halvings of a depth step whose static solve fails before the forward model gives up.
 constexpr int kMaxHalvings = 6;
 /// Active-set passes of the sphere's contact at one depth.
@@ -275,6 +280,7 @@ double IndentationModel::hold_depth(double t) const {
 std::vector<double> IndentationModel::curve(const physics::FemMaterial& material) const {
   const Experiment& e = *experiment_;
   if (e.kind == CurveKind::depth_force) return forces(material, e.x);
+  if (e.kind == CurveKind::time_depth) return creep(material);
   // Relaxation: the elastic force along the ramp, relaxed by the hereditary integral.
   std::vector<double> times, depths;
   const int steps = e.hold.ramp_time > 0.0 ? kRampSteps : 1;
@@ -284,6 +290,99 @@ std::vector<double> IndentationModel::curve(const physics::FemMaterial& material
   }
   const std::vector<double> elastic = forces(material, depths);
   return hereditary_relaxation(material.prony, times, elastic, e.x);
+}
+
+std::vector<double> IndentationModel::creep(const physics::FemMaterial& material) const {
+  const Experiment& e = *experiment_;
+  double g_inf = 1.0;
+  for (const auto& p : material.prony) g_inf -= p.weight;
+  if (!(g_inf > 0.0)) throw std::runtime_error("the Prony terms relax the whole modulus: a held force creeps without end");
+  // The elastic force the creep tends to, F / g_inf, and the elastic curve past it: one press
+  // to a small depth gives the scale, the curve's power (1.5 for a sphere, 1 for a punch)
+  // where it will reach, then kCreepDepths depths up to 1.1 times that, more if short.
+  const double target = e.hold.value / g_inf;
+  const double power = e.indenter.shape == IndenterShape::sphere ? 1.5 : 1.0;
+  Press press(*this, e, top_centre_, top_nodes_, bottom_nodes_, material);
+  std::vector<double> depths{1e-3 * e.specimen.thickness};
+  std::vector<double> elastic{press.press_to(depths[0])};
+  if (!(elastic[0] > 0.0)) throw std::runtime_error("the specimen bears no force at a small depth");
+  const double reach = depths[0] * std::pow(target / elastic[0], 1.0 / power);
+  for (int k = 1; k <= kCreepDepths && elastic.back() < 1.05 * target; ++k) {
+    const double d = std::max(depths.back() * 1.05, 1.1 * reach * k / kCreepDepths);
+    depths.push_back(d);
+    elastic.push_back(press.press_to(d));
+  }
+  for (int extra = 0; elastic.back() < 1.05 * target; ++extra) {
+    if (extra == kCreepDepths)
+      throw std::runtime_error(fmt::format("the specimen does not bear {:.4g} N (the creep's limit) within {:.4g} m",
+                                           target, depths.back()));
+    depths.push_back(depths.back() * 1.2);
+    elastic.push_back(press.press_to(depths.back()));
+  }
+  const std::vector<double> phi = hereditary_creep(material.prony, e.hold.value, e.hold.ramp_time, e.x);
+  // δ = F_e⁻¹(φ): power-law (log–log) interpolation between the pressed depths, the power of
+  // the first two below the first.
+  std::vector<double> out;
+  out.reserve(phi.size());
+  for (double f : phi) {
+    if (f <= 0.0) {
+      out.push_back(0.0);
+      continue;
+    }
+    std::size_t k = 1;
+    while (k + 1 < elastic.size() && elastic[k] < f) ++k;
+    const double slope = std::log(depths[k] / depths[k - 1]) / std::log(elastic[k] / elastic[k - 1]);
+    out.push_back(depths[k - 1] * std::pow(f / elastic[k - 1], slope));
+  }
+  return out;
+}
+
+std::vector<double> hereditary_creep(const std::vector<physics::PronyTerm>& prony, double force, double ramp_time,
+                                     std::span<const double> times) {
+  double g_inf = 1.0;
+  for (const auto& p : prony) g_inf -= p.weight;
+  double tau_min = std::numeric_limits<double>::infinity();
+  for (const auto& p : prony) tau_min = std::min(tau_min, p.tau);
+  const double t_end = times.empty() ? 0.0 : *std::max_element(times.begin(), times.end());
+  // The quadrature's times: the ramp in kCreepRampSteps, the hold in steps of a fiftieth of
+  // the shortest τ (at most kCreepMaxSteps), and every asked time.
+  std::vector<double> grid{0.0};
+  if (ramp_time > 0.0)
+    for (int k = 1; k <= kCreepRampSteps; ++k) grid.push_back(ramp_time * k / kCreepRampSteps);
+  const double start = std::max(ramp_time, 0.0);
+  if (t_end > start) {
+    const double step = std::max(std::min(tau_min, t_end) / 50.0, (t_end - start) / kCreepMaxSteps);
+    for (double t = start + step; t < t_end; t += step) grid.push_back(t);
+  }
+  for (double t : times) grid.push_back(std::max(t, 0.0));
+  std::sort(grid.begin(), grid.end());
+  grid.erase(std::unique(grid.begin(), grid.end()), grid.end());
+  auto load = [&](double t) { return ramp_time > 0.0 && t < ramp_time ? force * t / ramp_time : force; };
+
+  // F(t_n) = g_inf φ_n + Σ_i g_i S_i(n), S_i(n) = Σ_k exp(−(t_n − m_k)/τ_i) Δφ_k with m_k the
+  // midpoint of step k (the relaxation's quadrature): S_i follows step by step, so each Δφ_n
+  // solves one equation.
+  std::vector<double> sum(prony.size(), 0.0);
+  std::vector<double> phi(grid.size(), 0.0);
+  double previous = 0.0, t_previous = 0.0;
+  for (std::size_t n = 0; n < grid.size(); ++n) {
+    const double dt = grid[n] - t_previous;
+    double rest = load(grid[n]) - g_inf * previous, weight = g_inf;
+    for (std::size_t i = 0; i < prony.size(); ++i) {
+      sum[i] *= std::exp(-dt / prony[i].tau);
+      rest -= prony[i].weight * sum[i];
+      weight += prony[i].weight * std::exp(-0.5 * dt / prony[i].tau);
+    }
+    const double increment = rest / weight;
+    for (std::size_t i = 0; i < prony.size(); ++i) sum[i] += std::exp(-0.5 * dt / prony[i].tau) * increment;
+    previous += increment;
+    phi[n] = previous;
+    t_previous = grid[n];
+  }
+  std::vector<double> out;
+  out.reserve(times.size());
+  for (double t : times) out.push_back(phi[static_cast<std::size_t>(std::lower_bound(grid.begin(), grid.end(), std::max(t, 0.0)) - grid.begin())]);
+  return out;
 }
 
 std::vector<double> hereditary_relaxation(const std::vector<physics::PronyTerm>& prony, std::span<const double> ramp_times,

@@ -10,8 +10,8 @@
 //    reaches are projected onto it (z held, x and y free); nodes the body pulls into the
 //    sphere (a tensile reaction) are released and nodes that end inside it are added, until
 //    the set stops changing.
-// A relaxation curve is the hereditary integral of the elastic force along the ramp
-// (docs/fitting.md, "Relaxation").
+// A relaxation curve is the hereditary integral of the elastic force along the ramp; a creep
+// curve inverts that integral for the held force (docs/fitting.md, "Relaxation and creep").
 #include <memory>
 #include <span>
 #include <vector>
@@ -33,7 +33,8 @@ class IndentationModel {
   [[nodiscard]] std::vector<double> forces(const physics::FemMaterial& material, std::span<const double> depths) const;
 
   /// The curve the experiment measured, at its abscissae: force at each depth (depth,force),
-  /// or force at each time (time,force) for the material's Prony series.
+  /// force at each time (time,force) or depth at each time (time,depth) for the material's
+  /// Prony series.
   [[nodiscard]] std::vector<double> curve(const physics::FemMaterial& material) const;
 
   [[nodiscard]] const mesh::TetMesh& mesh() const { return mesh_; }
@@ -41,6 +42,10 @@ class IndentationModel {
   [[nodiscard]] double hold_depth(double t) const;
 
  private:
+  /// Creep: the elastic force history hereditary_creep gives, turned into depths through the
+  /// elastic curve pressed up to the force the creep tends to.
+  [[nodiscard]] std::vector<double> creep(const physics::FemMaterial& material) const;
+
   const Experiment* experiment_;
   mesh::TetMesh mesh_;
   Vec3 top_centre_ = Vec3::Zero();  ///< the point of the top face on the indenter's axis
@@ -54,5 +59,13 @@ class IndentationModel {
 /// step ends, from t = 0 at depth 0 excluded).
 std::vector<double> hereditary_relaxation(const std::vector<physics::PronyTerm>& prony, std::span<const double> ramp_times,
                                           std::span<const double> ramp_forces, std::span<const double> times);
+
+/// Ramp-and-hold creep, the same integral solved for the elastic force: under a force ramped
+/// linearly to `force` over `ramp_time` (0: a step) and held, the elastic force history
+/// φ(t) = F_e(d(t)) with F(t) = Σ_k g(t − m_k) Δφ_k (steps' midpoints m_k, steps of at most a
+/// fiftieth of the shortest τ), at `times`. For a linear elastic curve F_e = k d this is
+/// k d(t) = F J(t), J the normalized creep compliance.
+std::vector<double> hereditary_creep(const std::vector<physics::PronyTerm>& prony, double force, double ramp_time,
+                                     std::span<const double> times);
 
 }  // namespace tactus::fitting

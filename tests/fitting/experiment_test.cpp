@@ -132,6 +132,25 @@ TEST_F(ExperimentFile, RelaxationNeedsItsHoldAndPronyTerms) {
             std::string::npos);
 }
 
+TEST_F(ExperimentFile, CreepHoldsAForce) {
+  write("creep.csv", "time,depth\n0.1,0.0002\n0.5,0.0003\n2,0.0004\n");
+  const std::string prony = "model = \"linear\"\npoisson_ratio = 0.45\n"
+                            "viscoelastic = { model = \"prony\", terms = [{ g = 0.3, tau = 0.5 }] }\n";
+  const Experiment e =
+      parse_experiment(experiment(prony, "file = \"creep.csv\"\nforce = 0.05\nramp_time = 0.1\n"), "exp.toml", dir_);
+  EXPECT_EQ(e.kind, CurveKind::time_depth);
+  EXPECT_DOUBLE_EQ(e.hold.value, 0.05);
+  EXPECT_DOUBLE_EQ(e.hold.ramp_time, 0.1);
+  EXPECT_NE(error_of(experiment(prony, "file = \"creep.csv\"\nramp_time = 0.1\n")).find("held force"), std::string::npos);
+  EXPECT_NE(error_of(experiment(prony, "file = \"creep.csv\"\nforce = 0.05\ndepth = 0.001\nramp_time = 0.1\n"))
+                .find("holds a force"),
+            std::string::npos);
+  EXPECT_NE(error_of(experiment("model = \"linear\"\npoisson_ratio = 0.45\n",
+                                "file = \"creep.csv\"\nforce = 0.05\nramp_time = 0.1\n"))
+                .find("needs [material.viscoelastic]"),
+            std::string::npos);
+}
+
 TEST_F(ExperimentFile, FreeParameterMustBelongToTheLaw) {
   std::string toml = experiment();
   toml.replace(toml.find("[\"young_modulus\"]"), 17, "[\"mu\"]");

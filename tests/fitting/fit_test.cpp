@@ -67,6 +67,30 @@ TEST(FitRecovers, PronyRelaxationWeightAndTime) {
   EXPECT_NEAR(m.viscoelastic.prony[0].tau, r.values[3], 1e-5 * r.values[3]);
 }
 
+TEST(FitRecovers, PronyCreepWeightAndTime) {
+  // A force of 45 mN ramped over 0.2 s and held 5 s under a flat punch: about 0.3 mm at once,
+  // creeping towards 0.5 mm (1 / g_inf of the elastic depth).
+  Experiment e = block(IndenterShape::flat_punch, 0.006, FemLaw::linear, 0.01, {6, 6, 2});
+  add(e, "young_modulus", std::nullopt, true);
+  add(e, "poisson_ratio", 0.45, false);
+  add(e, "g1", std::nullopt, true);
+  add(e, "tau1", std::nullopt, true);
+  e.prony_terms = 1;
+  e.kind = CurveKind::time_depth;
+  e.hold = {0.045, 0.2};
+  for (int i = 1; i <= 100; ++i) e.x.push_back(0.05 * i);
+  const std::vector<double> truth{1e4, 0.45, 0.4, 1.0};
+  const FitResult r = recover(e, truth);
+  // The creep's time constant is τ / g_inf = 1.7 s, seen over the whole hold: τ and g are
+  // better determined than in the relaxation above; 10 % is above 3σ at this noise.
+  expect_recovered(e, r, truth, 10.0);
+  EXPECT_LE(std::abs(r.values[0] - truth[0]), 0.05 * truth[0]);
+  EXPECT_LE(std::abs(r.values[2] - truth[2]), 0.05 * truth[2]);
+  // The curve is in metres and rises as a creep does.
+  EXPECT_GT(e.y.back(), 1.4 * e.y[4]);
+  EXPECT_LT(e.y.back(), 1e-3);
+}
+
 TEST(ForwardModel, SlidingBaseIsSofterAndAMeshFileGivesTheGeneratedBlocksForces) {
   // A thin layer under a punch: bonded to its base it cannot bulge sideways at the bottom, so
   // it is stiffer than on a frictionless base (Hayes et al. 1972).
@@ -109,6 +133,31 @@ TEST(Relaxation, HereditaryIntegralMatchesTheStandardLinearSolidClosedForm) {
     const double exact = k * depth / ramp * ((1 - g) * ramp + g * tau * std::exp(-t / tau) * (std::exp(ramp / tau) - 1));
     EXPECT_NEAR(f[i], exact, 2e-4 * k * depth) << "t = " << t;
   }
+}
+
+TEST(Creep, HereditaryInversionMatchesTheStandardLinearSolidCompliance) {
+  // One Prony term is the standard linear solid: under a held force F its elastic force
+  // φ = k d follows the creep compliance, φ(t) = F J(t) with
+  // J(t) = 1/g∞ − ((1 − g∞)/g∞) e^{−t g∞/τ} after a step, and the ramp's average of it,
+  // (F / t_r) ∫_0^{t_r} J(t − s) ds, after a linear ramp over t_r. Steps of τ/50 at their
+  // midpoints: the error is about (Δt/τ)²/24 ≈ 2e-5 of F.
+  const double force = 0.05, g = 0.4, tau = 0.8, g_inf = 1 - g, rate = g_inf / tau;
+  std::vector<double> times;
+  for (double t = 0.5; t < 6.0; t += 0.25) times.push_back(t);
+  const auto step = hereditary_creep({{g, tau}}, force, 0.0, times);
+  const double ramp = 0.5;
+  const auto ramped = hereditary_creep({{g, tau}}, force, ramp, times);
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    const double t = times[i];
+    const double j_step = 1 / g_inf - (1 - g_inf) / g_inf * std::exp(-rate * t);
+    EXPECT_NEAR(step[i], force * j_step, 1e-4 * force) << "t = " << t;
+    const double j_ramp = 1 / g_inf - (1 - g_inf) / g_inf / (rate * ramp) * std::exp(-rate * t) * (std::exp(rate * ramp) - 1);
+    EXPECT_NEAR(ramped[i], force * j_ramp, 1e-4 * force) << "t = " << t;
+  }
+  // During the ramp, before any time has passed for relaxing, φ follows the load.
+  const auto early = hereditary_creep({{g, tau}}, force, ramp, std::vector<double>{0.0, 1e-6});
+  EXPECT_EQ(early[0], 0.0);
+  EXPECT_NEAR(early[1], force * 1e-6 / ramp, 1e-9 * force);
 }
 
 }  // namespace
