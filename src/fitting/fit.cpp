@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/SVD>
 #include <cmath>
+#include <limits>
 #include <numeric>
+#include <span>
 #include <stdexcept>
 #include <unsupported/Eigen/NonLinearOptimization>
 
@@ -55,20 +58,28 @@ double slope(Transform t, double p) {
   return 1.0;
 }
 
-/// The misfit for Eigen's Levenberg–Marquardt: residuals (model − data) / max |data| of the
-/// free coordinates, and their forward-difference Jacobian.
+/// The misfit for Eigen's Levenberg–Marquardt: the residuals (model − data) / max |data| of
+/// every experiment, one after the other, as functions of the free coordinates (shared by
+/// the experiments), and their forward-difference Jacobian.
 class Misfit {
  public:
-  Misfit(const Experiment& e, const IndentationModel& model, std::vector<double> start)
-      : e_(e), model_(model), values_(std::move(start)) {
-    for (std::size_t i = 0; i < e.parameters.size(); ++i)
-      if (e.parameters[i].free) free_.push_back(i);
-    scale_ = 0.0;
-    for (double y : e.y) scale_ = std::max(scale_, std::abs(y));
-    if (scale_ == 0.0) scale_ = 1.0;
+  Misfit(std::span<const Experiment* const> experiments, std::span<const IndentationModel* const> models,
+         std::vector<double> start)
+      : experiments_(experiments.begin(), experiments.end()),
+        models_(models.begin(), models.end()),
+        e_(*experiments.front()),
+        values_(std::move(start)) {
+    for (std::size_t i = 0; i < e_.parameters.size(); ++i)
+      if (e_.parameters[i].free) free_.push_back(i);
+    for (const Experiment* x : experiments_) {
+      double scale = 0.0;
+      for (double y : x->y) scale = std::max(scale, std::abs(y));
+      scales_.push_back(scale == 0.0 ? 1.0 : scale);
+      count_ += x->y.size();
+    }
   }
 
-  [[nodiscard]] int values() const { return static_cast<int>(e_.y.size()); }
+  [[nodiscard]] int values() const { return static_cast<int>(count_); }
   [[nodiscard]] int inputs() const { return static_cast<int>(free_.size()); }
 
   [[nodiscard]] Eigen::VectorXd coordinates() const {
@@ -84,16 +95,17 @@ class Misfit {
     return v;
   }
   [[nodiscard]] const std::vector<std::size_t>& free() const { return free_; }
-  [[nodiscard]] double scale() const { return scale_; }
+  [[nodiscard]] double scale(std::size_t experiment) const { return scales_[experiment]; }
   [[nodiscard]] int evaluations() const { return evaluations_; }
 
-  /// The forward model's curve at p; empty where the solve fails (an unreachable material).
-  std::vector<double> curve(const Eigen::VectorXd& p) const {
+  /// Experiment k's forward-model curve at p; empty where the solve fails (an unreachable
+  /// material).
+  std::vector<double> curve(const Eigen::VectorXd& p, std::size_t k) const {
     ++evaluations_;
     try {
-      const physics::FemMaterial m = make_material(e_, parameters(p));
+      const physics::FemMaterial m = make_material(*experiments_[k], parameters(p));
       m.validate();
-      return model_.curve(m);
+      return models_[k]->curve(m);
     } catch (const std::exception&) {
       return {};
     }
@@ -105,10 +117,13 @@ class Misfit {
       r = last_r_;
       return 0;
     }
-    const auto c = curve(p);
     r.resize(values());
-    for (Eigen::Index i = 0; i < r.size(); ++i)
-      r[i] = c.empty() ? 1e3 : (c[static_cast<std::size_t>(i)] - e_.y[static_cast<std::size_t>(i)]) / scale_;
+    Eigen::Index row = 0;
+    for (std::size_t k = 0; k < experiments_.size(); ++k) {
+      const auto c = curve(p, k);
+      const std::vector<double>& y = experiments_[k]->y;
+      for (std::size_t i = 0; i < y.size(); ++i, ++row) r[row] = c.empty() ? 1e3 : (c[i] - y[i]) / scales_[k];
+    }
     last_p_ = p;
     last_r_ = r;
     return 0;
@@ -129,11 +144,13 @@ class Misfit {
   }
 
  private:
-  const Experiment& e_;
-  const IndentationModel& model_;
+  std::vector<const Experiment*> experiments_;
+  std::vector<const IndentationModel*> models_;
+  const Experiment& e_;  ///< the first: its parameters are every experiment's
   std::vector<double> values_;  ///< every parameter; the free ones are overwritten from p
   std::vector<std::size_t> free_;
-  double scale_ = 1.0;
+  std::vector<double> scales_;  ///< per experiment: max |data|
+  std::size_t count_ = 0;
   mutable int evaluations_ = 0;
   mutable Eigen::VectorXd last_p_, last_r_;
 };
@@ -238,13 +255,37 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
 }
 
 FitResult fit(const Experiment& e, const IndentationModel& model) {
+  const Experiment* experiments[] = {&e};
+  const IndentationModel* models[] = {&model};
+  return fit(experiments, models);
+}
+
+FitResult fit(std::span<const Experiment* const> experiments, std::span<const IndentationModel* const> models) {
+  if (experiments.empty() || experiments.size() != models.size())
+    throw std::invalid_argument("fit: one model per experiment, at least one");
+  const Experiment& e = *experiments.front();
+  // One material for every experiment: the same law, parameters and free set.
+  for (const Experiment* x : experiments.subspan(1)) {
+    const SourceLocation where{x->file.string(), {}, {}, {}};
+    if (x->law != e.law)
+      throw InputError(where, fmt::format("a joint fit needs one law: this experiment's is {}, {}'s is {}",
+                                          physics::to_string(x->law), e.file.string(), physics::to_string(e.law)));
+    bool same = x->parameters.size() == e.parameters.size();
+    for (std::size_t i = 0; same && i < e.parameters.size(); ++i)
+      same = x->parameters[i].name == e.parameters[i].name && x->parameters[i].free == e.parameters[i].free &&
+             (x->parameters[i].free || x->parameters[i].value == e.parameters[i].value);
+    if (!same)
+      throw InputError(where, fmt::format("a joint fit needs the same parameters, free and fixed alike, in every "
+                                          "experiment: these differ from {}'s",
+                                          e.file.string()));
+  }
   FitResult out;
   out.initial = initial_guess(e, out.guess_method);
   for (const auto& p : e.parameters) {
     out.names.push_back(p.name);
     out.free.push_back(p.free);
   }
-  Misfit misfit(e, model, out.initial);
+  Misfit misfit(experiments, models, out.initial);
   if (misfit.values() < misfit.inputs())
     throw InputError(SourceLocation{e.data_file.string(), {}, {}, {}},
                      fmt::format("{} data points cannot determine {} free parameters", misfit.values(), misfit.inputs()));
@@ -277,14 +318,48 @@ FitResult fit(const Experiment& e, const IndentationModel& model) {
     const auto fi = static_cast<Eigen::Index>(f);
     out.sigma[i] = std::abs(slope(transform_of(e.parameters[i].name), p[fi])) * std::sqrt(std::max(cov(fi, fi), 0.0));
   }
-  out.model = misfit.curve(p);
-  if (out.model.empty()) throw std::runtime_error("the forward model fails at the fitted parameters");
-  out.rms = std::sqrt(ssr / n) * misfit.scale();
+  // Data that fix only a combination of the free parameters (one straight loading line for E
+  // and ν) leave J's columns dependent: the pseudo-inverse would then report the spread along
+  // the determined direction alone, a small σ for values the data cannot tell apart. Where J
+  // is singular to the Jacobian's own accuracy, the parameters along its null directions get
+  // an infinite σ and the result says which.
+  if (p.size() > 1) {
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(j, Eigen::ComputeFullV);
+    const Eigen::VectorXd& s = svd.singularValues();
+    for (Eigen::Index c = 0; c < s.size(); ++c) {
+      if (s[c] > kSingularRatio * s[0]) continue;
+      std::string which;
+      for (std::size_t f = 0; f < misfit.free().size(); ++f)
+        if (std::abs(svd.matrixV()(static_cast<Eigen::Index>(f), c)) > 0.05) {
+          const std::size_t i = misfit.free()[f];
+          out.sigma[i] = std::numeric_limits<double>::infinity();
+          which += (which.empty() ? "" : ", ") + e.parameters[i].name;
+        }
+      out.undetermined.push_back(which);
+    }
+  }
+  // Per experiment: its curve at the optimum, its RMS (in its unit) and R²; the first
+  // experiment's are the result's own fields.
+  Eigen::Index row = 0;
+  for (std::size_t x = 0; x < experiments.size(); ++x) {
+    const std::vector<double>& y = experiments[x]->y;
+    std::vector<double> curve = misfit.curve(p, x);
+    if (curve.empty()) throw std::runtime_error("the forward model fails at the fitted parameters");
+    const auto m = static_cast<Eigen::Index>(y.size());
+    const double part = r.segment(row, m).squaredNorm();
+    row += m;
+    const double mean = std::accumulate(y.begin(), y.end(), 0.0) / static_cast<double>(m);
+    double ss_tot = 0.0;
+    for (double v : y) ss_tot += (v - mean) * (v - mean);
+    const double s = misfit.scale(x);
+    out.experiments.push_back({std::move(curve), std::sqrt(part / static_cast<double>(m)) * s,
+                               std::sqrt(part / static_cast<double>(m)),
+                               ss_tot > 0.0 ? 1.0 - part * s * s / ss_tot : 1.0});
+  }
+  out.model = out.experiments.front().model;
+  out.rms = out.experiments.front().rms;
   out.relative_rms = std::sqrt(ssr / n);
-  const double mean = std::accumulate(e.y.begin(), e.y.end(), 0.0) / n;
-  double ss_tot = 0.0;
-  for (double y : e.y) ss_tot += (y - mean) * (y - mean);
-  out.r_squared = ss_tot > 0.0 ? 1.0 - ssr * misfit.scale() * misfit.scale() / ss_tot : 1.0;
+  out.r_squared = out.experiments.front().r_squared;
   out.evaluations = misfit.evaluations();
   return out;
 }
@@ -312,8 +387,12 @@ std::string material_toml(const Experiment& e, const FitResult& r, const std::st
 }
 
 std::string summary(const Experiment& e, const FitResult& r) {
+  const Experiment* experiments[] = {&e};
+  return summary(experiments, r);
+}
+
+std::string summary(std::span<const Experiment* const> experiments, const FitResult& r) {
   std::string s;
-  const char* unit = e.kind == CurveKind::time_depth ? "m" : "N";
   for (std::size_t i = 0; i < r.names.size(); ++i) {
     if (r.free[i])
       s += fmt::format("  {:<14} {:>12.6g} ± {:<10.3g} ({:.2f} %)  start {:.6g}\n", r.names[i], r.values[i], r.sigma[i],
@@ -321,10 +400,19 @@ std::string summary(const Experiment& e, const FitResult& r) {
     else
       s += fmt::format("  {:<14} {:>12.6g} (fixed)\n", r.names[i], r.values[i]);
   }
-  s += fmt::format("  residual: RMS {:.4g} {} ({:.3f} % of the largest value), R² {:.6f}\n", r.rms, unit,
-                   100.0 * r.relative_rms, r.r_squared);
+  for (std::size_t k = 0; k < experiments.size() && k < r.experiments.size(); ++k) {
+    const ExperimentFit& x = r.experiments[k];
+    const char* unit = experiments[k]->kind == CurveKind::time_depth ? "m" : "N";
+    s += fmt::format("  residual{}: RMS {:.4g} {} ({:.3f} % of the largest value), R² {:.6f}\n",
+                     experiments.size() > 1 ? fmt::format(" of {}", experiments[k]->file.string()) : std::string(),
+                     x.rms, unit, 100.0 * x.relative_rms, x.r_squared);
+  }
   s += fmt::format("  {} iterations, {} forward runs; {}; initial guess: {}\n", r.iterations, r.evaluations, r.status,
                    r.guess_method);
+  for (const std::string& which : r.undetermined)
+    s += fmt::format("  not determined by these data: {} (only a combination of them is; fix one, or fit several "
+                     "experiments together)\n",
+                     which);
   return s;
 }
 

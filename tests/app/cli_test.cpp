@@ -598,6 +598,23 @@ TEST_F(Cli, FitWritesTheMaterialBlockAndThePlot) {
   EXPECT_NE(r.err.find("residual: RMS"), std::string::npos) << r.err;
   EXPECT_GT(fs::file_size(dir_ / "fit.png"), 1000U);
 
+  // Two experiments, one material: a residual line and a plot each; --plot names one PNG.
+  std::ofstream(dir_ / "curve2.csv") << "depth,force\n0.0001,0.02\n0.0002,0.04\n0.0003,0.06\n";
+  std::string second = slurp(dir_ / "exp.toml");
+  second.replace(second.find("radius = 0.006"), 14, "radius = 0.009");
+  second.replace(second.find("curve.csv"), 9, "curve2.csv");
+  std::ofstream(dir_ / "exp2.toml") << second;
+  const auto joint = run("fit '" + (dir_ / "exp.toml").string() + "' '" + (dir_ / "exp2.toml").string() + "'");
+  EXPECT_EQ(joint.exit_code, 0) << joint.err;
+  EXPECT_NE(joint.err.find("residual of " + (dir_ / "exp.toml").string()), std::string::npos) << joint.err;
+  EXPECT_NE(joint.err.find("residual of " + (dir_ / "exp2.toml").string()), std::string::npos) << joint.err;
+  EXPECT_TRUE(fs::exists(dir_ / "exp_fit.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "exp2_fit.png"));
+  const auto one_plot = run("fit '" + (dir_ / "exp.toml").string() + "' '" + (dir_ / "exp2.toml").string() +
+                            "' --plot '" + (dir_ / "x.png").string() + "'");
+  EXPECT_EQ(one_plot.exit_code, 1);
+  EXPECT_NE(one_plot.err.find("--plot names one PNG"), std::string::npos) << one_plot.err;
+
   std::ofstream(dir_ / "curve.csv") << "depth,force\n0.0001,0.01\n0.0002,nan\n0.0003,0.03\n";
   const auto bad = run("fit '" + (dir_ / "exp.toml").string() + "'");
   EXPECT_EQ(bad.exit_code, 1);

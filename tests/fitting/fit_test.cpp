@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include "fit_test_util.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/io/mesh_io.hpp"
@@ -89,6 +91,61 @@ TEST(FitRecovers, PronyCreepWeightAndTime) {
   // The curve is in metres and rises as a creep does.
   EXPECT_GT(e.y.back(), 1.4 * e.y[4]);
   EXPECT_LT(e.y.back(), 1e-3);
+}
+
+TEST(FitRecovers, YoungModulusAndPoissonRatioJointlyFromTwoPunches) {
+  // A linear layer 4 mm thick bonded to its base, pressed by punches of 3 and 9 mm radius:
+  // each curve is a straight line, F = E f(ν, a/h) d, so one curve fixes only E f and cannot
+  // tell E from ν; how f depends on ν changes with a/h (Hayes et al. 1972), so the two
+  // together can.
+  auto experiment = [](double radius) {
+    Experiment e = block(IndenterShape::flat_punch, radius, FemLaw::linear, 0.004, {10, 10, 3});
+    e.file = fmt::format("punch {} mm", 1e3 * radius);
+    add(e, "young_modulus", 4e3, true);
+    add(e, "poisson_ratio", 0.3, true);
+    e.x = steps(0.2e-3, 12);
+    return e;
+  };
+  Experiment small = experiment(0.003), large = experiment(0.009);
+  const std::vector<double> truth{6e3, 0.42};
+  // One alone: the pair is not determined, and the fit says so (an infinite σ) instead of the
+  // pseudo-inverse's small one along the one direction the line fixes.
+  const FitResult alone = recover(small, truth, 5);
+  EXPECT_TRUE(std::isinf(alone.sigma[0]) && std::isinf(alone.sigma[1])) << alone.sigma[0] << " " << alone.sigma[1];
+  ASSERT_EQ(alone.undetermined.size(), 1U);
+  EXPECT_EQ(alone.undetermined[0], "young_modulus, poisson_ratio");
+  // Together (the large punch's data made the same way, with its own noise).
+  const IndentationModel small_model(small), large_model(large);
+  {
+    const std::vector<double> clean = large_model.curve(make_material(large, truth));
+    std::mt19937 rng(6);
+    std::normal_distribution<double> noise(0.0, 0.02 * clean.back());
+    large.y.clear();
+    for (double y : clean) large.y.push_back(y + noise(rng));
+  }
+  const Experiment* experiments[] = {&small, &large};
+  const IndentationModel* models[] = {&small_model, &large_model};
+  const FitResult r = fit(experiments, models);
+  std::printf("%s", summary(experiments, r).c_str());
+  EXPECT_TRUE(r.converged) << r.status;
+  ASSERT_EQ(r.experiments.size(), 2U);
+  EXPECT_TRUE(r.undetermined.empty());
+  for (std::size_t i = 0; i < 2; ++i) {
+    SCOPED_TRACE(r.names[i]);
+    EXPECT_TRUE(std::isfinite(r.sigma[i]));
+    EXPECT_LE(std::abs(r.values[i] - truth[i]), 3.0 * r.sigma[i]) << r.values[i];
+  }
+  EXPECT_LE(std::abs(r.values[0] - truth[0]), 0.1 * truth[0]);
+  EXPECT_LE(std::abs(r.values[1] - truth[1]), 0.02);
+  for (const ExperimentFit& x : r.experiments) EXPECT_LT(x.relative_rms, 0.035);
+
+  // Experiments that do not share their material cannot be fitted together.
+  Experiment other = experiment(0.009);
+  other.law = FemLaw::corotational;
+  const Experiment* mixed[] = {&small, &other};
+  const IndentationModel other_model(other);
+  const IndentationModel* mixed_models[] = {&small_model, &other_model};
+  EXPECT_THROW((void)fit(mixed, mixed_models), InputError);
 }
 
 TEST(ForwardModel, SlidingBaseIsSofterAndAMeshFileGivesTheGeneratedBlocksForces) {
