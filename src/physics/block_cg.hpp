@@ -44,12 +44,13 @@ struct BlockCgScratch {
 /// node block is not positive definite (x then holds the masked start).
 ///
 /// Preconditioner: symmetric block Gauss-Seidel, M = W D⁻¹ Wᵀ with W = D + L, D the node blocks
-/// and L the blocks below them inside each node range (blocks between ranges are left to CG,
-/// as block Jacobi between the ranges would). Eisenstat's trick (1981) saves the product with
-/// A: CG on W⁻¹ A W⁻ᵀ (with A = W + Wᵀ − D + C, C the blocks between ranges) preconditioned
-/// by D⁻¹ has the same iterates, at the cost of one backward and one forward sweep and the
-/// product with C. The residual of A that decides convergence is kept alongside. Each range
-/// is swept by one thread; the sums are added range by range in order.
+/// and L the blocks below them in the sweeps' order: the separator first (the nodes with a
+/// block into a later range, in node order), then each range's interior (in node order). Two
+/// interiors share no block, so after the separator (one thread) each interior is swept by
+/// its own thread; with one range this is the natural order. Eisenstat's trick (1981) saves
+/// the product with A: CG on W⁻¹ A W⁻ᵀ preconditioned by D⁻¹ has the same iterates, at the
+/// cost of one backward and one forward sweep. The residual of A that decides convergence is
+/// kept alongside. The dot products are summed range by range in order.
 int solve_block_cg(const BlockMatrix& A, const VecX& free_mask, double tolerance, int max_iterations, const VecX& rhs,
                    VecX& x, BlockCgScratch& w);
 

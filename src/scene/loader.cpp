@@ -222,15 +222,22 @@ void apply_base(toml::table& root, const detail::Context& ctx, int depth) {
 
 }  // namespace
 
-toml::table flatten_scene(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
+namespace {
+
+detail::Context context_of(const std::string& source_name, const LoadOptions& options) {
   detail::Context ctx;
   ctx.file = source_name;
   ctx.base_dir = options.base_dir.empty() ? std::filesystem::path(source_name).parent_path() : options.base_dir;
   ctx.options = options;
-  check_nesting(toml_text, source_name);
+  return ctx;
+}
+
+/// The scene's TOML with its base chain merged in; parse errors located.
+toml::table parse_with_base(std::string_view toml_text, const detail::Context& ctx) {
+  check_nesting(toml_text, ctx.file);
   toml::table root;
   try {
-    root = toml::parse(toml_text, source_name);
+    root = toml::parse(toml_text, ctx.file);
     apply_base(root, ctx, 0);
   } catch (const toml::parse_error& e) {
     throw InputError(detail::location(ctx, e.source()), std::string(e.description()));
@@ -238,23 +245,19 @@ toml::table flatten_scene(std::string_view toml_text, const std::string& source_
   return root;
 }
 
+}  // namespace
+
+toml::table flatten_scene(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
+  return parse_with_base(toml_text, context_of(source_name, options));
+}
+
 std::string flatten_scene_text(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
   return format_scene(flatten_scene(toml_text, source_name, options));
 }
 
 Model parse_scene(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
-  detail::Context ctx;
-  ctx.file = source_name;
-  ctx.base_dir = options.base_dir.empty() ? std::filesystem::path(source_name).parent_path() : options.base_dir;
-  ctx.options = options;
-  check_nesting(toml_text, source_name);
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, source_name);
-    apply_base(root, ctx, 0);
-  } catch (const toml::parse_error& e) {
-    throw InputError(detail::location(ctx, e.source()), std::string(e.description()));
-  }
+  const detail::Context ctx = context_of(source_name, options);
+  toml::table root = parse_with_base(toml_text, ctx);
   detail::Reader reader(ctx, root, "");
   return detail::read_model(reader, source_name);
 }
