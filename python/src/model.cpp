@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <functional>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -122,15 +121,7 @@ ModelHandle with_changes(const Model& model, const py::dict& changes) {
     toml::table* target = table;
     const std::string& last = parts.back();
     if (py::isinstance<py::dict>(value) && (*target)[last].as_table()) {
-      // Merge key by key, recursively, as a scene's base does.
-      std::function<void(toml::table&, const toml::table&)> merge = [&](toml::table& into, const toml::table& over) {
-        for (auto&& [k, node] : over) {
-          toml::table* inner = into[k].as_table();
-          if (inner && node.as_table()) merge(*inner, *node.as_table());
-          else into.insert_or_assign(k, node);
-        }
-      };
-      merge(*(*target)[last].as_table(), table_of(value.cast<py::dict>(), path));
+      scene::merge_tables(*(*target)[last].as_table(), table_of(value.cast<py::dict>(), path));
     } else {
       insert_value(value, path, [&](auto&& x) { target->insert_or_assign(last, std::forward<decltype(x)>(x)); });
     }

@@ -141,18 +141,6 @@ Model read_model(Reader& root, const std::string& source_name) {
 
 namespace {
 
-/// `over`'s keys into `base`: tables merge key by key, anything else replaces.
-void merge_tables(toml::table& base, const toml::table& over) {
-  for (auto&& [key, node] : over) {
-    const toml::table* over_table = node.as_table();
-    toml::table* base_table = base[key].as_table();
-    if (over_table && base_table)
-      merge_tables(*base_table, *over_table);
-    else
-      base.insert_or_assign(key, node);
-  }
-}
-
 /// A scene that names `[scene] base = "FILE"` is that file's scene with its own keys on top
 /// (a scenario: the same patient, other devices). Bases may chain, at most 8 deep.
 /// Arrays and inline tables nested deeper than this are refused before parsing: the TOML
@@ -249,10 +237,6 @@ toml::table parse_with_base(std::string_view toml_text, const detail::Context& c
 
 toml::table flatten_scene(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
   return parse_with_base(toml_text, context_of(source_name, options));
-}
-
-std::string flatten_scene_text(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {
-  return format_scene(flatten_scene(toml_text, source_name, options));
 }
 
 Model parse_scene(std::string_view toml_text, const std::string& source_name, const LoadOptions& options) {

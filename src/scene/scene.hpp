@@ -31,12 +31,6 @@ Model load_scene(const std::filesystem::path& path, const LoadOptions& options =
 Model parse_scene(std::string_view toml_text, const std::string& source_name,
                   const LoadOptions& options = {});
 
-/// The scene text with its `[scene] base` chain merged in, as one TOML document (relative
-/// paths still resolve against the folder source_name or options.base_dir names): what
-/// parse_scene reads, for tools that edit a scene's values. InputError as parse_scene.
-std::string flatten_scene_text(std::string_view toml_text, const std::string& source_name,
-                               const LoadOptions& options = {});
-
 /// The built-in default scene (scenes/default.toml, compiled in and parsed by the same
 /// loader).
 Model default_scene();

@@ -53,6 +53,17 @@ void write_table(std::ostream& out, const toml::table& table, const std::string&
 
 }  // namespace
 
+void merge_tables(toml::table& base, const toml::table& over) {
+  for (auto&& [key, node] : over) {
+    const toml::table* over_table = node.as_table();
+    toml::table* base_table = base[key].as_table();
+    if (over_table && base_table)
+      merge_tables(*base_table, *over_table);
+    else
+      base.insert_or_assign(key, node);
+  }
+}
+
 std::string format_scene(const toml::table& root) {
   std::ostringstream out;
   write_table(out, root, "");

@@ -15,6 +15,10 @@ namespace tactus::scene {
 /// nodes keep the positions they were read at. InputError as parse_scene.
 toml::table flatten_scene(std::string_view toml_text, const std::string& source_name, const LoadOptions& options = {});
 
+/// `over`'s keys into `base`, as a scene's `base` is merged: tables merge key by key, anything
+/// else replaces or adds the key.
+void merge_tables(toml::table& base, const toml::table& over);
+
 /// TOML text of a scene table. The loader takes named tables (bodies, devices, ...) in the
 /// order of their keys' positions, so sub-tables are written in that order (keys without a
 /// position, added by a tool, after the others); every other value as toml++ writes it

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "scene/scene.hpp"
+#include "scene/scene_text.hpp"
 
 namespace tactus::scene {
 namespace {
@@ -50,7 +51,7 @@ TEST(SceneFiles, AFlattenedScenarioIsItsBaseWithItsOwnKeys) {
   const fs::path s2 = kScenes / "femoral_s2_palpation.toml";
   const std::string text = read_text(s2);
   ASSERT_NE(text.find("base = \"femoral.toml\""), std::string::npos);
-  const std::string flat = flatten_scene_text(text, s2.string());
+  const std::string flat = format_scene(flatten_scene(text, s2.string()));
   EXPECT_EQ(flat.find("base ="), std::string::npos);
   const Model original = load_scene(s2);
   const Model again = parse_scene(flat, "flat.toml", LoadOptions{kScenes, true, 20'000'000});
@@ -65,7 +66,7 @@ TEST(SceneFiles, AFlattenedScenarioIsItsBaseWithItsOwnKeys) {
   // Other scenes keep their bodies, devices and algorithms in order too.
   for (const char* name : {"default.toml", "nodule.toml", "fabric.toml", "room.toml", "pulse_demo.toml"}) {
     const Model m = load_scene(kScenes / name);
-    const Model flat_m = parse_scene(flatten_scene_text(read_text(kScenes / name), (kScenes / name).string()),
+    const Model flat_m = parse_scene(format_scene(flatten_scene(read_text(kScenes / name), (kScenes / name).string())),
                                      "flat.toml", LoadOptions{kScenes, true, 20'000'000});
     ASSERT_EQ(flat_m.bodies.size(), m.bodies.size()) << name;
     for (std::size_t i = 0; i < m.bodies.size(); ++i) EXPECT_EQ(flat_m.bodies[i].name, m.bodies[i].name) << name;
@@ -76,7 +77,7 @@ TEST(SceneFiles, AFlattenedScenarioIsItsBaseWithItsOwnKeys) {
       EXPECT_EQ(flat_m.algorithms[i].name, m.algorithms[i].name) << name;
   }
   // A broken base is the same located error as for parse_scene.
-  EXPECT_THROW(flatten_scene_text("[scene]\nbase = \"missing.toml\"\n", "x.toml"), InputError);
+  EXPECT_THROW(flatten_scene("[scene]\nbase = \"missing.toml\"\n", "x.toml"), InputError);
 }
 
 TEST(SceneFiles, BundledSceneContents) {
