@@ -38,16 +38,23 @@ TEST(FitRecovers, MooneyRivlinC10WithC01Known) {
   expect_recovered(e, r, truth, 5.0);
 }
 
-TEST(FitRecovers, PronyRelaxationWeightAndTime) {
+/// A linear block under a 6 mm punch held for 5 s, with E, g1 and τ1 free (ν 0.45): a
+/// relaxation under a held depth or a creep under a held force, ramped over 0.2 s.
+Experiment one_prony_term(CurveKind kind, double held) {
   Experiment e = block(IndenterShape::flat_punch, 0.006, FemLaw::linear, 0.01, {6, 6, 2});
   add(e, "young_modulus", std::nullopt, true);
   add(e, "poisson_ratio", 0.45, false);
   add(e, "g1", std::nullopt, true);
   add(e, "tau1", std::nullopt, true);
   e.prony_terms = 1;
-  e.kind = CurveKind::time_force;
-  e.hold = {0.5e-3, 0.2};
-  for (int i = 0; i <= 100; ++i) e.x.push_back(0.05 * i);
+  e.kind = kind;
+  e.hold = {held, 0.2};
+  for (int i = kind == CurveKind::time_depth ? 1 : 0; i <= 100; ++i) e.x.push_back(0.05 * i);
+  return e;
+}
+
+TEST(FitRecovers, PronyRelaxationWeightAndTime) {
+  Experiment e = one_prony_term(CurveKind::time_force, 0.5e-3);
   const std::vector<double> truth{1e4, 0.45, 0.4, 1.0};
   const FitResult r = recover(e, truth);
   // τ is the least determined (its information is in the first second of the hold): at
@@ -72,15 +79,7 @@ TEST(FitRecovers, PronyRelaxationWeightAndTime) {
 TEST(FitRecovers, PronyCreepWeightAndTime) {
   // A force of 45 mN ramped over 0.2 s and held 5 s under a flat punch: about 0.3 mm at once,
   // creeping towards 0.5 mm (1 / g_inf of the elastic depth).
-  Experiment e = block(IndenterShape::flat_punch, 0.006, FemLaw::linear, 0.01, {6, 6, 2});
-  add(e, "young_modulus", std::nullopt, true);
-  add(e, "poisson_ratio", 0.45, false);
-  add(e, "g1", std::nullopt, true);
-  add(e, "tau1", std::nullopt, true);
-  e.prony_terms = 1;
-  e.kind = CurveKind::time_depth;
-  e.hold = {0.045, 0.2};
-  for (int i = 1; i <= 100; ++i) e.x.push_back(0.05 * i);
+  Experiment e = one_prony_term(CurveKind::time_depth, 0.045);
   const std::vector<double> truth{1e4, 0.45, 0.4, 1.0};
   const FitResult r = recover(e, truth);
   // The creep's time constant is τ / g_inf = 1.7 s, seen over the whole hold: τ and g are
@@ -146,6 +145,25 @@ TEST(FitRecovers, YoungModulusAndPoissonRatioJointlyFromTwoPunches) {
   const IndentationModel other_model(other);
   const IndentationModel* mixed_models[] = {&small_model, &other_model};
   EXPECT_THROW((void)fit(mixed, mixed_models), InputError);
+}
+
+TEST(FitRecovers, TheStandardLinearSolidsCreepExactly) {
+  // Data that are the closed form itself, d(t) = (F / k) J(t) after a step load with
+  // J(t) = 1/g∞ − ((1 − g∞)/g∞) e^{−t g∞/τ}: under a flat punch a linear block's elastic curve
+  // is a line, so the forward model can match it exactly and g and τ come back to the fit's
+  // own accuracy (the stiffness k is whatever E the block needs).
+  Experiment e = one_prony_term(CurveKind::time_depth, 0.045);
+  e.hold.ramp_time = 0.0;
+  const double g = 0.4, tau = 1.0, g_inf = 1 - g, k = 150.0;
+  e.y.clear();
+  for (double t : e.x) e.y.push_back(e.hold.value / k * (1 / g_inf - (1 - g_inf) / g_inf * std::exp(-t * g_inf / tau)));
+  const IndentationModel model(e);
+  const FitResult r = fit(e, model);
+  std::printf("%s", summary(e, r).c_str());
+  EXPECT_TRUE(r.converged) << r.status;
+  EXPECT_NEAR(r.values[2], g, 1e-5);
+  EXPECT_NEAR(r.values[3], tau, 1e-5);
+  EXPECT_LT(r.relative_rms, 1e-6);
 }
 
 TEST(ForwardModel, SlidingBaseIsSofterAndAMeshFileGivesTheGeneratedBlocksForces) {
