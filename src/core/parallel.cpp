@@ -31,10 +31,9 @@ void pause() {
 #endif
 }
 
-/// Spins up to the spin wait until ready() holds; returns whether it did.
+/// Spins up to `spin` (default: the spin wait) until ready() holds; returns whether it did.
 template <class Pred>
-bool spin_until(Pred ready) {
-  const auto spin = std::chrono::microseconds(g_spin_us.load(std::memory_order_relaxed));
+bool spin_until(Pred ready, std::chrono::microseconds spin = std::chrono::microseconds(g_spin_us.load(std::memory_order_relaxed))) {
   if (spin.count() <= 0) return ready();
   const auto deadline = std::chrono::steady_clock::now() + spin;
   for (int i = 0;; ++i) {
@@ -152,13 +151,9 @@ void Team::sync() {
   }
   // A phase between two syncs lasts tens of microseconds: spin about that long (a wake-up
   // from a futex costs as much), then block.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::microseconds(50);
-  for (int i = 0;; ++i) {
-    if (round_.load(std::memory_order_acquire) != round) return;
-    pause();
-    if ((i & 63) == 63 && std::chrono::steady_clock::now() > deadline) break;
-  }
-  while (round_.load(std::memory_order_acquire) == round) round_.wait(round, std::memory_order_acquire);
+  auto opened = [&] { return round_.load(std::memory_order_acquire) != round; };
+  if (spin_until(opened, std::chrono::microseconds(50))) return;
+  while (!opened()) round_.wait(round, std::memory_order_acquire);
 }
 
 namespace {
