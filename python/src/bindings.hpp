@@ -3,6 +3,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <string>
@@ -50,6 +51,17 @@ py::array field_view(const T* first, std::size_t rows, std::size_t stride, std::
   py::array a(py::dtype::of<T>(), shape, strides, rows ? first : nullptr, owner);
   py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
   return a;
+}
+
+/// An (n, K) read-only view of index records (triangles, tets), kept alive by `owner`.
+template <class Index, std::size_t K>
+py::array index_view(const std::vector<std::array<Index, K>>& v, py::handle owner) {
+  return field_view<Index>(v.empty() ? nullptr : v.front().data(), v.size(), sizeof(std::array<Index, K>), K, owner);
+}
+/// An (n,) read-only view of a vector of numbers, kept alive by `owner`.
+template <class T>
+py::array vector_view(const std::vector<T>& v, py::handle owner) {
+  return field_view<T>(v.data(), v.size(), sizeof(T), 0, owner);
 }
 
 /// A NumPy view of `rows` 3-vectors stored `stride` bytes apart from `first`, kept valid by

@@ -14,17 +14,6 @@
 namespace tactus::python {
 namespace {
 
-/// (rows, K) int32 view of std::array<Index, K> records, read-only, kept alive by owner.
-template <std::size_t K>
-py::array index_view(const std::vector<std::array<mesh::Index, K>>& v, py::handle owner) {
-  return field_view<mesh::Index>(v.empty() ? nullptr : v.front().data(), v.size(), sizeof(std::array<mesh::Index, K>),
-                                 K, owner);
-}
-
-py::array int_view(const std::vector<int>& v, py::handle owner) {
-  return field_view<int>(v.data(), v.size(), sizeof(int), 0, owner);
-}
-
 py::dict read(const std::filesystem::path& path) {
   auto file = std::make_shared<mesh::MeshFile>();
   {
@@ -51,9 +40,9 @@ py::dict read(const std::filesystem::path& path) {
     py::dict d;
     d["vertices"] = vec3_view(v.vertices, owner);
     d["tets"] = index_view(v.tets, owner);
-    d["regions"] = v.tet_regions.empty() ? py::object(py::none()) : py::object(int_view(v.tet_regions, owner));
+    d["regions"] = v.tet_regions.empty() ? py::object(py::none()) : py::object(vector_view(v.tet_regions, owner));
     d["faces"] = index_view(v.faces, owner);
-    d["face_markers"] = v.face_markers.empty() ? py::object(py::none()) : py::object(int_view(v.face_markers, owner));
+    d["face_markers"] = v.face_markers.empty() ? py::object(py::none()) : py::object(vector_view(v.face_markers, owner));
     out["volume"] = d;
   } else {
     out["volume"] = py::none();

@@ -30,21 +30,6 @@ py::list references(const std::vector<T>& items, py::handle owner) {
   return out;
 }
 
-/// An (n, k) read-only view of index arrays (triangles, tets) kept alive by `owner`.
-template <std::size_t K>
-py::array index_view(const std::vector<std::array<mesh::Index, K>>& v, py::handle owner) {
-  py::array a(py::dtype::of<mesh::Index>(), {v.size(), K}, {sizeof(v[0]), sizeof(mesh::Index)},
-              v.empty() ? nullptr : v.front().data(), owner);
-  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return a;
-}
-
-py::array node_view(const std::vector<mesh::Index>& v, py::handle owner) {
-  py::array a(py::dtype::of<mesh::Index>(), {v.size()}, {sizeof(mesh::Index)}, v.data(), owner);
-  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return a;
-}
-
 py::tuple vec3_tuple(const Vec3& v) { return py::make_tuple(v.x(), v.y(), v.z()); }
 
 ModelHandle parse(const std::string& text, const std::string& name, bool allow_file_access) {
@@ -169,7 +154,7 @@ void bind_model(py::module_& m) {
       .def_readonly("name", &scene::FixedRegion::name)
       .def_readonly("selector", &scene::FixedRegion::selector)
       .def_property_readonly("nodes", [](py::object self) {
-        return node_view(self.cast<const scene::FixedRegion&>().nodes, self);
+        return vector_view(self.cast<const scene::FixedRegion&>().nodes, self);
       }, "Node indices into the body's simulation nodes (int32, read-only view).");
 
   py::class_<scene::Probe>(m, "Probe", "A named point whose displacement solves report.")
