@@ -14,10 +14,10 @@
 //   query    [--space FILE]
 //            force query latency per interpolation method (p50, p99, max), on a space
 //            file or a synthetic 10 x 10 x 10 space.
-//   accuracy --nodes N --law L --positions M
+//   accuracy --nodes N --law L --positions M [--spacings 20,6.667]
 //            interpolated force and displacement against configurations solved directly
-//            at M random positions, for grid spacings 20, 13.33, 10 and 6.667 mm and each
-//            method, in the 40 mm accuracy box.
+//            at M random positions, for grid spacings 20, 13.33, 10 and 6.667 mm (or those
+//            listed, in mm) and each method, in the 40 mm accuracy box.
 //   online   --nodes N --law L --spacing S --threads W [--first V]
 //            on-line construction: the largest tool speed at which at least 99 % of the
 //            1 kHz force queries find their cell complete, with W solver threads, on the
@@ -44,6 +44,7 @@
 #include <memory>
 #include <queue>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,9 @@ struct Options {
   unsigned seed = 1;
   std::string space;  ///< query: a space file (default: a synthetic one)
   double first = 1.0;  ///< online: first speed tried [mm/s]
+  /// accuracy: the grid spacings [m]; 20, 13.33, 10 and 6.667 mm unless --spacings lists some
+  /// of them (in mm; the reference positions are drawn where every listed grid is solved).
+  std::vector<double> spacings{0.02, 0.04 / 3.0, 0.01, 0.02 / 3.0};
 };
 
 double cpu_seconds() {
@@ -266,6 +270,8 @@ std::shared_ptr<pc::Space> synthetic_space() {
     const Vec3 x = s->grid.point(p);
     s->status[p] = pc::PointStatus::solved;
     s->force[p] = Vec3(std::sin(20 * x.x()) + x.y(), std::exp(5 * x.y()) * x.z(), 10 * x.x() * x.z());
+    s->force_gradient[p] << 20 * std::cos(20 * x.x()), 1, 0, 0, 5 * std::exp(5 * x.y()) * x.z(), std::exp(5 * x.y()),
+        10 * x.z(), 0, 10 * x.x();
   }
   return s;
 }
@@ -282,7 +288,11 @@ int query(const Options& o) {
   const Vec3 lo = space->grid.lower(), size = space->grid.upper() - lo;
   for (auto& p : points) p = lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(size);
   for (const auto method : {pc::Interpolation::trilinear, pc::Interpolation::rbf_cubic,
-                            pc::Interpolation::rbf_thin_plate, pc::Interpolation::polynomial}) {
+                            pc::Interpolation::rbf_thin_plate, pc::Interpolation::polynomial,
+                            pc::Interpolation::tricubic_hermite, pc::Interpolation::rbf_hermite}) {
+    if (!space->has_gradients && (method == pc::Interpolation::tricubic_hermite ||
+                                  method == pc::Interpolation::rbf_hermite))
+      continue;
     const pc::Interpolator in(space, method);
     LatencyHistogram h;
     double sink = 0.0;
@@ -322,7 +332,7 @@ bool cell_solved(const pc::Space& space, const Vec3& p) {
 
 int accuracy(const Options& o) {
   const Model m = load_model(o.nodes, o.law);
-  const std::vector<double> spacings{0.02, 0.04 / 3.0, 0.01, 0.02 / 3.0};
+  const std::vector<double>& spacings = o.spacings;
   std::vector<std::shared_ptr<pc::Space>> spaces;
   for (const double d : spacings) {
     const pc::SpaceSettings s = accuracy_grid(m, d);
@@ -375,7 +385,8 @@ int accuracy(const Options& o) {
               "displacement error max |\n|---|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < spaces.size(); ++k) {
     for (const auto method : {pc::Interpolation::trilinear, pc::Interpolation::rbf_cubic,
-                              pc::Interpolation::rbf_thin_plate, pc::Interpolation::polynomial}) {
+                              pc::Interpolation::rbf_thin_plate, pc::Interpolation::polynomial,
+                              pc::Interpolation::tricubic_hermite, pc::Interpolation::rbf_hermite}) {
       const pc::Interpolator in(spaces[k], method);
       double fmean = 0.0, fmax = 0.0, umean = 0.0, umax = 0.0;
       VecX u_interp;
@@ -471,7 +482,8 @@ int usage() {
   std::fprintf(stderr,
                "usage: precompute_bench compare A.h5 B.h5\n"
                "       precompute_bench cost|scaling|query|accuracy|online [--nodes N] [--law stvk|mooney_rivlin]\n"
-               "         [--spacing S] [--points K] [--seconds T] [--positions M] [--threads N] [--seed S] [--space FILE]\n");
+               "         [--spacing S] [--points K] [--seconds T] [--positions M] [--threads N] [--seed S] [--space FILE]\n"
+               "         [--spacings MM,MM,...]\n");
   return 1;
 }
 
@@ -506,6 +518,11 @@ int main(int argc, char** argv) {
       else if (key == "--seed") o.seed = static_cast<unsigned>(std::stoul(value));
       else if (key == "--space") o.space = value;
       else if (key == "--first") o.first = std::stod(value);
+      else if (key == "--spacings") {
+        o.spacings.clear();
+        std::stringstream list(value);
+        for (std::string mm; std::getline(list, mm, ',');) o.spacings.push_back(1e-3 * std::stod(mm));
+      }
       else return usage();
     }
     if (o.command == "cost") return cost(o);

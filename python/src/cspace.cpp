@@ -55,7 +55,8 @@ void bind_cspace(py::module_& m) {
            }),
            py::arg("path"), py::arg("method") = "trilinear",
            "Reads the space file (InputError naming the file and the reason when it cannot). `method`: trilinear,\n"
-           "rbf_cubic, rbf_thin_plate or polynomial.")
+           "rbf_cubic, rbf_thin_plate, polynomial, tricubic_hermite or rbf_hermite (these two need a space with\n"
+           "derivatives: one built by this version).")
       .def_property_readonly("method",
                              [](const ConfigurationSpace& c) { return std::string(precompute::to_string(c.interpolator.method())); })
       .def_property_readonly("body", [](const ConfigurationSpace& c) { return c.space->settings.body; })

@@ -150,9 +150,11 @@ void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
                      "Render the body of the scene's [precompute] table from this configuration space (tactus "
                      "precompute's file) instead of simulating it")
           ->check(CLI::ExistingFile);
-  app.add_option("--interpolation", f.interpolation, "With --space: trilinear, rbf_cubic, rbf_thin_plate or polynomial")
+  app.add_option("--interpolation", f.interpolation,
+                 "With --space: trilinear, rbf_cubic, rbf_thin_plate, polynomial, tricubic_hermite or rbf_hermite")
       ->default_val("trilinear")
-      ->check(CLI::IsMember({"trilinear", "rbf_cubic", "rbf_thin_plate", "polynomial"}))
+      ->check(CLI::IsMember(
+          {"trilinear", "rbf_cubic", "rbf_thin_plate", "polynomial", "tricubic_hermite", "rbf_hermite"}))
       ->needs(space);
   CLI::Option* online =
       app.add_flag("--online", f.online,

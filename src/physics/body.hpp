@@ -115,6 +115,17 @@ inline StaticResult solve_static(const Body& body, BodyState& state, const VecX&
 /// linear solve failed.
 bool predict_static(const Body& body, BodyState& state, const VecX& previous, const VecX& f_ext = {});
 
+/// The balanced state's first-order response to motions of its held dofs. Each column j of
+/// `held` (3N, nonzero on held dofs only) is a unit motion of them; column j of `motion` is
+/// the whole state's motion dx/dθ_j (the held part as given, the free part solving
+/// K_ff·dx_f = −(K·held_j)_f), and column j of `force_change` the internal force's change
+/// −K·dx/dθ_j on every dof, so the reaction at held nodes follows by summing their rows.
+/// K is the exact tangent, factorized once for all columns, where Cholesky finds it definite
+/// (it is at a stable equilibrium), else the projected one. Returns false where neither
+/// solves or the result is not finite.
+bool static_response(const Body& body, BodyState& state, const Eigen::MatrixXd& held, Eigen::MatrixXd& motion,
+                     Eigen::MatrixXd& force_change);
+
 /// Kinetic energy ½ vᵀMv (the model's mass matrix) and elastic energy; their sum minus the work of gravity is
 /// conserved by an undamped exact integrator.
 double kinetic_energy(const Body& body, const BodyState& state);

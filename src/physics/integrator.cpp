@@ -683,6 +683,45 @@ bool predict_static(const Body& body, BodyState& s, const VecX& previous, const 
   return true;
 }
 
+bool static_response(const Body& body, BodyState& s, const Eigen::MatrixXd& held, Eigen::MatrixXd& motion,
+                     Eigen::MatrixXd& force_change) {
+  prepare(body, s);
+  SolverScratch& w = *s.solver_scratch;
+  const ForceModel& model = *body.model;
+  const auto columns = held.cols();
+  motion.resize(s.x.size(), columns);
+  force_change.resize(s.x.size(), columns);
+  s.v.setZero();
+  auto solve = [&](bool exact) {
+    if (!exact)
+      model.linearize(s.x, s.v, s.q, *s.model_scratch);
+    else if (!model.linearize_exact(s.x, s.v, s.q, *s.model_scratch))
+      return false;
+    try {
+      for (Eigen::Index j = 0; j < columns; ++j) {
+        const VecX held_j = held.col(j).cwiseProduct(VecX::Ones(s.x.size()) - w.free_mask);
+        w.rhs.setZero();
+        model.add_stiffness_product(held_j, w.rhs, *s.model_scratch);
+        w.rhs = -w.rhs;
+        w.delta.setZero();
+        // The first column factorizes; the others reuse the factor it left.
+        if (j > 0 && body.settings.solver == LinearSolver::cholesky)
+          w.delta = w.cholesky.solve(w.rhs.cwiseProduct(w.free_mask));
+        else
+          solve_linear(body, s, 0.0, 0.0, 1.0, w.rhs, w.delta);
+        motion.col(j) = held_j + w.delta.cwiseProduct(w.free_mask);
+        w.rhs.setZero();
+        model.add_stiffness_product(motion.col(j), w.rhs, *s.model_scratch);
+        force_change.col(j) = -w.rhs;
+      }
+    } catch (const std::runtime_error&) {
+      return false;
+    }
+    return motion.allFinite() && force_change.allFinite();
+  };
+  return (body.settings.solver == LinearSolver::cholesky && solve(true)) || solve(false);
+}
+
 StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, const StaticSettings& settings) {
   prepare(body, s);
   SolverScratch& w = *s.solver_scratch;

@@ -51,6 +51,19 @@ Vec3 ConfigurationSolver::reaction() {
   return f;
 }
 
+bool ConfigurationSolver::derivatives(PointResult& r) {
+  // The patch moves rigidly with the interaction point: a unit move along axis k moves
+  // every patch node by e_k.
+  held_.setZero(state_.x.size(), 3);
+  for (auto n : settings_.patch_nodes)
+    held_.block<3, 3>(3 * static_cast<Eigen::Index>(n), 0).setIdentity();
+  if (!physics::static_response(body_, state_, held_, r.displacement_gradient, force_change_)) return false;
+  // The reaction sums the patch nodes' internal forces (gravity does not move).
+  r.force_gradient.setZero();
+  for (auto n : settings_.patch_nodes) r.force_gradient += force_change_.block<3, 3>(3 * static_cast<Eigen::Index>(n), 0);
+  return r.force_gradient.allFinite();
+}
+
 PointResult ConfigurationSolver::solve_start(std::size_t point, const Vec3& target) {
   return run(point, -1, nullptr, contact_rest_, target, 1);
 }
@@ -139,6 +152,10 @@ PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, con
     if (!r.force.allFinite()) {
       r.status = PointStatus::failed;
       r.reason = "non-finite reaction force";
+      r.force.setZero();
+    } else if (!derivatives(r)) {
+      r.status = PointStatus::failed;
+      r.reason = "the balanced state's stiffness could not be solved for the derivatives";
       r.force.setZero();
     } else {
       r.displacement = state_.x - rest;

@@ -47,12 +47,16 @@ class ConfigurationSolver {
                   int steps);
   void place_patch(const Vec3& contact);
   [[nodiscard]] Vec3 reaction();
+  /// Fills r's force and displacement gradients at the balanced state; false where the
+  /// stiffness does not solve.
+  bool derivatives(PointResult& r);
 
   physics::Body body_;
   SpaceSettings settings_;
   physics::BodyState state_;
   Vec3 contact_rest_ = Vec3::Zero();
   VecX force_;
+  MatX held_, force_change_;
   long long newton_iterations_ = 0;
 };
 

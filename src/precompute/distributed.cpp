@@ -70,8 +70,8 @@ namespace {
 /// The rest of a result whose head (point, status, source, iterations, reason length) came
 /// from `from`: its parts follow from the same rank in order.
 PointResult receive_result(const std::int64_t (&head)[5], int from, int dofs, std::vector<char>& reason) {
-  double values[5];
-  MPI_Recv(values, 5, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  double values[14];
+  MPI_Recv(values, 14, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   PointResult r;
   r.point = static_cast<std::size_t>(head[0]);
   r.status = static_cast<PointStatus>(head[1]);
@@ -80,6 +80,7 @@ PointResult receive_result(const std::int64_t (&head)[5], int from, int dofs, st
   r.residual = values[0];
   r.seconds = values[1];
   r.force = Vec3(values[2], values[3], values[4]);
+  r.force_gradient = Eigen::Map<const Mat3>(values + 5);
   if (head[4] > 0) {
     reason.resize(static_cast<std::size_t>(head[4]));
     MPI_Recv(reason.data(), static_cast<int>(head[4]), MPI_CHAR, from, kResultTag, MPI_COMM_WORLD,
@@ -89,6 +90,9 @@ PointResult receive_result(const std::int64_t (&head)[5], int from, int dofs, st
   if (r.status == PointStatus::solved) {
     r.displacement.resize(dofs);
     MPI_Recv(r.displacement.data(), dofs, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    r.displacement_gradient.resize(dofs, 3);
+    MPI_Recv(r.displacement_gradient.data(), 3 * dofs, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD,
+             MPI_STATUS_IGNORE);
   }
   return r;
 }
@@ -280,13 +284,16 @@ void serve(ConfigurationSolver& solver, const Space& space, const Session& sessi
     const PointResult r = run_task(solver, space, static_cast<std::size_t>(head[0]), head[1], source);
     const std::int64_t out[5] = {static_cast<std::int64_t>(r.point), static_cast<std::int64_t>(r.status), r.source,
                                  r.iterations, static_cast<std::int64_t>(r.reason.size())};
-    const double values[5] = {r.residual, r.seconds, r.force.x(), r.force.y(), r.force.z()};
+    double values[14] = {r.residual, r.seconds, r.force.x(), r.force.y(), r.force.z()};
+    Eigen::Map<Mat3>(values + 5) = r.force_gradient;
     MPI_Send(out, 5, MPI_INT64_T, 0, kResultTag, MPI_COMM_WORLD);
-    MPI_Send(values, 5, MPI_DOUBLE, 0, kResultTag, MPI_COMM_WORLD);
+    MPI_Send(values, 14, MPI_DOUBLE, 0, kResultTag, MPI_COMM_WORLD);
     if (!r.reason.empty())
       MPI_Send(r.reason.data(), static_cast<int>(r.reason.size()), MPI_CHAR, 0, kResultTag, MPI_COMM_WORLD);
-    if (r.status == PointStatus::solved)
+    if (r.status == PointStatus::solved) {
       MPI_Send(r.displacement.data(), dofs, MPI_DOUBLE, 0, kResultTag, MPI_COMM_WORLD);
+      MPI_Send(r.displacement_gradient.data(), 3 * dofs, MPI_DOUBLE, 0, kResultTag, MPI_COMM_WORLD);
+    }
   }
 }
 

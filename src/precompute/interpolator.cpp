@@ -3,6 +3,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "core/error.hpp"
 
 namespace tactus::precompute {
 
@@ -28,10 +31,69 @@ Eigen::Matrix<double, kPoly, 1> quadratic(const Vec3& t) {
 
 bool is_rbf(Interpolation m) { return m == Interpolation::rbf_cubic || m == Interpolation::rbf_thin_plate; }
 
+/// The Hermite–Birkhoff system of phi(r) = r^3 over centres c (grid units): unknowns and
+/// conditions ordered as values (n), gradients (3n, x y z per centre), the linear polynomial
+/// (4). Symmetric: entry (λ_i, λ_j) is λ_i^x λ_j^y phi(|x − y|), so ∂/∂y = −∂/∂x.
+Eigen::MatrixXd hermite_system(const std::array<Vec3, Interpolator::kStencil>& c, int n) {
+  const int m = 4 * n + 4;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(m, m);
+  for (int i = 0; i < n; ++i) {
+    const Vec3& ci = c[static_cast<std::size_t>(i)];
+    for (int j = 0; j < n; ++j) {
+      const Vec3 d = ci - c[static_cast<std::size_t>(j)];
+      const double r = d.norm();
+      const Vec3 grad = 3.0 * r * d;  // ∇phi(d)
+      Mat3 hess = Mat3::Zero();
+      if (r > 0.0) hess = 3.0 * (r * Mat3::Identity() + d * d.transpose() / r);
+      a(i, j) = r * r * r;
+      a.block<1, 3>(i, n + 3 * j) = -grad.transpose();
+      a.block<3, 1>(n + 3 * i, j) = grad;
+      a.block<3, 3>(n + 3 * i, n + 3 * j) = -hess;
+    }
+    const int p = 4 * n;
+    a(i, p) = a(p, i) = 1.0;
+    for (int k = 0; k < 3; ++k) {
+      a(i, p + 1 + k) = a(p + 1 + k, i) = ci[k];
+      a(n + 3 * i + k, p + 1 + k) = a(p + 1 + k, n + 3 * i + k) = 1.0;
+    }
+  }
+  return a;
+}
+
+/// The 1D cubic Hermite basis on [0, 1]: the weight of the value and of the derivative (per
+/// unit of t) at end `side` (0 or 1).
+double hermite_value(int side, double t) { return side ? t * t * (3.0 - 2.0 * t) : 1.0 - t * t * (3.0 - 2.0 * t); }
+double hermite_slope(int side, double t) { return side ? t * t * (t - 1.0) : t * (t - 1.0) * (t - 1.0); }
+
+/// The mixed derivatives a tricubic Hermite corner carries, as derivative orders.
+constexpr std::array<std::array<int, 3>, 4> kMixed{{{1, 1, 0}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}}};
+
+/// A corner's weights in the tricubic Hermite at t: of its value, its gradient (per metre:
+/// times the spacing h) and its mixed derivatives (in kMixed's order).
+struct CornerBasis {
+  double value = 0.0;
+  Vec3 gradient = Vec3::Zero();
+  std::array<double, 4> mixed{};
+};
+CornerBasis corner_basis(const std::array<int, 3>& corner, const Vec3& t, double h) {
+  const Vec3 v(hermite_value(corner[0], t.x()), hermite_value(corner[1], t.y()), hermite_value(corner[2], t.z()));
+  const Vec3 d =
+      h * Vec3(hermite_slope(corner[0], t.x()), hermite_slope(corner[1], t.y()), hermite_slope(corner[2], t.z()));
+  CornerBasis b;
+  b.value = v.x() * v.y() * v.z();
+  b.gradient = Vec3(d.x() * v.y() * v.z(), v.x() * d.y() * v.z(), v.x() * v.y() * d.z());
+  b.mixed = {d.x() * d.y() * v.z(), d.x() * v.y() * d.z(), v.x() * d.y() * d.z(), d.x() * d.y() * d.z()};
+  return b;
+}
+
 }  // namespace
 
 Interpolator::Interpolator(std::shared_ptr<const Space> space, Interpolation method)
     : space_(std::move(space)), method_(method) {
+  if ((method_ == Interpolation::tricubic_hermite || method_ == Interpolation::rbf_hermite) && !space_->has_gradients)
+    throw InputError("interpolation '" + std::string(to_string(method_)) +
+                     "' needs the derivatives stored with each configuration, and this space (a version 1 file) has "
+                     "none; build it again with this version of tactus precompute");
   int n = 0;
   for (int k = 0; k < 2; ++k)
     for (int j = 0; j < 2; ++j)
@@ -64,8 +126,14 @@ Interpolator::Interpolator(std::shared_ptr<const Space> space, Interpolation met
     Eigen::MatrixXd p(kStencil, kPoly);
     for (int i = 0; i < kStencil; ++i) p.row(i) = quadratic(centre(i)).transpose();
     full_ = (p.transpose() * p).ldlt().solve(p.transpose());  // kPoly x kStencil
+  } else if (method_ == Interpolation::rbf_hermite) {
+    full_ = partial_matrix(0xffffffffu);
   }
   if (method_ == Interpolation::trilinear) return;
+  if (method_ == Interpolation::tricubic_hermite) {
+    build_tricubic();
+    return;
+  }
   // Every partial stencil of the space, once.
   const Grid& g = space_->grid;
   std::array<int, 3> cell{};
@@ -95,6 +163,13 @@ Eigen::MatrixXd Interpolator::partial_matrix(std::uint32_t used) const {
       const auto& o = offsets_[static_cast<std::size_t>(s)];
       c[static_cast<std::size_t>(n++)] = Vec3(o[0] - 0.5, o[1] - 0.5, o[2] - 0.5);
     }
+  if (method_ == Interpolation::rbf_hermite) {
+    // Rows 0..4n-1 of the inverse: the weights of the values and the gradients.
+    if (n < 2) return {};
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(hermite_system(c, n));
+    if (!lu.isInvertible()) return {};
+    return lu.inverse().topRows(4 * n);
+  }
   if (is_rbf(method_)) {
     // Rows 0..n-1 of the inverse of the RBF system: weights = rows times the basis vector.
     if (n < 5) return {};
@@ -117,6 +192,117 @@ Eigen::MatrixXd Interpolator::partial_matrix(std::uint32_t used) const {
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(q.transpose() * q);
   if (!lu.isInvertible()) return {};
   return q * lu.inverse();
+}
+
+void Interpolator::mixed_terms(std::array<int, 3> ijk, std::array<int, 3> order, double coeff,
+                               std::vector<Term>& out) const {
+  const Grid& g = space_->grid;
+  const int total = order[0] + order[1] + order[2];
+  if (total == 1) {
+    const int axis = order[0] ? 0 : (order[1] ? 1 : 2);
+    out.push_back({static_cast<std::int64_t>(g.index(ijk[0], ijk[1], ijk[2])), axis, coeff});
+    return;
+  }
+  // The mean over the axes it can be taken along of D_a(∂^(order − e_a)), D_a a central
+  // difference where both neighbours along a are solved, else one-sided, else nothing.
+  int axes = 0;
+  for (int a = 0; a < 3; ++a) axes += order[static_cast<std::size_t>(a)] > 0 ? 1 : 0;
+  const double h = g.spacing;
+  for (int a = 0; a < 3; ++a) {
+    const auto ua = static_cast<std::size_t>(a);
+    if (order[ua] == 0) continue;
+    std::array<int, 3> reduced = order;
+    --reduced[ua];
+    std::array<int, 3> plus = ijk, minus = ijk;
+    ++plus[ua];
+    --minus[ua];
+    auto solved = [&](const std::array<int, 3>& q) {
+      return g.contains(q[0], q[1], q[2]) && space_->solved(g.index(q[0], q[1], q[2]));
+    };
+    const bool up = solved(plus), down = solved(minus);
+    const double c = coeff / axes;
+    if (up && down) {
+      mixed_terms(plus, reduced, c / (2.0 * h), out);
+      mixed_terms(minus, reduced, -c / (2.0 * h), out);
+    } else if (up) {
+      mixed_terms(plus, reduced, c / h, out);
+      mixed_terms(ijk, reduced, -c / h, out);
+    } else if (down) {
+      mixed_terms(ijk, reduced, c / h, out);
+      mixed_terms(minus, reduced, -c / h, out);
+    }
+  }
+}
+
+void Interpolator::build_tricubic() {
+  const Grid& g = space_->grid;
+  mixed_.resize(g.size());
+  mixed_force_.assign(g.size(), {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  for (std::size_t p = 0; p < g.size(); ++p) {
+    if (!space_->solved(p)) continue;
+    const auto ijk = g.cell(p);
+    for (std::size_t d = 0; d < kMixed.size(); ++d) {
+      mixed_terms(ijk, kMixed[d], 1.0, mixed_[p][d]);
+      for (const Term& t : mixed_[p][d])
+        mixed_force_[p][d] += t.coeff * space_->force_gradient[static_cast<std::size_t>(t.point)].col(t.axis);
+    }
+  }
+}
+
+bool Interpolator::tricubic(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept {
+  const Grid& g = space_->grid;
+  const double h = g.spacing;
+  // Every point a corner's terms reach lies in the 4 × 4 × 4 block from the cell's corner − 1.
+  std::array<std::int8_t, kBlock> slot{};
+  slot.fill(-1);
+  out.count = 0;
+  out.with_gradients = true;
+  auto at = [&](std::int64_t point) {
+    const auto q = g.cell(static_cast<std::size_t>(point));
+    const int b = (q[0] - cell[0] + 1) + 4 * (q[1] - cell[1] + 1) + 16 * (q[2] - cell[2] + 1);
+    auto& s = slot[static_cast<std::size_t>(b)];
+    if (s < 0) {
+      s = static_cast<std::int8_t>(out.count++);
+      out.point[static_cast<std::size_t>(s)] = point;
+      out.weight[static_cast<std::size_t>(s)] = 0.0;
+      out.gradient[static_cast<std::size_t>(s)].setZero();
+    }
+    return static_cast<std::size_t>(s);
+  };
+  for (int c = 0; c < 8; ++c) {
+    const auto& o = offsets_[static_cast<std::size_t>(c)];
+    const int i = cell[0] + o[0], j = cell[1] + o[1], k = cell[2] + o[2];
+    if (!g.contains(i, j, k) || !space_->solved(g.index(i, j, k))) return false;
+  }
+  for (int c = 0; c < 8; ++c) {
+    const auto& o = offsets_[static_cast<std::size_t>(c)];
+    const auto p = static_cast<std::int64_t>(g.index(cell[0] + o[0], cell[1] + o[1], cell[2] + o[2]));
+    const CornerBasis b = corner_basis(o, t, h);
+    const std::size_t s = at(p);
+    out.weight[s] += b.value;
+    out.gradient[s] += b.gradient;
+    for (std::size_t m = 0; m < b.mixed.size(); ++m)
+      for (const Term& term : mixed_[static_cast<std::size_t>(p)][m])
+        out.gradient[at(term.point)][term.axis] += b.mixed[m] * term.coeff;
+  }
+  return true;
+}
+
+bool Interpolator::tricubic_force(const std::array<int, 3>& cell, const Vec3& t, Vec3& force) const noexcept {
+  const Grid& g = space_->grid;
+  force.setZero();
+  for (int c = 0; c < 8; ++c) {
+    const auto& o = offsets_[static_cast<std::size_t>(c)];
+    const int i = cell[0] + o[0], j = cell[1] + o[1], k = cell[2] + o[2];
+    if (!g.contains(i, j, k)) return false;
+    const std::size_t p = g.index(i, j, k);
+    if (!space_->solved(p)) return false;
+    const CornerBasis b = corner_basis(o, t, g.spacing);
+    force += b.value * space_->force[p];
+    force.noalias() += space_->force_gradient[p] * b.gradient;
+    for (std::size_t m = 0; m < b.mixed.size(); ++m) force += b.mixed[m] * mixed_force_[p][m];
+  }
+  return true;
 }
 
 bool Interpolator::trilinear(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept {
@@ -169,6 +355,36 @@ bool Interpolator::scattered(const std::array<int, 3>& cell, const Vec3& t, Weig
     return Vec3(o[0] - 0.5, o[1] - 0.5, o[2] - 0.5);
   };
   out.count = n;
+  if (method_ == Interpolation::rbf_hermite) {
+    const Eigen::MatrixXd* w = &full_;
+    if (n < kStencil) {
+      const auto known = std::lower_bound(partial_.begin(), partial_.end(), mask,
+                                          [](const auto& e, std::uint32_t m) { return e.first < m; });
+      // Every stencil of the space was met by the constructor; past kMaxPartial kinds the
+      // query falls back to trilinear rather than solve a system of up to 132 unknowns here.
+      if (known == partial_.end() || known->first != mask || known->second.rows() == 0) return false;
+      w = &known->second;
+    }
+    Eigen::Matrix<double, 4 * kStencil + 4, 1> b;
+    for (int r = 0; r < n; ++r) {
+      const Vec3 d = x - centre(used[static_cast<std::size_t>(r)]);
+      const double len = d.norm();
+      b[r] = len * len * len;
+      b.segment<3>(n + 3 * r) = -3.0 * len * d;
+    }
+    b.segment<4>(4 * n) << 1.0, x.x(), x.y(), x.z();
+    const auto m = 4 * n + 4;
+    Eigen::Matrix<double, 4 * kStencil, 1> weights;
+    weights.head(4 * n).noalias() = *w * b.head(m);
+    // Gradients are stored per metre, the system is in grid units.
+    const double h = space_->grid.spacing;
+    out.with_gradients = true;
+    for (int r = 0; r < n; ++r) {
+      out.weight[static_cast<std::size_t>(r)] = weights[r];
+      out.gradient[static_cast<std::size_t>(r)] = h * weights.segment<3>(n + 3 * r);
+    }
+    return weights.head(4 * n).allFinite();
+  }
   if (n == kStencil) {
     // The usual case: the precomputed inverse.
     if (is_rbf(method_)) {
@@ -237,38 +453,61 @@ bool Interpolator::scattered(const std::array<int, 3>& cell, const Vec3& t, Weig
   return true;
 }
 
-void Interpolator::weights(const Vec3& p, Weights& out) const noexcept {
+void Interpolator::locate(const Vec3& p, std::array<int, 3>& cell, Vec3& t, Query& query) const noexcept {
   const Grid& g = space_->grid;
-  std::array<int, 3> cell{};
-  Vec3 t;
   for (int a = 0; a < 3; ++a) {
     const auto ua = static_cast<std::size_t>(a);
     double u = (p[a] - g.origin[a]) / g.spacing;
     const double top = g.counts[ua] - 1;
     if (!(u >= 0.0 && u <= top)) {
-      out.query.outside = true;
+      query.outside = true;
       u = std::isnan(u) ? 0.0 : std::clamp(u, 0.0, top);
     }
     const int c = g.counts[ua] >= 2 ? std::clamp(static_cast<int>(std::floor(u)), 0, g.counts[ua] - 2) : 0;
     cell[ua] = c;
     t[a] = u - c;
   }
+}
+
+void Interpolator::weights(const Vec3& p, Weights& out) const noexcept {
+  std::array<int, 3> cell{};
+  Vec3 t;
+  locate(p, cell, t, out.query);
   bool ok = false;
-  if (method_ != Interpolation::trilinear) ok = scattered(cell, t, out);
+  if (method_ == Interpolation::tricubic_hermite)
+    ok = tricubic(cell, t, out);
+  else if (method_ != Interpolation::trilinear)
+    ok = scattered(cell, t, out);
   if (!ok) {
     out.query.fallback = method_ != Interpolation::trilinear;
     ok = trilinear(cell, t, out);
   }
   out.query.valid = ok;
   if (!ok) out.count = 0;
+  if (!ok || out.query.fallback) out.with_gradients = false;
 }
 
 Query Interpolator::force(const Vec3& p) const noexcept {
   Weights w;
+  if (method_ == Interpolation::tricubic_hermite) {
+    // The corners' mixed derivatives of the force are kept evaluated: no weights needed.
+    std::array<int, 3> cell{};
+    Vec3 t;
+    locate(p, cell, t, w.query);
+    if (tricubic_force(cell, t, w.query.force)) {
+      w.query.valid = true;
+      return w.query;
+    }
+    w.query = Query{};
+  }
   weights(p, w);
   Vec3 f = Vec3::Zero();
-  for (int i = 0; i < w.count; ++i)
-    f += w.weight[static_cast<std::size_t>(i)] * space_->force[static_cast<std::size_t>(w.point[static_cast<std::size_t>(i)])];
+  for (int i = 0; i < w.count; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const auto point = static_cast<std::size_t>(w.point[k]);
+    f += w.weight[k] * space_->force[point];
+    if (w.with_gradients) f.noalias() += space_->force_gradient[point] * w.gradient[k];
+  }
   w.query.force = f;
   return w.query;
 }
@@ -285,6 +524,12 @@ Query Interpolator::shape(const Vec3& p, VecX& displacement) const {
     const auto point = static_cast<std::size_t>(w.point[k]);
     f += w.weight[k] * space_->force[point];
     displacement.noalias() += w.weight[k] * space_->displacement.col(static_cast<Eigen::Index>(point));
+    if (!w.with_gradients) continue;
+    f.noalias() += space_->force_gradient[point] * w.gradient[k];
+    for (int a = 0; a < 3; ++a)
+      if (w.gradient[k][a] != 0.0)
+        displacement.noalias() +=
+            w.gradient[k][a] * space_->displacement_gradient.col(3 * static_cast<Eigen::Index>(point) + a);
   }
   w.query.force = f;
   return w.query;

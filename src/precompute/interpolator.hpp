@@ -1,12 +1,21 @@
 #pragma once
 // Forces and shapes between grid points, at haptic rate: queries allocate nothing and touch
-// at most 32 grid points (the cell's 8 corners and the 24 points beyond its faces).
+// at most 64 grid points (the 4 × 4 × 4 block around the cell).
 //  - trilinear: over the cell's corners;
-//  - rbf_cubic, rbf_thin_plate: radial basis functions phi(r) = r^3 or r^2 log r over the
-//    32 points, with a linear polynomial term; interpolating (exact at grid points);
-//  - polynomial: a least-squares quadratic over the 32 points (smoothing, not interpolating).
+//  - rbf_cubic, rbf_thin_plate: radial basis functions phi(r) = r^3 or r^2 log r over 32
+//    points (the cell's 8 corners and the 24 beyond its faces), with a linear polynomial
+//    term; interpolating (exact at grid points);
+//  - polynomial: a least-squares quadratic over the 32 points (smoothing, not interpolating);
+//  - tricubic_hermite: the tensor-product cubic Hermite over the cell's corners, from each
+//    corner's value and gradient (stored with the configuration) and its mixed derivatives
+//    (differences of the neighbours' gradients, central where both neighbours are solved);
+//    C¹ across cells and exact for cubic polynomials where the differences are central;
+//  - rbf_hermite: Hermite–Birkhoff radial basis functions, phi(r) = r^3 over the 32 points,
+//    interpolating values and gradients, with a linear polynomial term.
 // Points that are not solved are left out; where too few remain the query falls back to
-// trilinear over the solved corners, and where none is solved it reports no value.
+// trilinear over the solved corners, and where none is solved it reports no value. The
+// Hermite methods need a space with derivatives (version 2 files; the constructor throws
+// InputError for one without).
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -28,6 +37,7 @@ struct Query {
 class Interpolator {
  public:
   static constexpr int kStencil = 32;
+  static constexpr int kBlock = 64;  ///< the 4 × 4 × 4 block a Hermite query may touch
 
   Interpolator(std::shared_ptr<const Space> space, Interpolation method);
 
@@ -41,15 +51,36 @@ class Interpolator {
   [[nodiscard]] const Space& space() const { return *space_; }
 
  private:
+  /// The query as weights on stored data: Σ weight·value + Σ gradient·(∂/∂x, ∂/∂y, ∂/∂z)
+  /// over `count` points (gradient weights in metres; zero for the non-Hermite methods).
   struct Weights {
-    std::array<std::int64_t, kStencil> point{};
-    std::array<double, kStencil> weight{};
+    std::array<std::int64_t, kBlock> point{};
+    std::array<double, kBlock> weight{};
+    std::array<Vec3, kBlock> gradient{};
     int count = 0;
+    bool with_gradients = false;
     Query query;
+  };
+  /// One term of a mixed derivative at a grid point: coeff · ∂f/∂x_axis at `point`.
+  struct Term {
+    std::int64_t point = 0;
+    int axis = 0;
+    double coeff = 0.0;
   };
   void weights(const Vec3& p, Weights& out) const noexcept;
   bool trilinear(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
   bool scattered(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
+  /// The cell holding p (clamped onto the grid: query.outside) and p's place in it, [0, 1]³.
+  void locate(const Vec3& p, std::array<int, 3>& cell, Vec3& t, Query& query) const noexcept;
+  bool tricubic(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
+  /// The tricubic Hermite force straight from the corners' data; false unless all 8 are solved.
+  bool tricubic_force(const std::array<int, 3>& cell, const Vec3& t, Vec3& force) const noexcept;
+  /// Appends coeff times the derivative of the given orders at grid point (i, j, k) as terms
+  /// on the stored gradients (orders summing to 2 or 3).
+  void mixed_terms(std::array<int, 3> ijk, std::array<int, 3> order, double coeff, std::vector<Term>& out) const;
+  void build_tricubic();
+  /// The RBF system of the stencil points in `used` (bits), inverted: empty when singular.
+  [[nodiscard]] Eigen::MatrixXd rbf_inverse(std::uint32_t used) const;
   /// The weight matrix of a partial stencil (the stencil points used, as bits), computed the
   /// same way as full_: empty when the stencil's system is singular.
   [[nodiscard]] Eigen::MatrixXd partial_matrix(std::uint32_t used) const;
@@ -67,6 +98,10 @@ class Interpolator {
   /// found (more than kMaxPartial kinds) is still solved at query time.
   static constexpr std::size_t kMaxPartial = 4096;
   std::vector<std::pair<std::uint32_t, Eigen::MatrixXd>> partial_;
+  /// tricubic_hermite: per grid point, its mixed derivatives ∂xy, ∂xz, ∂yz, ∂xyz as terms on
+  /// gradients, and those of the force evaluated.
+  std::vector<std::array<std::vector<Term>, 4>> mixed_;
+  std::vector<std::array<Vec3, 4>> mixed_force_;
 };
 
 }  // namespace tactus::precompute

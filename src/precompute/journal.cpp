@@ -12,7 +12,9 @@ namespace tactus::precompute {
 
 namespace {
 
-constexpr char kMagic[8] = {'T', 'C', 'S', 'P', 'J', 'N', 'L', '1'};
+// Version 2 adds the derivatives; a version 1 journal is refused by name.
+constexpr char kMagic[8] = {'T', 'C', 'S', 'P', 'J', 'N', 'L', '2'};
+constexpr char kMagicVersion1[8] = {'T', 'C', 'S', 'P', 'J', 'N', 'L', '1'};
 constexpr std::uint32_t kRecordMark = 0x52435054u;  // "TPCR"
 
 struct Header {
@@ -22,7 +24,8 @@ struct Header {
   std::uint64_t dofs;
 };
 
-/// A record: fixed part, reason bytes, displacement (solved points), checksum of it all.
+/// A record: fixed part, reason bytes, displacement and its gradient (solved points: dofs and
+/// 3·dofs values), checksum of it all.
 struct RecordHead {
   std::uint32_t mark;
   std::uint32_t reason_bytes;
@@ -33,6 +36,7 @@ struct RecordHead {
   double residual;
   double seconds;
   double force[3];
+  double force_gradient[9];  ///< column-major ∂force/∂x
   std::uint64_t dofs;  ///< displacement values that follow (0 unless solved)
 };
 
@@ -60,8 +64,9 @@ Journal Journal::resume(const std::filesystem::path& path, Space& space) {
   if (!f) throw InputError(where(path), "cannot open the checkpoint journal");
   Journal j(f, path);
   Header h{};
-  if (std::fread(&h, sizeof h, 1, f) != 1 || std::memcmp(h.magic, kMagic, sizeof kMagic) != 0)
-    throw InputError(where(path), "not a Tactus precompute journal");
+  if (std::fread(&h, sizeof h, 1, f) == 1 && std::memcmp(h.magic, kMagicVersion1, sizeof kMagic) == 0)
+    throw InputError(where(path), "a journal of an older version (without derivatives); delete it to start over");
+  if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0) throw InputError(where(path), "not a Tactus precompute journal");
   if (h.model_hash != space.identity.model_hash)
     throw InputError(where(path), "the journal belongs to another model or [precompute] settings (model hash " +
                                       hash_text(h.model_hash) + ", this scene " +
@@ -71,6 +76,7 @@ Journal Journal::resume(const std::filesystem::path& path, Space& space) {
   long good = static_cast<long>(sizeof h);
   std::vector<char> reason;
   VecX displacement;
+  MatX gradient;
   for (;;) {
     RecordHead r{};
     if (std::fread(&r, sizeof r, 1, f) != 1) break;
@@ -81,12 +87,15 @@ Journal Journal::resume(const std::filesystem::path& path, Space& space) {
     if (r.reason_bytes && std::fread(reason.data(), 1, reason.size(), f) != reason.size()) break;
     displacement.resize(static_cast<Eigen::Index>(r.dofs));
     if (r.dofs && std::fread(displacement.data(), sizeof(double), r.dofs, f) != r.dofs) break;
+    gradient.resize(static_cast<Eigen::Index>(r.dofs), r.dofs ? 3 : 0);
+    if (r.dofs && std::fread(gradient.data(), sizeof(double), 3 * r.dofs, f) != 3 * r.dofs) break;
     std::uint64_t stored = 0;
     if (std::fread(&stored, sizeof stored, 1, f) != 1) break;
     Fnv1a check;
     check.add(&r, sizeof r);
     check.add(reason.data(), reason.size());
     check.add(displacement.data(), static_cast<std::size_t>(displacement.size()) * sizeof(double));
+    check.add(gradient.data(), static_cast<std::size_t>(gradient.size()) * sizeof(double));
     if (check.value() != stored) break;
     PointResult p;
     p.point = r.point;
@@ -97,7 +106,9 @@ Journal Journal::resume(const std::filesystem::path& path, Space& space) {
     p.seconds = r.seconds;
     p.force = Vec3(r.force[0], r.force[1], r.force[2]);
     p.reason.assign(reason.begin(), reason.end());
+    p.force_gradient = Eigen::Map<const Mat3>(r.force_gradient);
     p.displacement = displacement;
+    p.displacement_gradient = gradient;
     space.store(p);
     ++j.recovered_;
     good = std::ftell(f);
@@ -135,17 +146,27 @@ void Journal::append(const PointResult& p) {
   r.residual = p.residual;
   r.seconds = p.seconds;
   for (int k = 0; k < 3; ++k) r.force[k] = p.force[k];
+  Eigen::Map<Mat3>(r.force_gradient) = p.force_gradient;
   const bool with_shape = p.status == PointStatus::solved;
+  // A result made without derivatives (none of the solvers makes one) keeps zeros in their place.
+  const MatX gradient = p.displacement_gradient.rows() == p.displacement.size() && p.displacement_gradient.cols() == 3
+                            ? p.displacement_gradient
+                            : MatX::Zero(p.displacement.size(), 3);
   r.dofs = with_shape ? static_cast<std::uint64_t>(p.displacement.size()) : 0;
   Fnv1a check;
   check.add(&r, sizeof r);
   check.add(p.reason.data(), r.reason_bytes);
-  if (with_shape) check.add(p.displacement.data(), static_cast<std::size_t>(p.displacement.size()) * sizeof(double));
+  if (with_shape) {
+    check.add(p.displacement.data(), static_cast<std::size_t>(p.displacement.size()) * sizeof(double));
+    check.add(gradient.data(), static_cast<std::size_t>(gradient.size()) * sizeof(double));
+  }
   const std::uint64_t sum = check.value();
   bool ok = std::fwrite(&r, sizeof r, 1, file_) == 1;
   if (r.reason_bytes) ok = ok && std::fwrite(p.reason.data(), 1, r.reason_bytes, file_) == r.reason_bytes;
-  if (with_shape)
+  if (with_shape) {
     ok = ok && std::fwrite(p.displacement.data(), sizeof(double), r.dofs, file_) == r.dofs;
+    ok = ok && std::fwrite(gradient.data(), sizeof(double), 3 * r.dofs, file_) == 3 * r.dofs;
+  }
   ok = ok && std::fwrite(&sum, sizeof sum, 1, file_) == 1;
   // Flushed to the operating system: a killed process loses nothing written here.
   ok = ok && std::fflush(file_) == 0;

@@ -12,10 +12,10 @@
 namespace tactus::precompute {
 
 /// How forces and shapes are interpolated between grid points (docs/precompute.md).
-enum class Interpolation { trilinear, rbf_cubic, rbf_thin_plate, polynomial };
+/// The last two use the derivatives stored with each configuration (Hermite interpolation).
+enum class Interpolation { trilinear, rbf_cubic, rbf_thin_plate, polynomial, tricubic_hermite, rbf_hermite };
 
-/// Parses "trilinear", "rbf_cubic", "rbf_thin_plate" or "polynomial"; throws InputError
-/// naming the alternatives otherwise.
+/// Parses a method's name (to_string's); throws InputError naming the alternatives otherwise.
 Interpolation parse_interpolation(std::string_view name);
 std::string_view to_string(Interpolation method);
 

@@ -24,6 +24,9 @@ void Space::allocate(std::size_t node_count) {
   seconds.assign(n, 0.0);
   reason.assign(n, std::string());
   displacement = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * node_count), static_cast<Eigen::Index>(n));
+  force_gradient.assign(n, Mat3::Zero());
+  displacement_gradient =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * node_count), static_cast<Eigen::Index>(3 * n));
 }
 
 void Space::store(const PointResult& r) {
@@ -34,10 +37,18 @@ void Space::store(const PointResult& r) {
   residual[r.point] = r.residual;
   seconds[r.point] = r.seconds;
   reason[r.point] = r.reason;
+  const auto p = static_cast<Eigen::Index>(r.point);
   if (r.status == PointStatus::solved && r.displacement.size() == displacement.rows())
-    displacement.col(static_cast<Eigen::Index>(r.point)) = r.displacement;
+    displacement.col(p) = r.displacement;
   else
-    displacement.col(static_cast<Eigen::Index>(r.point)).setZero();
+    displacement.col(p).setZero();
+  const bool with_gradient = r.status == PointStatus::solved && r.displacement_gradient.rows() == displacement.rows() &&
+                             r.displacement_gradient.cols() == 3;
+  force_gradient[r.point] = with_gradient ? r.force_gradient : Mat3::Zero();
+  if (with_gradient)
+    displacement_gradient.middleCols<3>(3 * p) = r.displacement_gradient;
+  else
+    displacement_gradient.middleCols<3>(3 * p).setZero();
 }
 
 std::size_t Space::count(PointStatus s) const {

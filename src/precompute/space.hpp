@@ -33,6 +33,10 @@ struct PointResult {
   Vec3 force = Vec3::Zero(); ///< force the body exerts on the tool [N]
   std::string reason;        ///< why it failed (empty when solved)
   VecX displacement;         ///< 3N, x − rest (solved points only)
+  /// Derivatives with respect to the interaction point's position (solved points only):
+  /// column k of each is along axis k. ∂force/∂x is the stiffness the tool feels [N/m].
+  Mat3 force_gradient = Mat3::Zero();
+  MatX displacement_gradient;  ///< 3N × 3, ∂displacement/∂x
 };
 
 /// Identifies the model a space belongs to (docs/precompute.md, "Model identity").
@@ -60,6 +64,12 @@ struct Space {
   std::vector<std::string> reason;
   /// Column p: point p's displacement (3N); zero for points not solved.
   Eigen::MatrixXd displacement;
+  /// Derivatives with respect to the interaction point (PointResult): per point ∂force/∂x,
+  /// and columns 3p..3p+2 of displacement_gradient ∂displacement/∂x. A space read from a file
+  /// of version 1 has none (has_gradients false): the Hermite methods then refuse it.
+  std::vector<Mat3> force_gradient;
+  Eigen::MatrixXd displacement_gradient;
+  bool has_gradients = true;
 
   /// Sizes every per-point array for grid.size() points of 3 · node_count dofs, all pending.
   void allocate(std::size_t node_count);

@@ -20,7 +20,9 @@ using hdf5::Writer;
 namespace {
 
 constexpr const char* kFormat = "tactus-configuration-space";
-constexpr int kVersion = 1;
+// Version 2 adds the derivatives (points/force_gradient, points/displacement_gradient);
+// version 1 files are still read, without them.
+constexpr int kVersion = 2;
 
 }  // namespace
 
@@ -75,6 +77,10 @@ void write_space(const std::filesystem::path& path, const Space& space) {
     w.dataset(pts, "force", H5T_NATIVE_DOUBLE, {points, 3}, force.data());
     w.strings(pts, "reason", space.reason);
     w.dataset(pts, "displacement", H5T_NATIVE_DOUBLE, {points, dofs}, space.displacement.data(), true);
+    // [p][k][i]: ∂force_i/∂x_k and ∂displacement_i/∂x_k (the column-major Eigen layouts).
+    w.dataset(pts, "force_gradient", H5T_NATIVE_DOUBLE, {points, 3, 3}, space.force_gradient.data());
+    w.dataset(pts, "displacement_gradient", H5T_NATIVE_DOUBLE, {points, 3, dofs}, space.displacement_gradient.data(),
+              true);
 
     Handle model(H5Gcreate2(file, "model", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     w.dataset(model, "rest_positions", H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(space.rest_positions.size() / 3), 3},
@@ -98,8 +104,9 @@ Space read_space(const std::filesystem::path& path) {
   if (!file.valid()) fail(path, "cannot open the HDF5 file");
   Reader r(path);
   if (r.text(file, "format") != kFormat) fail(path, "not a Tactus configuration space");
-  if (const int v = r.scalar<int>(file, "version", H5T_NATIVE_INT); v != kVersion)
-    fail(path, fmt::format("space file version {} (this build reads version {})", v, kVersion));
+  const int version = r.scalar<int>(file, "version", H5T_NATIVE_INT);
+  if (version != 1 && version != kVersion)
+    fail(path, fmt::format("space file version {} (this build reads versions 1 and {})", version, kVersion));
 
   Space space;
   space.identity.model_hash = r.scalar<std::uint64_t>(file, "model_hash", H5T_NATIVE_UINT64);
@@ -140,7 +147,7 @@ Space read_space(const std::filesystem::path& path) {
   s.gravity = r.scalar<int>(settings, "gravity", H5T_NATIVE_INT) != 0;
 
   const std::size_t nodes = space.identity.node_count;
-  if (total * 3.0 * static_cast<double>(nodes) > 4e9) fail(path, "implausible size of the displacement table");
+  if (total * 12.0 * static_cast<double>(nodes) > 4e9) fail(path, "implausible size of the displacement tables");
   space.allocate(nodes);
   const std::size_t points = space.grid.size();
   Handle pts(H5Gopen2(file, "points", H5P_DEFAULT), H5Gclose);
@@ -160,6 +167,11 @@ Space read_space(const std::filesystem::path& path) {
   for (std::size_t p = 0; p < points; ++p) space.force[p] = Vec3(force[3 * p], force[3 * p + 1], force[3 * p + 2]);
   space.reason = r.strings(pts, "reason", points);
   r.dataset(pts, "displacement", H5T_NATIVE_DOUBLE, points * 3 * nodes, space.displacement.data());
+  space.has_gradients = version >= 2;
+  if (space.has_gradients) {
+    r.dataset(pts, "force_gradient", H5T_NATIVE_DOUBLE, points * 9, space.force_gradient.data());
+    r.dataset(pts, "displacement_gradient", H5T_NATIVE_DOUBLE, points * 9 * nodes, space.displacement_gradient.data());
+  }
 
   Handle model(H5Gopen2(file, "model", H5P_DEFAULT), H5Gclose);
   if (!model.valid()) fail(path, "missing group 'model'");

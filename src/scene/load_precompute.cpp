@@ -14,7 +14,9 @@ precompute::Interpolation read_interpolation(Reader& r, std::string_view key) {
                                              {{"trilinear", precompute::Interpolation::trilinear},
                                               {"rbf_cubic", precompute::Interpolation::rbf_cubic},
                                               {"rbf_thin_plate", precompute::Interpolation::rbf_thin_plate},
-                                              {"polynomial", precompute::Interpolation::polynomial}},
+                                              {"polynomial", precompute::Interpolation::polynomial},
+                                              {"tricubic_hermite", precompute::Interpolation::tricubic_hermite},
+                                              {"rbf_hermite", precompute::Interpolation::rbf_hermite}},
                                              precompute::Interpolation::trilinear);
 }
 

@@ -68,6 +68,40 @@ TEST(Build, EquilibriumMatchesADirectSolve) {
   EXPECT_LT((direct.force - space.force[p]).norm(), 1e-5 * direct.force.norm());
 }
 
+TEST(Build, DerivativesMatchCentralDifferencesOfSolvedConfigurations) {
+  // The stored ∂force/∂x and ∂displacement/∂x against configurations solved 20 µm either side
+  // of a pressed, sheared point along each axis. The difference's own error is O(δ²) (about
+  // 1e-7 relative here) and the solves' balance 1e-10 relative: 1e-5 leaves room for both and
+  // would still catch a wrong sign, a missing patch node or the projected tangent.
+  const physics::Body body = testing::block_body();
+  SpaceSettings s = testing::block_settings(body);
+  s.tolerance = 1e-12;
+  ConfigurationSolver solver(body, s);
+  const Vec3 at = solver.contact_rest() + Vec3(0.002, -0.001, -0.004);
+  const PointResult centre = solver.solve_direct(at, 8);
+  ASSERT_EQ(centre.status, PointStatus::solved) << centre.reason;
+  ASSERT_EQ(centre.displacement_gradient.cols(), 3);
+  constexpr double kStep = 2e-5;
+  Mat3 force_slope;
+  MatX shape_slope(centre.displacement.size(), 3);
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 d = kStep * Vec3::Unit(k);
+    const PointResult plus = solver.transition(1, 0, centre.displacement, at, at + d);
+    const PointResult minus = solver.transition(2, 0, centre.displacement, at, at - d);
+    ASSERT_EQ(plus.status, PointStatus::solved) << plus.reason;
+    ASSERT_EQ(minus.status, PointStatus::solved) << minus.reason;
+    force_slope.col(k) = (plus.force - minus.force) / (2 * kStep);
+    shape_slope.col(k) = (plus.displacement - minus.displacement) / (2 * kStep);
+  }
+  EXPECT_LT((centre.force_gradient - force_slope).norm(), 1e-5 * force_slope.norm())
+      << centre.force_gradient << "\n" << force_slope;
+  EXPECT_LT((centre.displacement_gradient - shape_slope).norm(), 1e-5 * shape_slope.norm());
+  // Pressing down (−z) the block pushes back harder: ∂F_z/∂z < 0, and the tangent is
+  // symmetric (the reaction derives from the stored energy).
+  EXPECT_LT(centre.force_gradient(2, 2), 0.0);
+  EXPECT_LT((centre.force_gradient - centre.force_gradient.transpose()).norm(), 1e-8 * centre.force_gradient.norm());
+}
+
 TEST(Build, FailedSolvesAreRecordedWithTheirReason) {
   const physics::Body body = testing::block_body();
   SpaceSettings s = testing::block_settings(body);

@@ -45,6 +45,10 @@ TEST(SpaceFile, RoundTripsEverything) {
   EXPECT_EQ(back.force, space.force);
   EXPECT_EQ(back.reason, space.reason);
   EXPECT_TRUE(back.displacement == space.displacement);
+  EXPECT_TRUE(back.has_gradients);
+  EXPECT_EQ(back.force_gradient, space.force_gradient);
+  EXPECT_TRUE(back.displacement_gradient == space.displacement_gradient);
+  EXPECT_GT(space.displacement_gradient.norm(), 0.0);
   EXPECT_EQ(back.scene_text, space.scene_text);
   EXPECT_TRUE(back.rest_positions == space.rest_positions);
   EXPECT_EQ(back.elements, space.elements);
@@ -134,6 +138,8 @@ TEST(Journal, RecoversCompleteRecordsAndDropsACutOne) {
       r.force = full.force[p];
       r.reason = full.reason[p];
       r.displacement = full.displacement.col(static_cast<Eigen::Index>(p));
+      r.force_gradient = full.force_gradient[p];
+      r.displacement_gradient = full.displacement_gradient.middleCols<3>(3 * static_cast<Eigen::Index>(p));
       j.append(r);
     }
   }
@@ -151,12 +157,28 @@ TEST(Journal, RecoversCompleteRecordsAndDropsACutOne) {
     EXPECT_EQ(resumed.force[p], full.force[p]);
     EXPECT_TRUE(resumed.displacement.col(static_cast<Eigen::Index>(p)) ==
                 full.displacement.col(static_cast<Eigen::Index>(p)));
+    EXPECT_EQ(resumed.force_gradient[p], full.force_gradient[p]);
+    EXPECT_TRUE(resumed.displacement_gradient.middleCols<3>(3 * static_cast<Eigen::Index>(p)) ==
+                full.displacement_gradient.middleCols<3>(3 * static_cast<Eigen::Index>(p)));
   }
   EXPECT_EQ(resumed.status[5], PointStatus::pending);
   // Another model's journal is refused.
   Space other = partial;
   other.identity.model_hash ^= 1;
   EXPECT_THROW(Journal::resume(path, other), InputError);
+  // A journal of the version before the derivatives is refused by name, not misread.
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(7);
+    f.put('1');
+  }
+  Space older = partial;
+  try {
+    Journal::resume(path, older);
+    ADD_FAILURE() << "a version 1 journal was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("older version"), std::string::npos) << e.what();
+  }
   fs::remove_all(path.parent_path());
 }
 
