@@ -14,10 +14,11 @@
 //   query    [--space FILE]
 //            force query latency per interpolation method (p50, p99, max), on a space
 //            file or a synthetic 10 x 10 x 10 space.
-//   accuracy --nodes N --law L --positions M [--spacings 20,6.667]
+//   accuracy --nodes N --law L --positions M [--box MM] [--spacings 20,6.667]
 //            interpolated force and displacement against configurations solved directly
-//            at M random positions, for grid spacings 20, 13.33, 10 and 6.667 mm (or those
-//            listed, in mm) and each method, in the 40 mm accuracy box.
+//            at M random positions, for grid spacings 20, 13.33, 10 and 6.667 mm (a half, a
+//            third, a quarter and a sixth of the box; or those listed, in mm) and each
+//            method, in the accuracy box (40 mm along +x and +y and 40 mm down by default).
 //   online   --nodes N --law L --spacing S --threads W [--first V]
 //            on-line construction: the largest tool speed at which at least 99 % of the
 //            1 kHz force queries find their cell complete, with W solver threads, on the
@@ -46,6 +47,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/error.hpp"
@@ -77,9 +79,12 @@ struct Options {
   unsigned seed = 1;
   std::string space;  ///< query: a space file (default: a synthetic one)
   double first = 1.0;  ///< online: first speed tried [mm/s]
-  /// accuracy: the grid spacings [m]; 20, 13.33, 10 and 6.667 mm unless --spacings lists some
-  /// of them (in mm; the reference positions are drawn where every listed grid is solved).
-  std::vector<double> spacings{0.02, 0.04 / 3.0, 0.01, 0.02 / 3.0};
+  /// accuracy: the box's edge [m] (--box, in mm) and the grid spacings [m]: the box's half,
+  /// third, quarter and sixth (20, 13.33, 10 and 6.667 mm for the 40 mm box) unless
+  /// --spacings lists others (in mm, divisors of the box; the reference positions are drawn
+  /// where every listed grid is solved).
+  double box = 0.04;
+  std::vector<double> spacings;
 };
 
 double cpu_seconds() {
@@ -161,8 +166,8 @@ pc::SpaceSettings full_grid(const Model& m, double spacing) {
   return with_grid(m, spacing, m.lower - Vec3::Constant(0.01), m.upper + Vec3::Constant(0.01));
 }
 
-pc::SpaceSettings accuracy_grid(const Model& m, double spacing) {
-  return with_grid(m, spacing, m.contact + Vec3(0.0, 0.0, -0.04), m.contact + Vec3(0.04, 0.04, 0.0));
+pc::SpaceSettings accuracy_grid(const Model& m, double spacing, double box = 0.04) {
+  return with_grid(m, spacing, m.contact + Vec3(0.0, 0.0, -box), m.contact + Vec3(box, box, 0.0));
 }
 
 pc::SolverFactory factory(const Model& m, const pc::SpaceSettings& s) {
@@ -335,7 +340,7 @@ int accuracy(const Options& o) {
   const std::vector<double>& spacings = o.spacings;
   std::vector<std::shared_ptr<pc::Space>> spaces;
   for (const double d : spacings) {
-    const pc::SpaceSettings s = accuracy_grid(m, d);
+    const pc::SpaceSettings s = accuracy_grid(m, d, o.box);
     auto space = std::make_shared<pc::Space>(pc::make_space(m.body, s, ""));
     pc::BuildOptions b;
     b.threads = o.threads;
@@ -357,26 +362,45 @@ int accuracy(const Options& o) {
   // Reference solutions: straight from rest to the position, in load steps of at most a
   // third of the finest spacing's load step, so their discretization of the path is finer
   // than any grid's.
-  pc::ConfigurationSolver solver(m.body, m.settings);
+  // The positions are drawn in one sequence and solved a batch (one per thread) at a time;
+  // the first M that solve are kept in the order drawn, whatever the thread count.
+  const double finest = *std::min_element(spacings.begin(), spacings.end());
+  std::vector<std::unique_ptr<pc::ConfigurationSolver>> solvers;
+  for (unsigned t = 0; t < std::max(1u, o.threads); ++t)
+    solvers.push_back(std::make_unique<pc::ConfigurationSolver>(m.body, m.settings));
   std::mt19937 rng(o.seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const Vec3 lo = m.contact + Vec3(0.0, 0.0, -0.04);
-  const Vec3 size(0.04, 0.04, 0.04);
+  const Vec3 lo = m.contact + Vec3(0.0, 0.0, -o.box);
+  const Vec3 size = Vec3::Constant(o.box);
   std::vector<pc::PointResult> refs;
   std::vector<Vec3> where;
   int tries = 0;
-  while (static_cast<int>(refs.size()) < o.positions && tries++ < 20 * o.positions) {
-    const Vec3 p = lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(size);
-    if (!std::all_of(spaces.begin(), spaces.end(), [&](const auto& s) { return cell_solved(*s, p); })) continue;
-    const double step = m.settings.load_steps > 0 ? spacings.back() / m.settings.load_steps / 3.0 : 1e-3;
-    const int steps = std::max(2, static_cast<int>(std::ceil((p - m.contact).norm() / step)));
-    pc::PointResult r = solver.solve_direct(p, steps);
-    if (r.status != pc::PointStatus::solved) {
-      std::printf("  reference at (%.4f, %.4f, %.4f) failed: %s\n", p.x(), p.y(), p.z(), r.reason.c_str());
-      continue;
+  while (static_cast<int>(refs.size()) < o.positions && tries < 20 * o.positions) {
+    std::vector<Vec3> batch;
+    while (batch.size() < solvers.size() && tries++ < 20 * o.positions) {
+      const Vec3 p = lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(size);
+      if (std::all_of(spaces.begin(), spaces.end(), [&](const auto& s) { return cell_solved(*s, p); }))
+        batch.push_back(p);
     }
-    refs.push_back(std::move(r));
-    where.push_back(p);
+    std::vector<pc::PointResult> solved(batch.size());
+    std::vector<std::thread> threads;
+    for (std::size_t b = 0; b < batch.size(); ++b)
+      threads.emplace_back([&, b] {
+        const Vec3& p = batch[b];
+        const double step = m.settings.load_steps > 0 ? finest / m.settings.load_steps / 3.0 : 1e-3;
+        const int steps = std::max(2, static_cast<int>(std::ceil((p - m.contact).norm() / step)));
+        solved[b] = solvers[b]->solve_direct(p, steps);
+      });
+    for (auto& t : threads) t.join();
+    for (std::size_t b = 0; b < batch.size() && static_cast<int>(refs.size()) < o.positions; ++b) {
+      const Vec3& p = batch[b];
+      if (solved[b].status != pc::PointStatus::solved) {
+        std::printf("  reference at (%.4f, %.4f, %.4f) failed: %s\n", p.x(), p.y(), p.z(), solved[b].reason.c_str());
+        continue;
+      }
+      refs.push_back(std::move(solved[b]));
+      where.push_back(p);
+    }
   }
   double mean_force = 0.0;
   for (const auto& r : refs) mean_force += r.force.norm() / static_cast<double>(refs.size());
@@ -483,7 +507,7 @@ int usage() {
                "usage: precompute_bench compare A.h5 B.h5\n"
                "       precompute_bench cost|scaling|query|accuracy|online [--nodes N] [--law stvk|mooney_rivlin]\n"
                "         [--spacing S] [--points K] [--seconds T] [--positions M] [--threads N] [--seed S] [--space FILE]\n"
-               "         [--spacings MM,MM,...]\n");
+               "         [--box MM] [--spacings MM,MM,...]\n");
   return 1;
 }
 
@@ -518,6 +542,7 @@ int main(int argc, char** argv) {
       else if (key == "--seed") o.seed = static_cast<unsigned>(std::stoul(value));
       else if (key == "--space") o.space = value;
       else if (key == "--first") o.first = std::stod(value);
+      else if (key == "--box") o.box = 1e-3 * std::stod(value);
       else if (key == "--spacings") {
         o.spacings.clear();
         std::stringstream list(value);
@@ -528,6 +553,11 @@ int main(int argc, char** argv) {
     if (o.command == "cost") return cost(o);
     if (o.command == "scaling") return scaling(o);
     if (o.command == "query") return query(o);
+    if (o.spacings.empty()) o.spacings = {o.box / 2, o.box / 3, o.box / 4, o.box / 6};
+    // A spacing given to a few digits (6.667 mm) is the box's divisor it rounds from, so the
+    // grid reaches the box's far side.
+    for (double& d : o.spacings)
+      if (const double n = std::round(o.box / d); std::abs(o.box / n - d) < 1e-3 * d) d = o.box / n;
     if (o.command == "accuracy") return accuracy(o);
     if (o.command == "online") return online(o);
   } catch (const std::exception& e) {

@@ -28,6 +28,7 @@
 #include "precompute/journal.hpp"
 #include "precompute/model_identity.hpp"
 #include "precompute/online.hpp"
+#include "precompute/refinement.hpp"
 #include "precompute/space_file.hpp"
 #include "precompute/time_left.hpp"
 #include "compile/bodies.hpp"
@@ -277,6 +278,15 @@ int run_precompute(const PrecomputeArgs& a) {
   if (stats.stopped) {
     std::printf("stopped after %zu solves as asked; continue with --resume\n", stats.computed);
     return 3;
+  }
+  if (space.settings.refine_points > 0) {
+    // Not journaled: a build killed while refining resumes from the full grid and refines again.
+    pc::RefineOptions refine;
+    refine.points = static_cast<std::size_t>(space.settings.refine_points);
+    refine.threads = options.threads;
+    const pc::RefineStats r = pc::refine_local(space, make_solver, refine);
+    std::printf("refined %zu cells: %zu points more (%zu not solved) in %.1f s\n", r.cells, r.points, r.failed,
+                r.wall_seconds);
   }
   pc::write_space(output, space);
   journal->close();

@@ -28,7 +28,7 @@ Space make_space(const physics::Body& body, const SpaceSettings& settings, std::
   return space;
 }
 
-Vec3 patch_position(const Space& space, std::size_t point) { return space.grid.point(point); }
+Vec3 patch_position(const Space& space, std::size_t point) { return space.position(point); }
 
 PointResult run_task(ConfigurationSolver& solver, const Space& space, std::size_t point, std::int64_t source,
                      const VecX& source_displacement) {

@@ -194,31 +194,32 @@ Eigen::MatrixXd Interpolator::partial_matrix(std::uint32_t used) const {
   return q * lu.inverse();
 }
 
-void Interpolator::mixed_terms(std::array<int, 3> ijk, std::array<int, 3> order, double coeff,
+void Interpolator::mixed_terms(const LatticeIndex& at, std::array<int, 3> order, double coeff,
                                std::vector<Term>& out) const {
-  const Grid& g = space_->grid;
   const int total = order[0] + order[1] + order[2];
   if (total == 1) {
     const int axis = order[0] ? 0 : (order[1] ? 1 : 2);
-    out.push_back({static_cast<std::int64_t>(g.index(ijk[0], ijk[1], ijk[2])), axis, coeff});
+    out.push_back({static_cast<std::int64_t>(*space_->find(at)), at.ijk, axis, coeff});
     return;
   }
   // The mean over the axes it can be taken along of D_a(∂^(order − e_a)), D_a a central
-  // difference where both neighbours along a are solved, else one-sided, else nothing.
+  // difference where both neighbours along a (on this level's lattice) are solved, else
+  // one-sided, else nothing.
   int axes = 0;
   for (int a = 0; a < 3; ++a) axes += order[static_cast<std::size_t>(a)] > 0 ? 1 : 0;
-  const double h = g.spacing;
+  const double h = space_->grid.spacing / (1 << at.level);
+  auto solved = [&](const LatticeIndex& q) {
+    const auto p = space_->find(q);
+    return p && space_->solved(*p);
+  };
   for (int a = 0; a < 3; ++a) {
     const auto ua = static_cast<std::size_t>(a);
     if (order[ua] == 0) continue;
     std::array<int, 3> reduced = order;
     --reduced[ua];
-    std::array<int, 3> plus = ijk, minus = ijk;
-    ++plus[ua];
-    --minus[ua];
-    auto solved = [&](const std::array<int, 3>& q) {
-      return g.contains(q[0], q[1], q[2]) && space_->solved(g.index(q[0], q[1], q[2]));
-    };
+    LatticeIndex plus = at, minus = at;
+    ++plus.ijk[ua];
+    --minus.ijk[ua];
     const bool up = solved(plus), down = solved(minus);
     const double c = coeff / axes;
     if (up && down) {
@@ -226,39 +227,92 @@ void Interpolator::mixed_terms(std::array<int, 3> ijk, std::array<int, 3> order,
       mixed_terms(minus, reduced, -c / (2.0 * h), out);
     } else if (up) {
       mixed_terms(plus, reduced, c / h, out);
-      mixed_terms(ijk, reduced, -c / h, out);
+      mixed_terms(at, reduced, -c / h, out);
     } else if (down) {
-      mixed_terms(ijk, reduced, c / h, out);
+      mixed_terms(at, reduced, c / h, out);
       mixed_terms(minus, reduced, -c / h, out);
     }
   }
 }
 
+Interpolator::Mixed Interpolator::mixed_at(const LatticeIndex& at) const {
+  Mixed m;
+  for (std::size_t d = 0; d < kMixed.size(); ++d) {
+    m.force[d].setZero();
+    mixed_terms(at, kMixed[d], 1.0, m.terms[d]);
+    for (const Term& t : m.terms[d])
+      m.force[d] += t.coeff * space_->force_gradient[static_cast<std::size_t>(t.point)].col(t.axis);
+  }
+  return m;
+}
+
 void Interpolator::build_tricubic() {
   const Grid& g = space_->grid;
   mixed_.resize(g.size());
-  mixed_force_.assign(g.size(), {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   for (std::size_t p = 0; p < g.size(); ++p) {
     if (!space_->solved(p)) continue;
     const auto ijk = g.cell(p);
-    for (std::size_t d = 0; d < kMixed.size(); ++d) {
-      mixed_terms(ijk, kMixed[d], 1.0, mixed_[p][d]);
-      for (const Term& t : mixed_[p][d])
-        mixed_force_[p][d] += t.coeff * space_->force_gradient[static_cast<std::size_t>(t.point)].col(t.axis);
-    }
+    mixed_[p] = mixed_at({0, {ijk[0], ijk[1], ijk[2]}});
+  }
+  // The points of every refined cell's children, on the children's level.
+  for (const LatticeIndex& cell : space_->refined_cells) {
+    const int level = cell.level + 1;
+    for (int k = 0; k <= 2; ++k)
+      for (int j = 0; j <= 2; ++j)
+        for (int i = 0; i <= 2; ++i) {
+          const LatticeIndex at{level, {2 * cell.ijk[0] + i, 2 * cell.ijk[1] + j, 2 * cell.ijk[2] + k}};
+          const auto p = space_->find(at);
+          if (!p || !space_->solved(*p)) continue;
+          const std::uint64_t key = fine_key(*p, level);
+          if (!mixed_fine_.contains(key)) mixed_fine_.emplace(key, mixed_at(at));
+        }
   }
 }
 
-bool Interpolator::tricubic(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept {
-  const Grid& g = space_->grid;
-  const double h = g.spacing;
+const Interpolator::Mixed* Interpolator::mixed(std::size_t point, int level) const noexcept {
+  if (level == 0) return point < mixed_.size() ? &mixed_[point] : nullptr;
+  const auto it = mixed_fine_.find(fine_key(point, level));
+  return it == mixed_fine_.end() ? nullptr : &it->second;
+}
+
+bool Interpolator::corners(const LatticeIndex& cell, std::array<std::size_t, 8>& points) const noexcept {
+  for (int c = 0; c < 8; ++c) {
+    const auto& o = offsets_[static_cast<std::size_t>(c)];
+    const auto p = space_->find({cell.level, {cell.ijk[0] + o[0], cell.ijk[1] + o[1], cell.ijk[2] + o[2]}});
+    if (!p || !space_->solved(*p) || !mixed(*p, cell.level)) return false;
+    points[static_cast<std::size_t>(c)] = *p;
+  }
+  return true;
+}
+
+int Interpolator::descend(const std::array<int, 3>& cell, const Vec3& t, std::array<Place, kLevels>& path) const
+    noexcept {
+  path[0] = {{0, {cell[0], cell[1], cell[2]}}, t};
+  int depth = 0;
+  while (depth + 1 < kLevels && space_->is_refined(path[static_cast<std::size_t>(depth)].cell)) {
+    const Place& up = path[static_cast<std::size_t>(depth)];
+    Place& down = path[static_cast<std::size_t>(++depth)];
+    down.cell.level = up.cell.level + 1;
+    for (int a = 0; a < 3; ++a) {
+      const int half = up.t[a] >= 0.5 ? 1 : 0;
+      down.cell.ijk[static_cast<std::size_t>(a)] = 2 * up.cell.ijk[static_cast<std::size_t>(a)] + half;
+      down.t[a] = 2.0 * up.t[a] - half;
+    }
+  }
+  return depth;
+}
+
+bool Interpolator::tricubic(const Place& place, Weights& out) const noexcept {
+  std::array<std::size_t, 8> points{};
+  if (!corners(place.cell, points)) return false;
+  const double h = space_->grid.spacing / (1 << place.cell.level);
+  const auto& cell = place.cell.ijk;
   // Every point a corner's terms reach lies in the 4 × 4 × 4 block from the cell's corner − 1.
   std::array<std::int8_t, kBlock> slot{};
   slot.fill(-1);
   out.count = 0;
   out.with_gradients = true;
-  auto at = [&](std::int64_t point) {
-    const auto q = g.cell(static_cast<std::size_t>(point));
+  auto at = [&](std::int64_t point, const std::array<std::int32_t, 3>& q) {
     const int b = (q[0] - cell[0] + 1) + 4 * (q[1] - cell[1] + 1) + 16 * (q[2] - cell[2] + 1);
     auto& s = slot[static_cast<std::size_t>(b)];
     if (s < 0) {
@@ -271,38 +325,47 @@ bool Interpolator::tricubic(const std::array<int, 3>& cell, const Vec3& t, Weigh
   };
   for (int c = 0; c < 8; ++c) {
     const auto& o = offsets_[static_cast<std::size_t>(c)];
-    const int i = cell[0] + o[0], j = cell[1] + o[1], k = cell[2] + o[2];
-    if (!g.contains(i, j, k) || !space_->solved(g.index(i, j, k))) return false;
-  }
-  for (int c = 0; c < 8; ++c) {
-    const auto& o = offsets_[static_cast<std::size_t>(c)];
-    const auto p = static_cast<std::int64_t>(g.index(cell[0] + o[0], cell[1] + o[1], cell[2] + o[2]));
-    const CornerBasis b = corner_basis(o, t, h);
-    const std::size_t s = at(p);
+    const std::size_t p = points[static_cast<std::size_t>(c)];
+    const CornerBasis b = corner_basis(o, place.t, h);
+    const std::size_t s = at(static_cast<std::int64_t>(p), {cell[0] + o[0], cell[1] + o[1], cell[2] + o[2]});
     out.weight[s] += b.value;
     out.gradient[s] += b.gradient;
-    for (std::size_t m = 0; m < b.mixed.size(); ++m)
-      for (const Term& term : mixed_[static_cast<std::size_t>(p)][m])
-        out.gradient[at(term.point)][term.axis] += b.mixed[m] * term.coeff;
+    const Mixed& m = *mixed(p, place.cell.level);
+    for (std::size_t d = 0; d < b.mixed.size(); ++d)
+      for (const Term& term : m.terms[d]) out.gradient[at(term.point, term.ijk)][term.axis] += b.mixed[d] * term.coeff;
   }
   return true;
 }
 
-bool Interpolator::tricubic_force(const std::array<int, 3>& cell, const Vec3& t, Vec3& force) const noexcept {
-  const Grid& g = space_->grid;
+bool Interpolator::tricubic_force(const Place& place, Vec3& force) const noexcept {
+  std::array<std::size_t, 8> points{};
+  if (!corners(place.cell, points)) return false;
+  const double h = space_->grid.spacing / (1 << place.cell.level);
   force.setZero();
   for (int c = 0; c < 8; ++c) {
-    const auto& o = offsets_[static_cast<std::size_t>(c)];
-    const int i = cell[0] + o[0], j = cell[1] + o[1], k = cell[2] + o[2];
-    if (!g.contains(i, j, k)) return false;
-    const std::size_t p = g.index(i, j, k);
-    if (!space_->solved(p)) return false;
-    const CornerBasis b = corner_basis(o, t, g.spacing);
+    const std::size_t p = points[static_cast<std::size_t>(c)];
+    const CornerBasis b = corner_basis(offsets_[static_cast<std::size_t>(c)], place.t, h);
     force += b.value * space_->force[p];
     force.noalias() += space_->force_gradient[p] * b.gradient;
-    for (std::size_t m = 0; m < b.mixed.size(); ++m) force += b.mixed[m] * mixed_force_[p][m];
+    const Mixed& m = *mixed(p, place.cell.level);
+    for (std::size_t d = 0; d < b.mixed.size(); ++d) force += b.mixed[d] * m.force[d];
   }
   return true;
+}
+
+double Interpolator::cell_disagreement(const LatticeIndex& cell) const {
+  std::array<std::size_t, 8> points{};
+  if (!corners(cell, points)) return -1.0;
+  const Place centre{cell, Vec3::Constant(0.5)};
+  Vec3 hermite;
+  tricubic_force(centre, hermite);
+  Vec3 mean = Vec3::Zero();
+  double scale = 0.0;
+  for (std::size_t p : points) {
+    mean += space_->force[p] / 8.0;
+    scale = std::max(scale, space_->force[p].norm());
+  }
+  return (hermite - mean).norm() / std::max(scale, 1e-12);
 }
 
 bool Interpolator::trilinear(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept {
@@ -474,9 +537,11 @@ void Interpolator::weights(const Vec3& p, Weights& out) const noexcept {
   Vec3 t;
   locate(p, cell, t, out.query);
   bool ok = false;
-  if (method_ == Interpolation::tricubic_hermite)
-    ok = tricubic(cell, t, out);
-  else if (method_ != Interpolation::trilinear)
+  if (method_ == Interpolation::tricubic_hermite) {
+    // The finest refined cell holding p whose corners are solved.
+    std::array<Place, kLevels> path{};
+    for (int d = descend(cell, t, path); d >= 0 && !ok; --d) ok = tricubic(path[static_cast<std::size_t>(d)], out);
+  } else if (method_ != Interpolation::trilinear)
     ok = scattered(cell, t, out);
   if (!ok) {
     out.query.fallback = method_ != Interpolation::trilinear;
@@ -494,10 +559,12 @@ Query Interpolator::force(const Vec3& p) const noexcept {
     std::array<int, 3> cell{};
     Vec3 t;
     locate(p, cell, t, w.query);
-    if (tricubic_force(cell, t, w.query.force)) {
-      w.query.valid = true;
-      return w.query;
-    }
+    std::array<Place, kLevels> path{};
+    for (int d = descend(cell, t, path); d >= 0; --d)
+      if (tricubic_force(path[static_cast<std::size_t>(d)], w.query.force)) {
+        w.query.valid = true;
+        return w.query;
+      }
     w.query = Query{};
   }
   weights(p, w);

@@ -19,6 +19,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -48,6 +49,11 @@ class Interpolator {
   Query shape(const Vec3& p, VecX& displacement) const;
 
   [[nodiscard]] Interpolation method() const { return method_; }
+  /// How far the tricubic Hermite force at the cell's centre lies from the mean of its
+  /// corners' forces, relative to the largest of them: where the force–position map bends
+  /// (refinement's error indicator). Negative where the cell's corners are not all solved.
+  /// tricubic_hermite only.
+  [[nodiscard]] double cell_disagreement(const LatticeIndex& cell) const;
   [[nodiscard]] const Space& space() const { return *space_; }
 
  private:
@@ -61,23 +67,46 @@ class Interpolator {
     bool with_gradients = false;
     Query query;
   };
-  /// One term of a mixed derivative at a grid point: coeff · ∂f/∂x_axis at `point`.
+  /// One term of a mixed derivative at a point: coeff · ∂f/∂x_axis at `point` (at `ijk` on
+  /// the lattice of the level it was taken on).
   struct Term {
     std::int64_t point = 0;
+    std::array<std::int32_t, 3> ijk{};
     int axis = 0;
     double coeff = 0.0;
+  };
+  /// A point's mixed derivatives ∂xy, ∂xz, ∂yz, ∂xyz on one level: as terms on gradients, and
+  /// those of the force evaluated.
+  struct Mixed {
+    std::array<std::vector<Term>, 4> terms;
+    std::array<Vec3, 4> force{};
+  };
+  static constexpr int kLevels = Space::kMaxLevel + 1;
+  /// A cell of some level and a place in it, [0, 1]³.
+  struct Place {
+    LatticeIndex cell;
+    Vec3 t = Vec3::Zero();
   };
   void weights(const Vec3& p, Weights& out) const noexcept;
   bool trilinear(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
   bool scattered(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
   /// The cell holding p (clamped onto the grid: query.outside) and p's place in it, [0, 1]³.
   void locate(const Vec3& p, std::array<int, 3>& cell, Vec3& t, Query& query) const noexcept;
-  bool tricubic(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
+  /// From the grid's cell down through refined cells: path[0..depth], returns depth.
+  int descend(const std::array<int, 3>& cell, const Vec3& t, std::array<Place, kLevels>& path) const noexcept;
+  /// The cell's 8 corner points; false unless each is solved and has its mixed derivatives.
+  bool corners(const LatticeIndex& cell, std::array<std::size_t, 8>& points) const noexcept;
+  bool tricubic(const Place& place, Weights& out) const noexcept;
   /// The tricubic Hermite force straight from the corners' data; false unless all 8 are solved.
-  bool tricubic_force(const std::array<int, 3>& cell, const Vec3& t, Vec3& force) const noexcept;
+  bool tricubic_force(const Place& place, Vec3& force) const noexcept;
+  [[nodiscard]] const Mixed* mixed(std::size_t point, int level) const noexcept;
+  [[nodiscard]] Mixed mixed_at(const LatticeIndex& at) const;
+  static std::uint64_t fine_key(std::size_t point, int level) {
+    return static_cast<std::uint64_t>(point) * kLevels + static_cast<std::uint64_t>(level);
+  }
   /// Appends coeff times the derivative of the given orders at grid point (i, j, k) as terms
   /// on the stored gradients (orders summing to 2 or 3).
-  void mixed_terms(std::array<int, 3> ijk, std::array<int, 3> order, double coeff, std::vector<Term>& out) const;
+  void mixed_terms(const LatticeIndex& at, std::array<int, 3> order, double coeff, std::vector<Term>& out) const;
   void build_tricubic();
   /// The RBF system of the stencil points in `used` (bits), inverted: empty when singular.
   [[nodiscard]] Eigen::MatrixXd rbf_inverse(std::uint32_t used) const;
@@ -98,10 +127,10 @@ class Interpolator {
   /// found (more than kMaxPartial kinds) is still solved at query time.
   static constexpr std::size_t kMaxPartial = 4096;
   std::vector<std::pair<std::uint32_t, Eigen::MatrixXd>> partial_;
-  /// tricubic_hermite: per grid point, its mixed derivatives ∂xy, ∂xz, ∂yz, ∂xyz as terms on
-  /// gradients, and those of the force evaluated.
-  std::vector<std::array<std::vector<Term>, 4>> mixed_;
-  std::vector<std::array<Vec3, 4>> mixed_force_;
+  /// tricubic_hermite: the mixed derivatives of every solved grid point (level 0), and of the
+  /// refined points on each level they are a corner on (by fine_key).
+  std::vector<Mixed> mixed_;
+  std::unordered_map<std::uint64_t, Mixed> mixed_fine_;
 };
 
 }  // namespace tactus::precompute

@@ -35,6 +35,8 @@ struct SpaceSettings {
   int max_iterations = 50;            ///< Newton iterations per load step
   double tolerance = 1e-8;            ///< relative residual per load step
   bool gravity = false;               ///< configurations include the body's weight
+  /// Adaptive refinement after the build: at most this many points more (0: none).
+  int refine_points = 0;
   Interpolation interpolation = Interpolation::trilinear;
 };
 

@@ -1,6 +1,9 @@
 #include "precompute/space.hpp"
 
 #include <algorithm>
+#include <string>
+
+#include "core/error.hpp"
 
 namespace tactus::precompute {
 
@@ -27,6 +30,80 @@ void Space::allocate(std::size_t node_count) {
   force_gradient.assign(n, Mat3::Zero());
   displacement_gradient =
       Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * node_count), static_cast<Eigen::Index>(3 * n));
+  refined_points.clear();
+  refined_cells.clear();
+  index_refinement();
+}
+
+std::uint64_t Space::key(const LatticeIndex& at) {
+  std::uint64_t k = 0;
+  for (int a = 0; a < 3; ++a) {
+    const auto v = static_cast<std::uint64_t>(static_cast<std::uint32_t>(at.ijk[static_cast<std::size_t>(a)])
+                                              << (kMaxLevel - at.level)) & 0x1fffffu;
+    k |= v << (21 * a);
+  }
+  return k;
+}
+
+std::optional<std::size_t> Space::find(const LatticeIndex& at) const {
+  const int scale = 1 << at.level;
+  if (at.ijk[0] % scale == 0 && at.ijk[1] % scale == 0 && at.ijk[2] % scale == 0) {
+    const int i = at.ijk[0] / scale, j = at.ijk[1] / scale, k = at.ijk[2] / scale;
+    if (!grid.contains(i, j, k)) return std::nullopt;
+    return grid.index(i, j, k);
+  }
+  if (at.ijk[0] < 0 || at.ijk[1] < 0 || at.ijk[2] < 0) return std::nullopt;
+  const auto it = refined_lookup_.find(key(at));
+  if (it == refined_lookup_.end()) return std::nullopt;
+  return it->second;
+}
+
+Vec3 Space::position(std::size_t p) const {
+  if (p < grid.size()) return grid.point(p);
+  const LatticeIndex& at = refined_points[p - grid.size()];
+  return grid.origin + grid.spacing / (1 << at.level) * Vec3(at.ijk[0], at.ijk[1], at.ijk[2]);
+}
+
+bool Space::is_refined(const LatticeIndex& cell) const {
+  if (cell.level < 0 || cell.level >= kMaxLevel) return false;
+  const auto& cells = cell_lookup_[static_cast<std::size_t>(cell.level)];
+  return !cells.empty() && cells.contains(key(cell));
+}
+
+std::size_t Space::add_point(const LatticeIndex& at) {
+  if (at.level < 1 || at.level > kMaxLevel) throw InputError("a refined point lies on levels 1 to " +
+                                                             std::to_string(kMaxLevel));
+  const std::size_t p = status.size();
+  refined_points.push_back(at);
+  refined_lookup_[key(at)] = p;
+  status.push_back(PointStatus::pending);
+  force.push_back(Vec3::Zero());
+  source.push_back(-1);
+  iterations.push_back(0);
+  residual.push_back(0.0);
+  seconds.push_back(0.0);
+  reason.emplace_back();
+  force_gradient.push_back(Mat3::Zero());
+  displacement.conservativeResize(Eigen::NoChange, displacement.cols() + 1);
+  displacement.col(displacement.cols() - 1).setZero();
+  displacement_gradient.conservativeResize(Eigen::NoChange, displacement_gradient.cols() + 3);
+  displacement_gradient.rightCols<3>().setZero();
+  return p;
+}
+
+void Space::refine_cell(const LatticeIndex& cell) {
+  if (cell.level < 0 || cell.level >= kMaxLevel) throw InputError("a cell can be refined at most " +
+                                                                   std::to_string(kMaxLevel) + " times");
+  cell_lookup_[static_cast<std::size_t>(cell.level)].insert(key(cell));
+  refined_cells.push_back(cell);
+}
+
+void Space::index_refinement() {
+  refined_lookup_.clear();
+  for (auto& cells : cell_lookup_) cells.clear();
+  for (std::size_t r = 0; r < refined_points.size(); ++r) refined_lookup_[key(refined_points[r])] = grid.size() + r;
+  for (const LatticeIndex& c : refined_cells)
+    if (c.level >= 0 && c.level < kMaxLevel) cell_lookup_[static_cast<std::size_t>(c.level)].insert(key(c));
 }
 
 void Space::store(const PointResult& r) {

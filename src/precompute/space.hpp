@@ -4,7 +4,10 @@
 // built from.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "core/math.hpp"
@@ -47,7 +50,18 @@ struct ModelIdentity {
   std::size_t element_count = 0;
 };
 
+/// A point or cell of a refinement level: level L's lattice has spacing grid.spacing / 2^L and
+/// the grid's origin, so level L's (i, j, k) is level L+1's (2i, 2j, 2k).
+struct LatticeIndex {
+  std::int32_t level = 0;
+  std::array<std::int32_t, 3> ijk{};
+  bool operator==(const LatticeIndex&) const = default;
+};
+
 struct Space {
+  /// Refinement levels below the grid (a cell of level L splits into 8 of level L + 1).
+  static constexpr int kMaxLevel = 8;
+
   Grid grid;
   SpaceSettings settings;
   ModelIdentity identity;
@@ -71,11 +85,40 @@ struct Space {
   Eigen::MatrixXd displacement_gradient;
   bool has_gradients = true;
 
-  /// Sizes every per-point array for grid.size() points of 3 · node_count dofs, all pending.
+  /// Adaptive refinement (docs/precompute.md, "Refinement"): points beyond the grid's, at
+  /// index grid.size() + r of every per-point array, with refined_points[r] their place; and
+  /// the cells split, each into 8 of the next level.
+  std::vector<LatticeIndex> refined_points;
+  std::vector<LatticeIndex> refined_cells;
+
+  /// Sizes every per-point array for grid.size() points of 3 · node_count dofs, all pending,
+  /// with no refinement.
   void allocate(std::size_t node_count);
   void store(const PointResult& r);
   [[nodiscard]] std::size_t count(PointStatus s) const;
   [[nodiscard]] bool solved(std::size_t p) const { return status[p] == PointStatus::solved; }
+  /// Points in every per-point array: the grid's and the refinement's.
+  [[nodiscard]] std::size_t point_count() const { return status.size(); }
+
+  /// The point at a lattice place (the grid's own where it coincides with a grid point), or
+  /// nothing where no point lies there.
+  [[nodiscard]] std::optional<std::size_t> find(const LatticeIndex& at) const;
+  /// Where point p lies [m] (grid or refinement).
+  [[nodiscard]] Vec3 position(std::size_t p) const;
+  /// Whether the cell is split into 8 of the next level.
+  [[nodiscard]] bool is_refined(const LatticeIndex& cell) const;
+  /// Appends a pending point at `at` (which must hold none) and returns its index.
+  std::size_t add_point(const LatticeIndex& at);
+  /// Marks a cell split (its points are added separately).
+  void refine_cell(const LatticeIndex& cell);
+  /// Rebuilds the lookups from refined_points and refined_cells (after reading a file).
+  void index_refinement();
+
+ private:
+  /// Keys of places on the finest lattice (level kMaxLevel): 21 bits per axis.
+  [[nodiscard]] static std::uint64_t key(const LatticeIndex& at);
+  std::unordered_map<std::uint64_t, std::size_t> refined_lookup_;
+  std::array<std::unordered_set<std::uint64_t>, kMaxLevel> cell_lookup_;
 };
 
 }  // namespace tactus::precompute

@@ -33,7 +33,7 @@ void write_space(const std::filesystem::path& path, const Space& space) {
   {
     Handle file(H5Fcreate(tmp.string().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
     if (!file.valid()) fail(path, "cannot create the space file");
-    const std::size_t points = space.grid.size();
+    const std::size_t points = space.point_count();
     const auto dofs = static_cast<hsize_t>(space.displacement.rows());
     const auto& s = space.settings;
 
@@ -64,6 +64,7 @@ void write_space(const std::filesystem::path& path, const Space& space) {
     w.attribute(settings, "tolerance", H5T_NATIVE_DOUBLE, &s.tolerance);
     const int gravity = s.gravity ? 1 : 0;
     w.attribute(settings, "gravity", H5T_NATIVE_INT, &gravity);
+    w.attribute(settings, "refine_points", H5T_NATIVE_INT, &s.refine_points);
 
     Handle pts(H5Gcreate2(file, "points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     w.dataset(pts, "status", H5T_NATIVE_UINT8, {points}, space.status.data());
@@ -81,6 +82,17 @@ void write_space(const std::filesystem::path& path, const Space& space) {
     w.dataset(pts, "force_gradient", H5T_NATIVE_DOUBLE, {points, 3, 3}, space.force_gradient.data());
     w.dataset(pts, "displacement_gradient", H5T_NATIVE_DOUBLE, {points, 3, dofs}, space.displacement_gradient.data(),
               true);
+
+    // Refined points follow the grid's in every /points dataset; here their places.
+    Handle refined(H5Gcreate2(file, "refinement", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    auto places = [](const std::vector<LatticeIndex>& list) {
+      std::vector<std::int32_t> flat;
+      for (const LatticeIndex& at : list) flat.insert(flat.end(), {at.level, at.ijk[0], at.ijk[1], at.ijk[2]});
+      return flat;
+    };
+    const auto refined_points = places(space.refined_points), refined_cells = places(space.refined_cells);
+    w.dataset(refined, "points", H5T_NATIVE_INT32, {space.refined_points.size(), 4}, refined_points.data());
+    w.dataset(refined, "cells", H5T_NATIVE_INT32, {space.refined_cells.size(), 4}, refined_cells.data());
 
     Handle model(H5Gcreate2(file, "model", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     w.dataset(model, "rest_positions", H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(space.rest_positions.size() / 3), 3},
@@ -145,11 +157,38 @@ Space read_space(const std::filesystem::path& path) {
   s.max_iterations = r.scalar<int>(settings, "max_iterations", H5T_NATIVE_INT);
   s.tolerance = r.scalar<double>(settings, "tolerance", H5T_NATIVE_DOUBLE);
   s.gravity = r.scalar<int>(settings, "gravity", H5T_NATIVE_INT) != 0;
+  if (version >= 2) s.refine_points = r.scalar<int>(settings, "refine_points", H5T_NATIVE_INT);
 
   const std::size_t nodes = space.identity.node_count;
   if (total * 12.0 * static_cast<double>(nodes) > 4e9) fail(path, "implausible size of the displacement tables");
   space.allocate(nodes);
-  const std::size_t points = space.grid.size();
+  if (version >= 2) {
+    Handle refined(H5Gopen2(file, "refinement", H5P_DEFAULT), H5Gclose);
+    if (!refined.valid()) fail(path, "missing group 'refinement'");
+    auto places = [&](const char* name) {
+      const auto dims = r.dims(refined, name, 2);
+      if (dims[1] != 4 || dims[0] > 10'000'000) fail(path, fmt::format("refinement/{} is not a list of places", name));
+      std::vector<std::int32_t> flat(4 * dims[0]);
+      r.dataset(refined, name, H5T_NATIVE_INT32, flat.size(), flat.data());
+      std::vector<LatticeIndex> list;
+      for (std::size_t i = 0; i < dims[0]; ++i) {
+        const LatticeIndex at{flat[4 * i], {flat[4 * i + 1], flat[4 * i + 2], flat[4 * i + 3]}};
+        if (at.level < 0 || at.level > Space::kMaxLevel || at.ijk[0] < 0 || at.ijk[1] < 0 || at.ijk[2] < 0)
+          fail(path, fmt::format("refinement/{} entry {} is not a lattice place", name, i));
+        list.push_back(at);
+      }
+      return list;
+    };
+    for (const LatticeIndex& at : places("points")) {
+      if (at.level < 1 || space.find(at)) fail(path, "refinement/points repeats a point or names a grid point");
+      space.add_point(at);
+    }
+    for (const LatticeIndex& cell : places("cells")) {
+      if (cell.level >= Space::kMaxLevel) fail(path, "refinement/cells splits a cell of the finest level");
+      space.refine_cell(cell);
+    }
+  }
+  const std::size_t points = space.point_count();
   Handle pts(H5Gopen2(file, "points", H5P_DEFAULT), H5Gclose);
   if (!pts.valid()) fail(path, "missing group 'points'");
   std::vector<std::uint8_t> status(points);

@@ -71,6 +71,7 @@ precompute::SpaceSettings read_precompute(Reader& r, const Model& model) {
   s.max_iterations = r.integer("max_iterations", s.max_iterations, 1, 1000);
   s.tolerance = r.number("tolerance", s.tolerance, Range::open_closed(0.0, 1e-2));
   s.gravity = r.boolean("gravity", s.gravity);
+  s.refine_points = r.integer("refine_points", s.refine_points, 0, 10'000'000);
   s.interpolation = read_interpolation(r, "interpolation");
   precompute::Grid grid;
   try {

@@ -32,6 +32,7 @@ min = [-0.01, -0.01, 0.0]
 max = [0.01, 0.01, 0.02]
 load_steps = 3
 interpolation = "rbf_cubic"
+refine_points = 40
 )"),
                                     "test.toml");
   ASSERT_TRUE(m.precompute);
@@ -42,6 +43,7 @@ interpolation = "rbf_cubic"
   EXPECT_EQ(s.patch_nodes.size(), 6u);  // the node and its neighbours 1 cm away: four on the top face, one below
   EXPECT_EQ(s.load_steps, 3);
   EXPECT_EQ(s.interpolation, Interpolation::rbf_cubic);
+  EXPECT_EQ(s.refine_points, 40);
 }
 
 TEST(PrecomputeScene, BadTablesAreInputErrors) {
