@@ -14,11 +14,12 @@
 //   query    [--space FILE]
 //            force query latency per interpolation method (p50, p99, max), on a space
 //            file or a synthetic 10 x 10 x 10 space.
-//   accuracy --nodes N --law L --positions M [--box MM] [--spacings 20,6.667]
+//   accuracy --nodes N --law L --positions M [--box MM] [--spacings 20,6.667] [--refine K]
 //            interpolated force and displacement against configurations solved directly
 //            at M random positions, for grid spacings 20, 13.33, 10 and 6.667 mm (a half, a
 //            third, a quarter and a sixth of the box; or those listed, in mm) and each
-//            method, in the accuracy box (40 mm along +x and +y and 40 mm down by default).
+//            method, in the accuracy box (40 mm along +x and +y and 40 mm down by default);
+//            with --refine, each grid also refined by up to K points, tricubic Hermite.
 //   online   --nodes N --law L --spacing S --threads W [--first V]
 //            on-line construction: the largest tool speed at which at least 99 % of the
 //            1 kHz force queries find their cell complete, with W solver threads, on the
@@ -57,6 +58,7 @@
 #include "precompute/configuration_solver.hpp"
 #include "precompute/interpolator.hpp"
 #include "precompute/online.hpp"
+#include "precompute/refinement.hpp"
 #include "precompute/space_file.hpp"
 #include "precompute/wavefront.hpp"
 #include "compile/bodies.hpp"
@@ -84,6 +86,7 @@ struct Options {
   /// --spacings lists others (in mm, divisors of the box; the reference positions are drawn
   /// where every listed grid is solved).
   double box = 0.04;
+  std::size_t refine = 0;  ///< accuracy: each grid also refined by at most this many points
   std::vector<double> spacings;
 };
 
@@ -183,8 +186,10 @@ int cost(const Options& o) {
   b.stop_after = o.points;
   long long iterations = 0;
   std::size_t failed = 0;
+  double derivative_seconds = 0.0;
   b.on_result = [&](const pc::PointResult& r) {
     iterations += r.iterations;
+    derivative_seconds += r.derivative_seconds;
     failed += r.status == pc::PointStatus::failed;
   };
   const double cpu0 = cpu_seconds();
@@ -197,6 +202,8 @@ int cost(const Options& o) {
   std::printf("  first %zu points of the wavefront (%zu failed): %.3f CPU-s/point, %.3f solver-s/point (wall), "
               "%.1f Newton iterations/point\n",
               stats.computed, failed, cpu / n, stats.solve_seconds / n, static_cast<double>(iterations) / n);
+  std::printf("  of which the derivatives (one factorization, three solves): %.3f s/point, %.1f%%\n",
+              derivative_seconds / n, 100.0 * derivative_seconds / std::max(stats.solve_seconds, 1e-12));
   return 0;
 }
 
@@ -338,7 +345,7 @@ bool cell_solved(const pc::Space& space, const Vec3& p) {
 int accuracy(const Options& o) {
   const Model m = load_model(o.nodes, o.law);
   const std::vector<double>& spacings = o.spacings;
-  std::vector<std::shared_ptr<pc::Space>> spaces;
+  std::vector<std::shared_ptr<pc::Space>> spaces, refined_spaces;
   for (const double d : spacings) {
     const pc::SpaceSettings s = accuracy_grid(m, d, o.box);
     auto space = std::make_shared<pc::Space>(pc::make_space(m.body, s, ""));
@@ -357,6 +364,17 @@ int accuracy(const Options& o) {
                     1e3 * at.z(), space->reason[p].c_str());
       }
     std::fflush(stdout);
+    if (o.refine > 0) {
+      // The refined space is a copy: the methods without refinement are measured on the grid.
+      auto refined = std::make_shared<pc::Space>(*space);
+      pc::RefineOptions r;
+      r.points = o.refine;
+      r.threads = o.threads;
+      const pc::RefineStats rs = pc::refine_local(*refined, factory(m, s), r);
+      std::printf("    refined %zu cells: %zu points more (%zu not solved), %.1f s wall\n", rs.cells, rs.points,
+                  rs.failed, rs.wall_seconds);
+      refined_spaces.push_back(std::move(refined));
+    }
     spaces.push_back(std::move(space));
   }
   // Reference solutions: straight from rest to the position, in load steps of at most a
@@ -407,27 +425,37 @@ int accuracy(const Options& o) {
   std::printf("  %zu reference positions (mean |force| %.4g N)\n", refs.size(), mean_force);
   std::printf("| spacing [mm] | method | force error mean | force error max | displacement error mean | "
               "displacement error max |\n|---|---|---|---|---|---|\n");
+  std::vector<std::pair<std::size_t, pc::Interpolation>> rows;
   for (std::size_t k = 0; k < spaces.size(); ++k) {
     for (const auto method : {pc::Interpolation::trilinear, pc::Interpolation::rbf_cubic,
                               pc::Interpolation::rbf_thin_plate, pc::Interpolation::polynomial,
-                              pc::Interpolation::tricubic_hermite, pc::Interpolation::rbf_hermite}) {
-      const pc::Interpolator in(spaces[k], method);
-      double fmean = 0.0, fmax = 0.0, umean = 0.0, umax = 0.0;
-      VecX u_interp;
-      for (std::size_t i = 0; i < refs.size(); ++i) {
-        const pc::Query q = in.shape(where[i], u_interp);
-        // Relative errors: of the force vector against the reference force's magnitude, of
-        // the displacement field (all nodes, 2-norm) against the reference field's norm.
-        const double fe = (q.force - refs[i].force).norm() / refs[i].force.norm();
-        const double ue = (u_interp - refs[i].displacement).norm() / refs[i].displacement.norm();
-        fmean += fe / static_cast<double>(refs.size());
-        umean += ue / static_cast<double>(refs.size());
-        fmax = std::max(fmax, fe);
-        umax = std::max(umax, ue);
-      }
-      std::printf("| %.4g | %s | %.2f%% | %.2f%% | %.2f%% | %.2f%% |\n", 1e3 * spacings[k],
-                  std::string(pc::to_string(method)).c_str(), 100 * fmean, 100 * fmax, 100 * umean, 100 * umax);
+                              pc::Interpolation::tricubic_hermite, pc::Interpolation::rbf_hermite})
+      rows.emplace_back(k, method);
+    if (o.refine > 0) rows.emplace_back(spaces.size() + k, pc::Interpolation::tricubic_hermite);
+  }
+  for (const auto& [index, method] : rows) {
+    const bool refined = index >= spaces.size();
+    const std::size_t k = refined ? index - spaces.size() : index;
+    const auto& space = refined ? refined_spaces[k] : spaces[k];
+    const pc::Interpolator in(space, method);
+    double fmean = 0.0, fmax = 0.0, umean = 0.0, umax = 0.0;
+    VecX u_interp;
+    for (std::size_t i = 0; i < refs.size(); ++i) {
+      const pc::Query q = in.shape(where[i], u_interp);
+      // Relative errors: of the force vector against the reference force's magnitude, of
+      // the displacement field (all nodes, 2-norm) against the reference field's norm.
+      const double fe = (q.force - refs[i].force).norm() / refs[i].force.norm();
+      const double ue = (u_interp - refs[i].displacement).norm() / refs[i].displacement.norm();
+      fmean += fe / static_cast<double>(refs.size());
+      umean += ue / static_cast<double>(refs.size());
+      fmax = std::max(fmax, fe);
+      umax = std::max(umax, ue);
     }
+    const std::string name =
+        std::string(pc::to_string(method)) +
+        (refined ? fmt::format(", refined (+{} points)", space->point_count() - space->grid.size()) : "");
+    std::printf("| %.4g | %s | %.2f%% | %.2f%% | %.2f%% | %.2f%% |\n", 1e3 * spacings[k], name.c_str(), 100 * fmean,
+                100 * fmax, 100 * umean, 100 * umax);
   }
   return 0;
 }
@@ -507,7 +535,7 @@ int usage() {
                "usage: precompute_bench compare A.h5 B.h5\n"
                "       precompute_bench cost|scaling|query|accuracy|online [--nodes N] [--law stvk|mooney_rivlin]\n"
                "         [--spacing S] [--points K] [--seconds T] [--positions M] [--threads N] [--seed S] [--space FILE]\n"
-               "         [--box MM] [--spacings MM,MM,...]\n");
+               "         [--box MM] [--spacings MM,MM,...] [--refine K]\n");
   return 1;
 }
 
@@ -543,6 +571,7 @@ int main(int argc, char** argv) {
       else if (key == "--space") o.space = value;
       else if (key == "--first") o.first = std::stod(value);
       else if (key == "--box") o.box = 1e-3 * std::stod(value);
+      else if (key == "--refine") o.refine = std::stoul(value);
       else if (key == "--spacings") {
         o.spacings.clear();
         std::stringstream list(value);

@@ -153,11 +153,12 @@ PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, con
       r.status = PointStatus::failed;
       r.reason = "non-finite reaction force";
       r.force.setZero();
-    } else if (!derivatives(r)) {
+    } else if (const auto d0 = std::chrono::steady_clock::now(); !derivatives(r)) {
       r.status = PointStatus::failed;
       r.reason = "the balanced state's stiffness could not be solved for the derivatives";
       r.force.setZero();
     } else {
+      r.derivative_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
       r.displacement = state_.x - rest;
     }
   }

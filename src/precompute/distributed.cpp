@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <deque>
 #include <optional>
+#include <random>
 #include <thread>
 #include <vector>
 
@@ -120,6 +121,32 @@ Stall stall_from_environment() {
     if (std::sscanf(v, "%d:%ld:%lf", &s.rank, &s.task, &s.seconds) != 3) s = Stall{};
   return s;
 }
+
+/// TACTUS_PRECOMPUTE_LATENCY="MS:JITTER_MS": the even solver ranks (2, 4, …) hold every task
+/// they receive and every result they send MS ± JITTER_MS milliseconds (uniform), as a
+/// network of that one-way latency between them and the scheduler would (half the ranks far
+/// away, as seed 001's two clusters 300 km apart). For the latency study of
+/// docs/precompute.md; unset, nothing.
+class Latency {
+ public:
+  explicit Latency(int rank) : rng_(static_cast<unsigned>(rank)) {
+    const char* v = std::getenv("TACTUS_PRECOMPUTE_LATENCY");
+    double ms = 0.0, jitter = 0.0;
+    if (!v || rank % 2 != 0 || std::sscanf(v, "%lf:%lf", &ms, &jitter) != 2 || !(ms >= 0.0) || !(jitter >= 0.0)) return;
+    mean_ = 1e-3 * ms;
+    jitter_ = 1e-3 * std::min(jitter, ms);
+  }
+  /// One message's delay.
+  void hold() {
+    if (mean_ <= 0.0) return;
+    std::uniform_real_distribution<double> u(-jitter_, jitter_);
+    std::this_thread::sleep_for(std::chrono::duration<double>(mean_ + u(rng_)));
+  }
+
+ private:
+  double mean_ = 0.0, jitter_ = 0.0;
+  std::mt19937 rng_;
+};
 
 }  // namespace
 
@@ -267,6 +294,7 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
 void serve(ConfigurationSolver& solver, const Space& space, const Session& session) {
   const auto dofs = static_cast<int>(space.displacement.rows());
   const Stall stall = stall_from_environment();
+  Latency latency(session.rank());
   long tasks = 0;
   VecX source(dofs);
   for (;;) {
@@ -279,11 +307,13 @@ void serve(ConfigurationSolver& solver, const Space& space, const Session& sessi
       return;
     }
     if (head[1] >= 0) MPI_Recv(source.data(), dofs, MPI_DOUBLE, 0, kTaskTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    latency.hold();
     if (++tasks == stall.task && session.rank() == stall.rank)
       std::this_thread::sleep_for(std::chrono::duration<double>(stall.seconds));
     const PointResult r = run_task(solver, space, static_cast<std::size_t>(head[0]), head[1], source);
     const std::int64_t out[5] = {static_cast<std::int64_t>(r.point), static_cast<std::int64_t>(r.status), r.source,
                                  r.iterations, static_cast<std::int64_t>(r.reason.size())};
+    latency.hold();
     double values[14] = {r.residual, r.seconds, r.force.x(), r.force.y(), r.force.z()};
     Eigen::Map<Mat3>(values + 5) = r.force_gradient;
     MPI_Send(out, 5, MPI_INT64_T, 0, kResultTag, MPI_COMM_WORLD);

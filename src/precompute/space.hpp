@@ -33,6 +33,7 @@ struct PointResult {
   int refinements = 0;       ///< load-step halvings the solve needed (not stored in the file)
   double residual = 0.0;     ///< worst final relative residual of the load steps
   double seconds = 0.0;      ///< wall time of the solve on its worker
+  double derivative_seconds = 0.0;  ///< of which the derivatives (not stored in the file)
   Vec3 force = Vec3::Zero(); ///< force the body exerts on the tool [N]
   std::string reason;        ///< why it failed (empty when solved)
   VecX displacement;         ///< 3N, x − rest (solved points only)
