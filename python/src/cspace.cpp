@@ -15,6 +15,7 @@
 #include "precompute/builder.hpp"
 #include "precompute/configuration_solver.hpp"
 #include "precompute/interpolator.hpp"
+#include "precompute/refinement.hpp"
 #include "precompute/space_file.hpp"
 
 namespace tactus::python {
@@ -67,11 +68,11 @@ void bind_cspace(py::module_& m) {
       .def_property_readonly(
           "points",
           [](const ConfigurationSpace& c) {
-            std::vector<Vec3> p(c.space->grid.size());
-            for (std::size_t i = 0; i < p.size(); ++i) p[i] = c.space->grid.point(i);
+            std::vector<Vec3> p(c.space->point_count());
+            for (std::size_t i = 0; i < p.size(); ++i) p[i] = c.space->position(i);
             return vec3_copy(p);
           },
-          "The grid points (n, 3) [m], x fastest.")
+          "The points (n, 3) [m]: the grid's, x fastest, then those refinement added (refine_points).")
       .def_property_readonly(
           "solved",
           [](const ConfigurationSpace& c) {
@@ -79,10 +80,23 @@ void bind_cspace(py::module_& m) {
             for (std::size_t i = 0; i < c.space->status.size(); ++i) s.mutable_at(i) = c.space->solved(i);
             return s;
           },
-          "Whether each grid point was solved (n,).")
+          "Whether each point was solved (n,).")
       .def_property_readonly(
           "point_forces", [](const ConfigurationSpace& c) { return vec3_copy(c.space->force); },
-          "The force stored at each grid point (n, 3) [N]; zero where not solved.")
+          "The force stored at each point (n, 3) [N]; zero where not solved.")
+      .def_property_readonly(
+          "point_stiffness",
+          [](const ConfigurationSpace& c) {
+            const auto n = static_cast<py::ssize_t>(c.space->point_count());
+            py::array_t<double> k({n, py::ssize_t{3}, py::ssize_t{3}});
+            auto w = k.mutable_unchecked<3>();
+            for (py::ssize_t p = 0; p < n; ++p)
+              for (py::ssize_t i = 0; i < 3; ++i)
+                for (py::ssize_t j = 0; j < 3; ++j) w(p, i, j) = c.space->force_gradient[static_cast<std::size_t>(p)](i, j);
+            return k;
+          },
+          "∂force/∂x at each point (n, 3, 3) [N/m]: [p, i, k] = ∂F_i/∂x_k, the stiffness the tool feels\n"
+          "there; zero where not solved or the file (version 1) has no derivatives.")
       .def(
           "force",
           [](const ConfigurationSpace& c, const py::array_t<double>& p) {
@@ -138,8 +152,16 @@ void bind_cspace(py::module_& m) {
         set_thread_limit(1);
         precompute::BuildStats stats;
         try {
-          stats = precompute::build_local(
-              space, [&] { return std::make_unique<precompute::ConfigurationSolver>(body, settings); }, options);
+          const precompute::SolverFactory solver = [&] {
+            return std::make_unique<precompute::ConfigurationSolver>(body, settings);
+          };
+          stats = precompute::build_local(space, solver, options);
+          if (settings.refine_points > 0) {
+            precompute::RefineOptions refine;
+            refine.points = static_cast<std::size_t>(settings.refine_points);
+            refine.threads = options.threads;
+            precompute::refine_local(space, solver, refine);
+          }
         } catch (...) {
           set_thread_limit(pool);
           throw;
@@ -147,9 +169,9 @@ void bind_cspace(py::module_& m) {
         set_thread_limit(pool);
         precompute::write_space(output, space);
         std::size_t solved = 0;
-        for (std::size_t p = 0; p < space.grid.size(); ++p) solved += space.solved(p);
+        for (std::size_t p = 0; p < space.point_count(); ++p) solved += space.solved(p);
         py::gil_scoped_acquire gil;
-        out["points"] = space.grid.size();
+        out["points"] = space.point_count();
         out["solved"] = solved;
         out["unreachable"] = stats.unreachable;
         out["solves"] = stats.computed;
@@ -159,7 +181,7 @@ void bind_cspace(py::module_& m) {
       },
       py::arg("model"), py::arg("output"), py::arg("threads") = 0,
       "Builds the scene's configuration space ([precompute] table) on this machine's threads, as\n"
-      "`tactus precompute SCENE -o OUTPUT` without MPI, and writes it (HDF5). threads: solver threads\n"
+      "`tactus precompute SCENE -o OUTPUT` without MPI (refined as its refine_points asks), and writes it (HDF5). threads: solver threads\n"
       "(0: every core). Returns {points, solved, unreachable, solves, wall_seconds, threads}; open the\n"
       "file with ConfigurationSpace. The GIL is released while it builds; it is not interruptible.\n"
       "Raises tactus.InputError for a scene without [precompute] or a file that cannot be written.");

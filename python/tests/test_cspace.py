@@ -64,7 +64,7 @@ def test_the_grid_and_its_stored_forces(space_file):
     assert forces[deepest, 2] > 0.0
 
 
-@pytest.mark.parametrize("method", ["trilinear", "rbf_cubic"])
+@pytest.mark.parametrize("method", ["trilinear", "rbf_cubic", "tricubic_hermite", "rbf_hermite"])
 def test_queries_at_grid_points_give_the_stored_forces(space_file, method):
     space = tactus.ConfigurationSpace(str(space_file), method)
     forces, valid = space.force(space.points)
@@ -122,3 +122,37 @@ def test_build_space_from_python_equals_the_command_line(space_file, tmp_path):
 def test_build_space_needs_a_precompute_table(tmp_path):
     with pytest.raises(tactus.InputError, match="no \\[precompute\\] table"):
         tactus.build_space(tactus.default_scene(), tmp_path / "x.h5")
+
+
+def test_stiffness_is_the_slope_of_the_hermite_force(space_file):
+    # The stored ∂F/∂x against central differences of the tricubic Hermite force 1 µm either
+    # side of an interior grid point: the Hermite interpolant takes the stored slope there.
+    space = tactus.ConfigurationSpace(space_file, "tricubic_hermite")
+    stiffness = space.point_stiffness
+    assert stiffness.shape == (36, 3, 3)
+    centre = 1 + 3 * (1 + 3 * 2)  # grid point (1, 1, 2)
+    x = space.points[centre]
+    slope = np.empty((3, 3))
+    for k in range(3):
+        d = np.zeros(3)
+        d[k] = 1e-6
+        plus, _ = space.force(x + d)
+        minus, _ = space.force(x - d)
+        slope[:, k] = (plus[0] - minus[0]) / 2e-6
+    np.testing.assert_allclose(slope, stiffness[centre], rtol=0, atol=1e-5 * np.abs(stiffness[centre]).max())
+    # Pressing down stiffens: the vertical force grows as the point goes down.
+    assert stiffness[centre][2, 2] < 0.0
+
+
+def test_a_refined_space_lists_its_added_points(tmp_path):
+    model = tactus.parse_scene(SCENE + "refine_points = 19\n", str(tmp_path / "block.toml"))
+    stats = tactus.build_space(model, tmp_path / "refined.h5", threads=1)
+    assert stats["points"] == 36 + 19 and stats["solved"] == 36 + 19
+    space = tactus.ConfigurationSpace(tmp_path / "refined.h5", "tricubic_hermite")
+    assert space.points.shape == (55, 3) and space.point_forces.shape == (55, 3)
+    assert space.point_stiffness.shape == (55, 3, 3)
+    # The added points lie half a spacing off the grid.
+    added = space.points[36:]
+    offsets = (added - space.points[0]) / (0.5 * space.spacing)
+    np.testing.assert_allclose(offsets, np.round(offsets), atol=1e-9)
+    assert (np.abs(np.round(offsets)) % 2 == 1).any(axis=1).all()
