@@ -19,7 +19,9 @@
 //            at M random positions, for grid spacings 20, 13.33, 10 and 6.667 mm (a half, a
 //            third, a quarter and a sixth of the box; or those listed, in mm) and each
 //            method, in the accuracy box (40 mm along +x and +y and 40 mm down by default);
-//            with --refine, each grid also refined by up to K points, tricubic Hermite.
+//            with --refine, each grid also refined by up to K points, tricubic Hermite; with
+//            --worst W, the W worst tricubic Hermite positions per grid and how far their
+//            cell's corners lie from direct solves (path dependence against interpolation).
 //   online   --nodes N --law L --spacing S --threads W [--first V]
 //            on-line construction: the largest tool speed at which at least 99 % of the
 //            1 kHz force queries find their cell complete, with W solver threads, on the
@@ -87,6 +89,7 @@ struct Options {
   /// where every listed grid is solved).
   double box = 0.04;
   std::size_t refine = 0;  ///< accuracy: each grid also refined by at most this many points
+  std::size_t worst = 0;   ///< accuracy: list this many worst tricubic Hermite positions per grid
   std::vector<double> spacings;
 };
 
@@ -457,6 +460,40 @@ int accuracy(const Options& o) {
     std::printf("| %.4g | %s | %.2f%% | %.2f%% | %.2f%% | %.2f%% |\n", 1e3 * spacings[k], name.c_str(), 100 * fmean,
                 100 * fmax, 100 * umean, 100 * umax);
   }
+  if (o.worst > 0) {
+    // Where tricubic Hermite errs most on each grid, and whether the grid points around are
+    // the configurations a direct solve from rest reaches there: if not, the error is the
+    // path's (another equilibrium), not the interpolation's.
+    for (std::size_t k = 0; k < spaces.size(); ++k) {
+      const pc::Space& space = *spaces[k];
+      const pc::Interpolator in(spaces[k], pc::Interpolation::tricubic_hermite);
+      std::vector<std::pair<double, std::size_t>> errors;
+      for (std::size_t i = 0; i < refs.size(); ++i)
+        errors.emplace_back((in.force(where[i]).force - refs[i].force).norm() / refs[i].force.norm(), i);
+      std::sort(errors.rbegin(), errors.rend());
+      std::printf("worst tricubic_hermite positions on the %.4g mm grid:\n", 1e3 * spacings[k]);
+      for (std::size_t w = 0; w < std::min<std::size_t>(o.worst, errors.size()); ++w) {
+        const auto [error, i] = errors[w];
+        const Vec3 at = where[i] - m.contact;
+        const Vec3 in_grid = (where[i] - space.grid.origin) / space.grid.spacing;
+        std::array<int, 3> c{};
+        for (int a = 0; a < 3; ++a) c[static_cast<std::size_t>(a)] = std::clamp(static_cast<int>(std::floor(in_grid[a])), 0, space.grid.counts[static_cast<std::size_t>(a)] - 2);
+        double corner_gap = 0.0;
+        for (int corner = 0; corner < 8; ++corner) {
+          const std::size_t p = space.grid.index(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1));
+          const Vec3 x = space.grid.point(p);
+          const double step = finest / std::max(1, m.settings.load_steps) / 3.0;
+          const int steps = std::max(2, static_cast<int>(std::ceil((x - m.contact).norm() / step)));
+          const pc::PointResult direct = solvers[0]->solve_direct(x, steps);
+          if (direct.status == pc::PointStatus::solved)
+            corner_gap = std::max(corner_gap, (direct.force - space.force[p]).norm() / std::max(direct.force.norm(), 1e-9));
+        }
+        std::printf("  (%+.1f, %+.1f, %+.1f) mm: force error %.2f%% (|f| %.3g N); the cell's corners solved directly "
+                    "from rest differ from the grid's by up to %.2g%%\n",
+                    1e3 * at.x(), 1e3 * at.y(), 1e3 * at.z(), 100 * error, refs[i].force.norm(), 100 * corner_gap);
+      }
+    }
+  }
   return 0;
 }
 
@@ -535,7 +572,7 @@ int usage() {
                "usage: precompute_bench compare A.h5 B.h5\n"
                "       precompute_bench cost|scaling|query|accuracy|online [--nodes N] [--law stvk|mooney_rivlin]\n"
                "         [--spacing S] [--points K] [--seconds T] [--positions M] [--threads N] [--seed S] [--space FILE]\n"
-               "         [--box MM] [--spacings MM,MM,...] [--refine K]\n");
+               "         [--box MM] [--spacings MM,MM,...] [--refine K] [--worst W]\n");
   return 1;
 }
 
@@ -572,6 +609,7 @@ int main(int argc, char** argv) {
       else if (key == "--first") o.first = std::stod(value);
       else if (key == "--box") o.box = 1e-3 * std::stod(value);
       else if (key == "--refine") o.refine = std::stoul(value);
+      else if (key == "--worst") o.worst = std::stoul(value);
       else if (key == "--spacings") {
         o.spacings.clear();
         std::stringstream list(value);

@@ -53,38 +53,6 @@ LocalPatch::LocalPatch(LocalModelKind k, const PatchCapacity& c) : kind(k) {
   border_drift = VecX::Zero(ms);
 }
 
-void LocalPatch::assign_used(const LocalPatch& from) {
-  if (from.position.size() != position.size() || from.triangles.size() != triangles.size() ||
-      from.response.rows() != response.rows() || from.stiffness.rows() != stiffness.rows())
-    throw std::invalid_argument("local patch: copying between patches of different capacities");
-  kind = from.kind;
-  valid = from.valid;
-  body = from.body;
-  time = from.time;
-  center = from.center;
-  radius = from.radius;
-  free_count = from.free_count;
-  node_count = from.node_count;
-  triangle_count = from.triangle_count;
-  frame_time = from.frame_time;
-  const auto nodes = static_cast<std::ptrdiff_t>(node_count), tris = static_cast<std::ptrdiff_t>(triangle_count);
-  std::copy_n(from.position.begin(), nodes, position.begin());
-  std::copy_n(from.velocity.begin(), nodes, velocity.begin());
-  std::copy_n(from.area.begin(), nodes, area.begin());
-  std::copy_n(from.triangles.begin(), tris, triangles.begin());
-  std::copy_n(from.surface_triangle.begin(), tris, surface_triangle.begin());
-  const Eigen::Index f3 = 3 * static_cast<Eigen::Index>(free_count);
-  release.head(f3) = from.release.head(f3);
-  applied.head(f3) = from.applied.head(f3);
-  response.topLeftCorner(f3, f3) = from.response.topLeftCorner(f3, f3);
-  if (stiffness.rows() >= f3) {  // the mass-spring arrays, where this kind has them
-    stiffness.topLeftCorner(f3, f3) = from.stiffness.topLeftCorner(f3, f3);
-    system_inverse.topLeftCorner(f3, f3) = from.system_inverse.topLeftCorner(f3, f3);
-    mass.head(f3) = from.mass.head(f3);
-    border_drift.head(f3) = from.border_drift.head(f3);
-  }
-}
-
 // --- Patch sizing --------------------------------------------------------------------------
 
 PatchSizing size_patch(std::span<const Vec3> vertices, std::span<const mesh::Triangle> triangles, double radius,
@@ -447,7 +415,7 @@ void PatchBuilder::build(const Inputs& in, LocalPatch& out) {
 // --- LocalModel (haptic thread) ------------------------------------------------------------
 
 LocalModel::LocalModel(LocalModelKind kind, const PatchCapacity& capacity)
-    : patch_(kind, capacity), current_(static_cast<std::size_t>(capacity.nodes), Vec3::Zero()) {
+    : none_(kind, capacity), current_(static_cast<std::size_t>(capacity.nodes), Vec3::Zero()) {
   const Eigen::Index f3 = 3 * static_cast<Eigen::Index>(capacity.free_nodes);
   u_ = VecX::Zero(f3);
   v_ = VecX::Zero(f3);
@@ -458,37 +426,40 @@ LocalModel::LocalModel(LocalModelKind kind, const PatchCapacity& capacity)
 }
 
 void LocalModel::reset(const LocalPatch& patch, double now) {
-  patch_.assign_used(patch);  // same capacity on both sides: nothing allocates
+  if (patch.position.size() != none_.position.size() || patch.response.rows() != none_.response.rows() ||
+      patch.stiffness.rows() != none_.stiffness.rows())
+    throw std::invalid_argument("local model: a patch of another capacity or kind");
+  patch_ = &patch;
   u_.setZero();
   v_.setZero();
   now_ = now;
-  since_ = std::clamp(now - patch_.time, 0.0, kMaxExtrapolation);
-  query_ = BruteForceSurfaceQuery(positions(), {patch_.triangles.data(), static_cast<std::size_t>(patch_.triangle_count)});
+  since_ = std::clamp(now - patch_->time, 0.0, kMaxExtrapolation);
+  query_ = BruteForceSurfaceQuery(positions(), {patch_->triangles.data(), static_cast<std::size_t>(patch_->triangle_count)});
   place_nodes();
 }
 
 void LocalModel::extrapolate(double now) {
   now_ = now;
-  since_ = std::clamp(now - patch_.time, 0.0, kMaxExtrapolation);
+  since_ = std::clamp(now - patch_->time, 0.0, kMaxExtrapolation);
   place_nodes();
 }
 
 void LocalModel::place_nodes() {
-  const bool drift = patch_.kind == LocalModelKind::mass_spring;
-  for (int n = 0; n < patch_.node_count; ++n) {
+  const bool drift = patch_->kind == LocalModelKind::mass_spring;
+  for (int n = 0; n < patch_->node_count; ++n) {
     const auto i = static_cast<std::size_t>(n);
-    if (n < patch_.free_count) current_[i] = patch_.position[i] + u_.segment<3>(dof(n));
-    else current_[i] = drift ? Vec3(patch_.position[i] + since_ * patch_.velocity[i]) : patch_.position[i];
+    if (n < patch_->free_count) current_[i] = patch_->position[i] + u_.segment<3>(dof(n));
+    else current_[i] = drift ? Vec3(patch_->position[i] + since_ * patch_->velocity[i]) : patch_->position[i];
   }
 }
 
 Vec3 LocalModel::moved_since_published(std::int32_t triangle, const Vec3& barycentric) const {
   Vec3 moved = Vec3::Zero();
-  if (!patch_.valid || triangle < 0 || triangle >= patch_.triangle_count) return moved;
-  const mesh::Triangle& corners = patch_.triangles[static_cast<std::size_t>(triangle)];
+  if (!patch_->valid || triangle < 0 || triangle >= patch_->triangle_count) return moved;
+  const mesh::Triangle& corners = patch_->triangles[static_cast<std::size_t>(triangle)];
   for (int k = 0; k < 3; ++k) {
     const auto v = static_cast<std::size_t>(corners[static_cast<std::size_t>(k)]);
-    moved += barycentric[k] * (current_[v] - patch_.position[v]);
+    moved += barycentric[k] * (current_[v] - patch_->position[v]);
   }
   return moved;
 }
@@ -496,35 +467,35 @@ Vec3 LocalModel::moved_since_published(std::int32_t triangle, const Vec3& baryce
 double LocalModel::advance(const PatchContact& contact, double dt) {
   double settled = 0.0;
   advance(std::span<const PatchContact>(&contact, 1), dt, std::span<double>(&settled, 1));
-  return patch_.valid ? settled : contact.force;
+  return patch_->valid ? settled : contact.force;
 }
 
 void LocalModel::advance(std::span<const PatchContact> contacts, double dt, std::span<double> settled) {
   for (double& f : settled) f = 0.0;
   contact_motion_.setZero();
-  if (!patch_.valid) return;
-  const int free = patch_.free_count;
+  if (!patch_->valid) return;
+  const int free = patch_->free_count;
   const Eigen::Index f3 = dof(free);
   auto a = next_.head(f3);
-  if (patch_.kind == LocalModelKind::mass_spring) {
+  if (patch_->kind == LocalModelKind::mass_spring) {
     // The response was built for the patch's frame time; a frame of another length (a late
     // frame in real time) advances by that frame time all the same.
     (void)dt;
-    const double h = patch_.frame_time;
-    rhs_.head(f3) = patch_.mass.head(f3).cwiseProduct(v_.head(f3)) / h - patch_.applied.head(f3) -
-                    (since_ + h) * patch_.border_drift.head(f3);
-    rhs_.head(f3).noalias() -= patch_.stiffness.topLeftCorner(f3, f3) * u_.head(f3);
+    const double h = patch_->frame_time;
+    rhs_.head(f3) = patch_->mass.head(f3).cwiseProduct(v_.head(f3)) / h - patch_->applied.head(f3) -
+                    (since_ + h) * patch_->border_drift.head(f3);
+    rhs_.head(f3).noalias() -= patch_->stiffness.topLeftCorner(f3, f3) * u_.head(f3);
     a = u_.head(f3);
-    a.noalias() += h * patch_.system_inverse.topLeftCorner(f3, f3) * rhs_.head(f3);
+    a.noalias() += h * patch_->system_inverse.topLeftCorner(f3, f3) * rhs_.head(f3);
   } else {
-    a = patch_.release.head(f3);
+    a = patch_->release.head(f3);
   }
 
   // The contacts on the patch, at most kMaxContacts (index into `contacts` of each).
   std::array<int, kMaxContacts> which{};
   int n = 0;
   for (std::size_t i = 0; i < contacts.size() && n < kMaxContacts; ++i)
-    if (contacts[i].triangle >= 0 && contacts[i].triangle < patch_.triangle_count) which[static_cast<std::size_t>(n++)] = static_cast<int>(i);
+    if (contacts[i].triangle >= 0 && contacts[i].triangle < patch_->triangle_count) which[static_cast<std::size_t>(n++)] = static_cast<int>(i);
 
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxContacts, kMaxContacts>;
   using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxContacts, 1>;
@@ -535,8 +506,8 @@ void LocalModel::advance(std::span<const PatchContact> contacts, double dt, std:
     // The force acts on the nodes around the contact point as the simulation spreads it
     // (load_spread.hpp), so that the patch dents as the body will.
     const int count = spread_load(positions(),
-                                  {patch_.triangles.data(), static_cast<std::size_t>(patch_.triangle_count)},
-                                  {patch_.area.data(), static_cast<std::size_t>(patch_.node_count)}, c.triangle,
+                                  {patch_->triangles.data(), static_cast<std::size_t>(patch_->triangle_count)},
+                                  {patch_->area.data(), static_cast<std::size_t>(patch_->node_count)}, c.triangle,
                                   c.barycentric, c.contact_radius, shares_);
     // column = B·g, g = Σ share·n over the free nodes: their response to a unit normal force.
     auto column = columns_.col(i).head(f3);
@@ -544,7 +515,7 @@ void LocalModel::advance(std::span<const PatchContact> contacts, double dt, std:
     for (int j = 0; j < count; ++j) {
       const LoadShare& sh = shares_[static_cast<std::size_t>(j)];
       if (sh.vertex < free)
-        column.noalias() += sh.share * (patch_.response.middleCols<3>(dof(sh.vertex)).topRows(f3) * c.normal);
+        column.noalias() += sh.share * (patch_->response.middleCols<3>(dof(sh.vertex)).topRows(f3) * c.normal);
     }
     stiffness[i] = std::max(0.0, c.stiffness);
     law[i] = c.force;
@@ -554,7 +525,7 @@ void LocalModel::advance(std::span<const PatchContact> contacts, double dt, std:
     // motion is what the contact law sees, however widely the load is spread, and a proxy
     // resting there rides with it.
     const PatchContact& c = contacts[static_cast<std::size_t>(which[static_cast<std::size_t>(i)])];
-    const mesh::Triangle& corners = patch_.triangles[static_cast<std::size_t>(c.triangle)];
+    const mesh::Triangle& corners = patch_->triangles[static_cast<std::size_t>(c.triangle)];
     double s_a = 0.0, s = 0.0;
     for (int j = 0; j < n; ++j) coupling(i, j) = 0.0;
     for (int k = 0; k < 3; ++k) {
@@ -604,13 +575,13 @@ void LocalModel::advance(std::span<const PatchContact> contacts, double dt, std:
   if (n > 0) {
     // The first contact's motion: the one a proxy resting on the patch rides with.
     const PatchContact& c = contacts[static_cast<std::size_t>(which[0])];
-    const mesh::Triangle& corners = patch_.triangles[static_cast<std::size_t>(c.triangle)];
+    const mesh::Triangle& corners = patch_->triangles[static_cast<std::size_t>(c.triangle)];
     for (int k = 0; k < 3; ++k) {
       const int v = corners[static_cast<std::size_t>(k)];
       if (v < free) contact_motion_ += c.barycentric[k] * (a.segment<3>(dof(v)) - u_.segment<3>(dof(v)));
     }
   }
-  if (patch_.kind == LocalModelKind::mass_spring) v_.head(f3) = (a - u_.head(f3)) / patch_.frame_time;
+  if (patch_->kind == LocalModelKind::mass_spring) v_.head(f3) = (a - u_.head(f3)) / patch_->frame_time;
   u_.head(f3) = a;
   place_nodes();
 }

@@ -68,12 +68,6 @@ struct LocalPatch {
   LocalPatch() = default;
   LocalPatch(LocalModelKind kind, const PatchCapacity& capacity);
 
-  /// Copies the parts of `from` in use (its counts say which) into this patch of the same
-  /// kind and capacity, leaving the rest stale: a few kilobytes where a whole copy moves the
-  /// capacity's 3F×3F matrices (≈ 120 kB for 24 free nodes). No allocation. Throws
-  /// std::invalid_argument when the capacities differ.
-  void assign_used(const LocalPatch& from);
-
   LocalModelKind kind = LocalModelKind::compliance;
   bool valid = false;        ///< false: no surface near the tool (render no contact)
   std::int32_t body = -1;    ///< index into Model::bodies
@@ -191,14 +185,16 @@ struct PatchContact {
   double contact_radius = 0.0;  ///< the disc the force is spread over (load_spread.hpp) [m]
 };
 
-/// The haptic-side state of a local model: the patch's current shape. Holds its own copy of
-/// the newest patch (copied without allocation), so the previous model can still be
-/// evaluated when a new one arrives.
+/// The haptic-side state of a local model: the patch's current shape. It refers to the
+/// newest patch in place (the channel's snapshot, runtime::DeviceChannels::patch, a
+/// QuadBuffer that keeps the one before it too), so taking a new patch copies nothing and the
+/// previous model can still be evaluated in the frame it is replaced.
 class LocalModel {
  public:
   LocalModel(LocalModelKind kind, const PatchCapacity& capacity);
 
-  /// Takes a newly published patch: the shape restarts from it at time `now` [s].
+  /// Takes a newly published patch: the shape restarts from it at time `now` [s]. The model
+  /// refers to `patch` until the next reset: it must stay alive and unchanged until then.
   void reset(const LocalPatch& patch, double now);
   /// Moves the border (and, for compliance, nothing else) to time `now`.
   void extrapolate(double now);
@@ -214,12 +210,12 @@ class LocalModel {
   /// not empty, receives each contact's settled force (0 for those left out).
   void advance(std::span<const PatchContact> contacts, double dt, std::span<double> settled = {});
 
-  [[nodiscard]] bool valid() const { return patch_.valid; }
-  [[nodiscard]] const LocalPatch& patch() const { return patch_; }
+  [[nodiscard]] bool valid() const { return patch_->valid; }
+  [[nodiscard]] const LocalPatch& patch() const { return *patch_; }
   /// The current shape (valid until the next call that changes it).
   [[nodiscard]] const SurfaceQuery& surface() const { return query_; }
   [[nodiscard]] std::span<const Vec3> positions() const {
-    return {current_.data(), static_cast<std::size_t>(patch_.node_count)};
+    return {current_.data(), static_cast<std::size_t>(patch_->node_count)};
   }
   /// How far the last advance() moved the contact point: the free nodes' displacement
   /// change weighted by the load's shares, the measure of the contact's motion its implicit
@@ -234,7 +230,8 @@ class LocalModel {
  private:
   void place_nodes();
 
-  LocalPatch patch_;
+  LocalPatch none_;  ///< an empty patch of the capacity, until the first reset
+  const LocalPatch* patch_ = &none_;
   std::vector<Vec3> current_;
   VecX u_, v_, rhs_, next_;
   MatX columns_;  ///< B·g of each contact: the free nodes' response to its unit normal force

@@ -28,6 +28,9 @@ struct FrameInputs {
   const LocalContact* contact = nullptr;  ///< the interaction loop's newest plane (never null)
   bool contact_fresh = false;             ///< it arrived this frame
   const contact::LocalPatch* patch = nullptr;  ///< the simulation's newest patch; null: none requested
+  /// The one before it, which the channel still holds this frame (a local model referring to
+  /// it may still read it); null: none.
+  const contact::LocalPatch* patch_previous = nullptr;
   bool patch_fresh = false;
   const NeedleSurfaces* surfaces = nullptr;  ///< the newest ray crossings (needle, multi-surface)
   bool surfaces_fresh = false;

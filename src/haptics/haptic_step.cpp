@@ -46,6 +46,7 @@ FrameInputs frame_of(const HapticModel& model, HapticState& s, const HapticInput
   f.contact = in.contact;
   f.contact_fresh = in.contact_fresh;
   f.patch = in.patch;
+  f.patch_previous = in.patch_previous;
   f.patch_fresh = in.patch_fresh;
   f.surfaces = in.surfaces;
   f.surfaces_fresh = in.surfaces_fresh;

@@ -84,6 +84,8 @@ struct HapticInputs {
   const LocalContact* contact = nullptr;  ///< never null
   bool contact_fresh = false;
   const contact::LocalPatch* patch = nullptr;
+  /// The patch before `patch`, still held by the channel this frame (null: none).
+  const contact::LocalPatch* patch_previous = nullptr;
   bool patch_fresh = false;
   const NeedleSurfaces* surfaces = nullptr;  ///< never null
   bool surfaces_fresh = false;

@@ -73,6 +73,7 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   if (channels_.patch) {
     in.patch_fresh = channels_.patch->update();
     in.patch = &channels_.patch->read();
+    in.patch_previous = &channels_.patch->previous();
   }
   in.surfaces_fresh = channels_.needle.update();
   in.surfaces = &channels_.needle.read();

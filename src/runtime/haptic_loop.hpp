@@ -39,7 +39,7 @@ struct DeviceChannels {
   /// Before any loop runs: the simulation publishes a patch of this kind with every step.
   void request_patches(PatchRequest request) {
     patch_request = std::move(request);
-    patch = std::make_unique<TripleBuffer<contact::LocalPatch>>(
+    patch = std::make_unique<QuadBuffer<contact::LocalPatch>>(
         contact::LocalPatch(patch_request.kind, patch_request.capacity));
   }
   TripleBuffer<ToolState> tool;                ///< haptic → interaction
@@ -52,7 +52,9 @@ struct DeviceChannels {
   SpscRing<HapticFrame> frames;                ///< haptic → recorder
   SpscRing<LoopEvent> events;                  ///< haptic → recorder
   PatchRequest patch_request;
-  std::unique_ptr<TripleBuffer<contact::LocalPatch>> patch;  ///< simulation → haptic; null: plane
+  /// simulation → haptic; null: plane. Four slots: the haptic loop's local model refers to the
+  /// newest in place and may read the one before in the frame it switches (LocalModel).
+  std::unique_ptr<QuadBuffer<contact::LocalPatch>> patch;
 };
 
 /// One device's haptic loop: its device, its channels and its timing around the pure

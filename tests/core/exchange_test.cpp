@@ -123,6 +123,57 @@ TEST(TripleBuffer, ReaderNeverSeesATornOrOlderSnapshot) {
   EXPECT_EQ(last, kStressItems);
 }
 
+// ---------------------------------------------------------------- QuadBuffer
+
+TEST(QuadBuffer, ReaderKeepsTheSnapshotBeforeItsNewestUntilTheNextUpdate) {
+  QuadBuffer<int> buffer(0);
+  int newest = 0;
+  for (int i = 1; i <= 30; ++i) {
+    buffer.write_buffer() = i;
+    buffer.publish();
+    // The writer's next slot is neither of the two the reader holds.
+    EXPECT_NE(&buffer.write_buffer(), &buffer.read()) << i;
+    EXPECT_NE(&buffer.write_buffer(), &buffer.previous()) << i;
+    if (i % 2 == 0) {
+      ASSERT_TRUE(buffer.update());
+      EXPECT_EQ(buffer.previous(), newest);
+      EXPECT_EQ(buffer.read(), i);
+      newest = i;
+    }
+  }
+}
+
+TEST(QuadBuffer, HeldSnapshotsAreNeverWrittenUnderTheReader) {
+  // The writer publishes as fast as it can; the reader checks after each update that the
+  // snapshot it took before stays whole while it reads it again.
+  Snapshot initial;
+  initial.fill(0);
+  QuadBuffer<Snapshot> buffer(initial);
+  std::atomic<bool> done{false};
+  std::thread writer([&] {
+    for (std::uint64_t s = 1; s <= kStressItems; ++s) {
+      buffer.write_buffer().fill(s);
+      buffer.publish();
+    }
+    done.store(true, std::memory_order_release);
+  });
+  std::uint64_t torn = 0, order = 0, updates = 0;
+  auto check = [&] {
+    if (!buffer.update()) return;
+    ++updates;
+    const Snapshot& now = buffer.read();
+    const Snapshot& before = buffer.previous();
+    if (!now.consistent() || !before.consistent()) ++torn;
+    if (before.sequence >= now.sequence && now.sequence != 0) ++order;
+  };
+  while (!done.load(std::memory_order_acquire)) check();
+  writer.join();
+  check();
+  EXPECT_EQ(torn, 0u);
+  EXPECT_EQ(order, 0u);
+  EXPECT_GT(updates, 0u);
+}
+
 // ---------------------------------------------------------------- SeqLock
 
 struct Pose {

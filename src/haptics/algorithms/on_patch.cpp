@@ -7,9 +7,13 @@ namespace tactus::haptics {
 Rendering OnPatch::render(const FrameInputs& f, AlgorithmState& state) const {
   auto& s = static_cast<PatchState&>(state);
   begin(f, s);
-  const bool replaced = f.patch_fresh && f.patch;
-  // The step is smoothed only from one model to the next, not from none at start.
-  const bool smooth = replaced && f.smoothing && s.local.valid();
+  // The local model refers to the channel's patch in place: it takes a new one when one came,
+  // or when the one it refers to is no longer the channel's newest (a frame passed without
+  // this call); the old one may then be under the simulation's pen and is not read.
+  const bool replaced = f.patch && (f.patch_fresh || (&s.local.patch() != f.patch && s.local.valid()));
+  // The step is smoothed only from one model to the next, not from none at start, and only
+  // while the channel still holds the model being replaced.
+  const bool smooth = replaced && f.smoothing && s.local.valid() && &s.local.patch() == f.patch_previous;
   Vec3 before = Vec3::Zero();
   if (smooth) {
     s.local.extrapolate(f.t);
