@@ -104,12 +104,10 @@ class Interpolator {
   static std::uint64_t fine_key(std::size_t point, int level) {
     return static_cast<std::uint64_t>(point) * kLevels + static_cast<std::uint64_t>(level);
   }
-  /// Appends coeff times the derivative of the given orders at grid point (i, j, k) as terms
-  /// on the stored gradients (orders summing to 2 or 3).
+  /// Appends coeff times the derivative of the given orders at lattice place `at` as terms on
+  /// the stored gradients of that level's points (orders summing to 1, 2 or 3).
   void mixed_terms(const LatticeIndex& at, std::array<int, 3> order, double coeff, std::vector<Term>& out) const;
   void build_tricubic();
-  /// The RBF system of the stencil points in `used` (bits), inverted: empty when singular.
-  [[nodiscard]] Eigen::MatrixXd rbf_inverse(std::uint32_t used) const;
   /// The weight matrix of a partial stencil (the stencil points used, as bits), computed the
   /// same way as full_: empty when the stencil's system is singular.
   [[nodiscard]] Eigen::MatrixXd partial_matrix(std::uint32_t used) const;
