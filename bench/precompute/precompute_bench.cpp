@@ -477,16 +477,21 @@ int accuracy(const Options& o) {
         const Vec3 at = where[i] - m.contact;
         const Vec3 in_grid = (where[i] - space.grid.origin) / space.grid.spacing;
         std::array<int, 3> c{};
-        for (int a = 0; a < 3; ++a) c[static_cast<std::size_t>(a)] = std::clamp(static_cast<int>(std::floor(in_grid[a])), 0, space.grid.counts[static_cast<std::size_t>(a)] - 2);
+        for (int a = 0; a < 3; ++a) {
+          const auto ua = static_cast<std::size_t>(a);
+          c[ua] = std::clamp(static_cast<int>(std::floor(in_grid[a])), 0, space.grid.counts[ua] - 2);
+        }
         double corner_gap = 0.0;
         for (int corner = 0; corner < 8; ++corner) {
-          const std::size_t p = space.grid.index(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1));
+          const std::size_t p =
+              space.grid.index(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1));
           const Vec3 x = space.grid.point(p);
           const double step = finest / std::max(1, m.settings.load_steps) / 3.0;
           const int steps = std::max(2, static_cast<int>(std::ceil((x - m.contact).norm() / step)));
           const pc::PointResult direct = solvers[0]->solve_direct(x, steps);
           if (direct.status == pc::PointStatus::solved)
-            corner_gap = std::max(corner_gap, (direct.force - space.force[p]).norm() / std::max(direct.force.norm(), 1e-9));
+            corner_gap =
+                std::max(corner_gap, (direct.force - space.force[p]).norm() / std::max(direct.force.norm(), 1e-9));
         }
         std::printf("  (%+.1f, %+.1f, %+.1f) mm: force error %.2f%% (|f| %.3g N); the cell's corners solved directly "
                     "from rest differ from the grid's by up to %.2g%%\n",

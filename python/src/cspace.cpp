@@ -92,7 +92,8 @@ void bind_cspace(py::module_& m) {
             auto w = k.mutable_unchecked<3>();
             for (py::ssize_t p = 0; p < n; ++p)
               for (py::ssize_t i = 0; i < 3; ++i)
-                for (py::ssize_t j = 0; j < 3; ++j) w(p, i, j) = c.space->force_gradient[static_cast<std::size_t>(p)](i, j);
+                for (py::ssize_t j = 0; j < 3; ++j)
+                  w(p, i, j) = c.space->force_gradient[static_cast<std::size_t>(p)](i, j);
             return k;
           },
           "∂force/∂x at each point (n, 3, 3) [N/m]: [p, i, k] = ∂F_i/∂x_k, the stiffness the tool feels\n"
@@ -181,9 +182,10 @@ void bind_cspace(py::module_& m) {
       },
       py::arg("model"), py::arg("output"), py::arg("threads") = 0,
       "Builds the scene's configuration space ([precompute] table) on this machine's threads, as\n"
-      "`tactus precompute SCENE -o OUTPUT` without MPI (refined as its refine_points asks), and writes it (HDF5). threads: solver threads\n"
-      "(0: every core). Returns {points, solved, unreachable, solves, wall_seconds, threads}; open the\n"
-      "file with ConfigurationSpace. The GIL is released while it builds; it is not interruptible.\n"
+      "`tactus precompute SCENE -o OUTPUT` without MPI (refined as its refine_points asks), and writes it\n"
+      "(HDF5). threads: solver threads (0: every core). Returns {points, solved, unreachable, solves,\n"
+      "wall_seconds, threads}; open the file with ConfigurationSpace. The GIL is released while it builds;\n"
+      "it is not interruptible.\n"
       "Raises tactus.InputError for a scene without [precompute] or a file that cannot be written.");
 }
 

@@ -60,7 +60,8 @@ bool ConfigurationSolver::derivatives(PointResult& r) {
   if (!physics::static_response(body_, state_, held_, r.displacement_gradient, force_change_)) return false;
   // The reaction sums the patch nodes' internal forces (gravity does not move).
   r.force_gradient.setZero();
-  for (auto n : settings_.patch_nodes) r.force_gradient += force_change_.block<3, 3>(3 * static_cast<Eigen::Index>(n), 0);
+  for (auto n : settings_.patch_nodes)
+    r.force_gradient += force_change_.block<3, 3>(3 * static_cast<Eigen::Index>(n), 0);
   return r.force_gradient.allFinite();
 }
 

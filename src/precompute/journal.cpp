@@ -66,7 +66,8 @@ Journal Journal::resume(const std::filesystem::path& path, Space& space) {
   Header h{};
   if (std::fread(&h, sizeof h, 1, f) == 1 && std::memcmp(h.magic, kMagicVersion1, sizeof kMagic) == 0)
     throw InputError(where(path), "a journal of an older version (without derivatives); delete it to start over");
-  if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0) throw InputError(where(path), "not a Tactus precompute journal");
+  if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0)
+    throw InputError(where(path), "not a Tactus precompute journal");
   if (h.model_hash != space.identity.model_hash)
     throw InputError(where(path), "the journal belongs to another model or [precompute] settings (model hash " +
                                       hash_text(h.model_hash) + ", this scene " +

@@ -95,16 +95,22 @@ TEST(TripleBuffer, InitialValueSizesEverySlot) {
   }
 }
 
-TEST(TripleBuffer, ReaderNeverSeesATornOrOlderSnapshot) {
-  TripleBuffer<Snapshot> buffer;
-  std::atomic<bool> done{false};
-  std::thread writer([&] {
+/// A writer thread publishing snapshots 1..kStressItems as fast as it can, then `done`.
+template <class Buffer>
+std::thread publish_in_sequence(Buffer& buffer, std::atomic<bool>& done) {
+  return std::thread([&buffer, &done] {
     for (std::uint64_t s = 1; s <= kStressItems; ++s) {
       buffer.write_buffer().fill(s);
       buffer.publish();
     }
     done.store(true, std::memory_order_release);
   });
+}
+
+TEST(TripleBuffer, ReaderNeverSeesATornOrOlderSnapshot) {
+  TripleBuffer<Snapshot> buffer;
+  std::atomic<bool> done{false};
+  std::thread writer = publish_in_sequence(buffer, done);
   std::uint64_t last = 0, updates = 0, torn = 0, backwards = 0;
   auto check = [&] {
     if (!buffer.update()) return;
@@ -150,13 +156,7 @@ TEST(QuadBuffer, HeldSnapshotsAreNeverWrittenUnderTheReader) {
   initial.fill(0);
   QuadBuffer<Snapshot> buffer(initial);
   std::atomic<bool> done{false};
-  std::thread writer([&] {
-    for (std::uint64_t s = 1; s <= kStressItems; ++s) {
-      buffer.write_buffer().fill(s);
-      buffer.publish();
-    }
-    done.store(true, std::memory_order_release);
-  });
+  std::thread writer = publish_in_sequence(buffer, done);
   std::uint64_t torn = 0, order = 0, updates = 0;
   auto check = [&] {
     if (!buffer.update()) return;
