@@ -16,14 +16,47 @@ namespace {
 struct Candidate {
   double indicator = 0.0;
   LatticeIndex cell;
+  bool probed = false;  ///< the indicator is the miss at the solved centre, not the estimate
 };
 
-/// Greatest indicator first; ties by level, then lattice place, so the order never depends
-/// on anything but the space.
+/// Probed cells first, then greatest indicator; ties by level, then lattice place, so the
+/// order never depends on anything but the space.
 bool before(const Candidate& a, const Candidate& b) {
+  if (a.probed != b.probed) return a.probed;
   if (a.indicator != b.indicator) return a.indicator > b.indicator;
   if (a.cell.level != b.cell.level) return a.cell.level < b.cell.level;
   return a.cell.ijk < b.cell.ijk;
+}
+
+/// Solves each (point, source) transition, spread over the solvers, and stores the results.
+void solve_transitions(Space& space, const std::vector<std::pair<std::size_t, std::size_t>>& tasks,
+                       std::vector<std::unique_ptr<ConfigurationSolver>>& solvers, const RefineOptions& options,
+                       RefineStats& stats) {
+  std::vector<PointResult> results(tasks.size());
+  std::vector<std::exception_ptr> errors(solvers.size());
+  auto work = [&](std::size_t worker) {
+    try {
+      for (std::size_t i = worker; i < tasks.size(); i += solvers.size()) {
+        const auto [p, s] = tasks[i];
+        results[i] = solvers[worker]->transition(p, static_cast<std::int64_t>(s),
+                                                 space.displacement.col(static_cast<Eigen::Index>(s)),
+                                                 space.position(s), space.position(p));
+      }
+    } catch (...) {
+      errors[worker] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t w = 1; w < std::min(solvers.size(), tasks.size()); ++w) pool.emplace_back(work, w);
+  work(0);
+  for (auto& t : pool) t.join();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  for (const PointResult& r : results) {
+    space.store(r);
+    if (r.status != PointStatus::solved) ++stats.failed;
+    if (options.on_result) options.on_result(r);
+  }
 }
 
 /// Solves `points` (pending, on the level `level` lattice) ring by ring: each round takes the
@@ -62,32 +95,51 @@ void solve_new_points(Space& space, std::vector<std::size_t> points, int level,
       }
       return;
     }
-    std::vector<PointResult> results(ready.size());
-    std::vector<std::exception_ptr> errors(solvers.size());
-    auto work = [&](std::size_t worker) {
-      try {
-        for (std::size_t i = worker; i < ready.size(); i += solvers.size()) {
-          const auto [p, s] = ready[i];
-          results[i] = solvers[worker]->transition(p, static_cast<std::int64_t>(s),
-                                                   space.displacement.col(static_cast<Eigen::Index>(s)),
-                                                   space.position(s), space.position(p));
-        }
-      } catch (...) {
-        errors[worker] = std::current_exception();
-      }
-    };
-    std::vector<std::thread> pool;
-    for (std::size_t w = 1; w < std::min(solvers.size(), ready.size()); ++w) pool.emplace_back(work, w);
-    work(0);
-    for (auto& t : pool) t.join();
-    for (const auto& e : errors)
-      if (e) std::rethrow_exception(e);
-    for (const PointResult& r : results) {
-      space.store(r);
-      if (r.status != PointStatus::solved) ++stats.failed;
-      if (options.on_result) options.on_result(r);
-    }
+    solve_transitions(space, ready, solvers, options, stats);
     points = std::move(waiting);
+  }
+}
+
+/// The centre of a cell: a point of the next level.
+LatticeIndex centre_of(const LatticeIndex& cell) {
+  return {cell.level + 1, {2 * cell.ijk[0] + 1, 2 * cell.ijk[1] + 1, 2 * cell.ijk[2] + 1}};
+}
+
+/// The estimate ranks the cells; the first few have their centre solved (reached from the
+/// cell's lowest corner) and are ranked instead by how far the tricubic Hermite misses the
+/// solved force there, relative to the cell's largest corner force. The probes count against
+/// the budget and are made only where a split (at most 18 points beside the centre) can
+/// still follow; a split cell keeps its probe as its centre.
+void probe(Space& space, const Interpolator& interpolator, std::vector<Candidate>& leaves,
+           std::vector<std::unique_ptr<ConfigurationSolver>>& solvers, const RefineOptions& options,
+           RefineStats& stats) {
+  constexpr std::size_t kSplit = 18;
+  std::size_t wanted = std::min(leaves.size(), std::max<std::size_t>(1, options.points / 5));
+  if (wanted + kSplit > options.points) wanted = options.points > kSplit ? options.points - kSplit : 0;
+  std::sort(leaves.begin(), leaves.end(), before);
+  std::vector<std::pair<std::size_t, std::size_t>> tasks;  // centre, the cell's lowest corner
+  std::vector<std::pair<std::size_t, Vec3>> predicted;     // leaf, the tricubic Hermite there
+  for (std::size_t i = 0; i < leaves.size() && tasks.size() < wanted; ++i) {
+    const LatticeIndex centre = centre_of(leaves[i].cell);
+    const auto corner = space.find(leaves[i].cell);
+    if (!(leaves[i].indicator > 0.0) || space.find(centre) || !corner) continue;
+    const std::size_t p = space.add_point(centre);
+    predicted.emplace_back(i, interpolator.force(space.position(p)).force);
+    tasks.emplace_back(p, *corner);
+  }
+  solve_transitions(space, tasks, solvers, options, stats);
+  stats.points += tasks.size();
+  for (std::size_t t = 0; t < tasks.size(); ++t) {
+    Candidate& c = leaves[predicted[t].first];
+    const std::size_t p = tasks[t].first;
+    double scale = 0.0;
+    for (int k = 0; k < 8; ++k) {
+      const auto q = space.find({c.cell.level, {c.cell.ijk[0] + (k & 1), c.cell.ijk[1] + ((k >> 1) & 1),
+                                                c.cell.ijk[2] + ((k >> 2) & 1)}});
+      if (q) scale = std::max(scale, space.force[*q].norm());
+    }
+    c.probed = space.solved(p);
+    c.indicator = c.probed ? (predicted[t].second - space.force[p]).norm() / std::max(scale, 1e-12) : -1.0;
   }
 }
 
@@ -112,6 +164,7 @@ RefineStats refine_local(Space& space, const SolverFactory& make_solver, const R
         if (space.is_refined(cell)) continue;
         leaves.push_back({interpolator->cell_disagreement(cell), cell});
       }
+  probe(space, *interpolator, leaves, solvers, options, stats);
   while (!leaves.empty()) {
     const auto worst = std::min_element(leaves.begin(), leaves.end(), before);
     const Candidate c = *worst;

@@ -24,12 +24,14 @@ struct RefineStats {
   double wall_seconds = 0.0;
 };
 
-/// Splits cells of `space` (built, with derivatives) greatest error indicator first
-/// (Interpolator::cell_disagreement: the tricubic Hermite force at the cell's centre against
-/// its corners' mean), each new point reached by a transition from a solved neighbour half a
-/// parent spacing away, until the next split would exceed the budget or no cell with solved
-/// corners is left. Deterministic: the same space and budget give the same points on any
-/// number of threads.
+/// Splits cells of `space` (built, with derivatives), largest error first, until the next
+/// split would exceed the budget or no cell with solved corners is left. The error: an
+/// estimate (Interpolator::cell_disagreement, the tricubic Hermite force at the centre against
+/// the corners' mean) ranks the cells; the first budget/5 of them (fewer where a split could
+/// not follow) have their centre solved and are ranked first, by how far the tricubic
+/// Hermite misses it. Each new point is reached by a transition from a solved neighbour half a
+/// parent spacing away (a probed centre from the cell's lowest corner). Deterministic: the
+/// same space and budget give the same points on any number of threads.
 RefineStats refine_local(Space& space, const SolverFactory& make_solver, const RefineOptions& options);
 
 }  // namespace tactus::precompute

@@ -49,10 +49,10 @@ struct Fixture {
 TEST(Refinement, SplitsWithinTheBudgetAndSolvesEveryNewPointAsADirectSolveWould) {
   Fixture f;
   ASSERT_EQ(f.space->count(PointStatus::solved), 27u);
-  const RefineStats stats = f.refine(*f.space, 40, 1);
-  // A first split adds 19 points, a neighbour's at most 19 more: two fit in 40.
+  const RefineStats stats = f.refine(*f.space, 50, 1);
+  // 50 points: the 8 cells' centres probed, then splits of 18 points more each: two fit.
   EXPECT_GE(stats.cells, 2u);
-  EXPECT_LE(stats.points, 40u);
+  EXPECT_LE(stats.points, 50u);
   EXPECT_EQ(stats.failed, 0u);
   EXPECT_EQ(f.space->point_count(), 27u + stats.points);
   EXPECT_EQ(f.space->refined_cells.size(), stats.cells);
@@ -83,6 +83,39 @@ TEST(Refinement, SplitsWithinTheBudgetAndSolvesEveryNewPointAsADirectSolveWould)
     EXPECT_LT((in.force(f.space->position(p)).force - f.space->force[p]).norm(), 1e-9 * f.space->force[p].norm());
   }
   EXPECT_GE(checked, 7);  // at least the first cell's own centre, face and edge points
+}
+
+TEST(Refinement, ProbesRankTheCellsByTheSolvedCentresMiss) {
+  // With a budget of one probe and one split, the probed cell is split; with 26 points (5
+  // probes, one split), the split cell is the one whose solved centre the unrefined tricubic
+  // Hermite misses most.
+  Fixture f;
+  const Space unrefined = *f.space;
+  const RefineStats one = f.refine(*f.space, 19, 1);
+  EXPECT_EQ(one.cells, 1u);
+  EXPECT_EQ(one.points, 19u);
+  Fixture g;
+  g.refine(*g.space, 8 + 18, 2);
+  ASSERT_EQ(g.space->refined_cells.size(), 1u);
+  const Interpolator before(std::make_shared<const Space>(unrefined), Interpolation::tricubic_hermite);
+  double worst = -1.0;
+  LatticeIndex expected;
+  for (std::size_t p = g.space->grid.size(); p < g.space->point_count(); ++p) {
+    const LatticeIndex& at = g.space->refined_points[p - g.space->grid.size()];
+    if (at.ijk[0] % 2 == 0 || at.ijk[1] % 2 == 0 || at.ijk[2] % 2 == 0) continue;  // not a centre
+    const LatticeIndex cell{0, {at.ijk[0] / 2, at.ijk[1] / 2, at.ijk[2] / 2}};
+    double scale = 0.0;
+    for (int k = 0; k < 8; ++k)
+      scale = std::max(scale, g.space->force[g.space->grid.index(cell.ijk[0] + (k & 1), cell.ijk[1] + ((k >> 1) & 1),
+                                                                  cell.ijk[2] + ((k >> 2) & 1))]
+                                  .norm());
+    const double miss = (before.force(g.space->position(p)).force - g.space->force[p]).norm() / scale;
+    if (miss > worst) {
+      worst = miss;
+      expected = cell;
+    }
+  }
+  EXPECT_EQ(g.space->refined_cells[0], expected);
 }
 
 TEST(Refinement, RefinedCellsInterpolateCloserToDirectSolves) {
