@@ -46,6 +46,7 @@
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <optional>
 #include <queue>
 #include <random>
 #include <sstream>
@@ -331,17 +332,24 @@ int query(const Options& o) {
   return 0;
 }
 
-/// Whether p lies in the grid and every corner of its cell is solved.
-bool cell_solved(const pc::Space& space, const Vec3& p) {
+/// The grid point of corner `corner` (bits x, y, z) of the grid cell holding p, or nothing
+/// when p lies outside the grid.
+std::optional<std::size_t> cell_corner(const pc::Space& space, const Vec3& p, int corner) {
   const Vec3 t = (p - space.grid.origin) / space.grid.spacing;
   std::array<int, 3> c{};
   for (int a = 0; a < 3; ++a) {
-    if (t[a] < 0.0 || t[a] > space.grid.counts[a] - 1) return false;
+    if (t[a] < 0.0 || t[a] > space.grid.counts[a] - 1) return std::nullopt;
     c[a] = std::clamp(static_cast<int>(std::floor(t[a])), 0, space.grid.counts[a] - 2);
   }
-  for (int corner = 0; corner < 8; ++corner)
-    if (!space.solved(space.grid.index(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1))))
-      return false;
+  return space.grid.index(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1));
+}
+
+/// Whether p lies in the grid and every corner of its cell is solved.
+bool cell_solved(const pc::Space& space, const Vec3& p) {
+  for (int corner = 0; corner < 8; ++corner) {
+    const auto q = cell_corner(space, p, corner);
+    if (!q || !space.solved(*q)) return false;
+  }
   return true;
 }
 
@@ -475,16 +483,9 @@ int accuracy(const Options& o) {
       for (std::size_t w = 0; w < std::min<std::size_t>(o.worst, errors.size()); ++w) {
         const auto [error, i] = errors[w];
         const Vec3 at = where[i] - m.contact;
-        const Vec3 in_grid = (where[i] - space.grid.origin) / space.grid.spacing;
-        std::array<int, 3> c{};
-        for (int a = 0; a < 3; ++a) {
-          const auto ua = static_cast<std::size_t>(a);
-          c[ua] = std::clamp(static_cast<int>(std::floor(in_grid[a])), 0, space.grid.counts[ua] - 2);
-        }
         double corner_gap = 0.0;
         for (int corner = 0; corner < 8; ++corner) {
-          const std::size_t p =
-              space.grid.index(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1));
+          const std::size_t p = *cell_corner(space, where[i], corner);  // the positions lie in every grid
           const Vec3 x = space.grid.point(p);
           const double step = finest / std::max(1, m.settings.load_steps) / 3.0;
           const int steps = std::max(2, static_cast<int>(std::ceil((x - m.contact).norm() / step)));

@@ -51,14 +51,6 @@ struct Nearest {
   SegmentTrianglePair pair;
 };
 
-/// Distance from point c to the segment p0 → p1.
-double distance_to_segment(const Vec3& c, const Vec3& p0, const Vec3& p1) {
-  const Vec3 d = p1 - p0;
-  const double length2 = d.squaredNorm();
-  const double s = length2 > 0.0 ? std::clamp((c - p0).dot(d) / length2, 0.0, 1.0) : 0.0;
-  return (p0 + s * d - c).norm();
-}
-
 /// The candidate triangle closest to the capsule's axis at translation x (ties: the first).
 Nearest nearest_face(const Vec3& x, const Vec3& e0, const Vec3& e1, std::span<const Vec3> positions,
                      std::span<const mesh::Triangle> triangles, std::span<const std::int32_t> candidates, int side) {
@@ -76,7 +68,8 @@ Nearest nearest_face(const Vec3& x, const Vec3& e0, const Vec3& e1, std::span<co
     const Vec3 centre = (f.a + f.b + f.c) / 3.0;
     const double radius = std::sqrt(std::max({(f.a - centre).squaredNorm(), (f.b - centre).squaredNorm(),
                                               (f.c - centre).squaredNorm()}));
-    if (distance_to_segment(centre, a0, a1) - radius > best.pair.distance + kSlack) continue;
+    if ((closest_point_on_segment(centre, a0, a1).point - centre).norm() - radius > best.pair.distance + kSlack)
+      continue;
     const SegmentTrianglePair p = closest_points_segment_triangle(a0, a1, f.a, f.b, f.c);
     if (p.distance < best.pair.distance) {
       best.triangle = t;

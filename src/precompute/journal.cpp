@@ -150,9 +150,10 @@ void Journal::append(const PointResult& p) {
   Eigen::Map<Mat3>(r.force_gradient) = p.force_gradient;
   const bool with_shape = p.status == PointStatus::solved;
   // A result made without derivatives (none of the solvers makes one) keeps zeros in their place.
-  const MatX gradient = p.displacement_gradient.rows() == p.displacement.size() && p.displacement_gradient.cols() == 3
-                            ? p.displacement_gradient
-                            : MatX::Zero(p.displacement.size(), 3);
+  const bool has_gradient =
+      p.displacement_gradient.rows() == p.displacement.size() && p.displacement_gradient.cols() == 3;
+  const MatX none = has_gradient ? MatX() : MatX::Zero(p.displacement.size(), 3);
+  const MatX& gradient = has_gradient ? p.displacement_gradient : none;
   r.dofs = with_shape ? static_cast<std::uint64_t>(p.displacement.size()) : 0;
   Fnv1a check;
   check.add(&r, sizeof r);
