@@ -32,7 +32,14 @@ void Space::allocate(std::size_t node_count) {
       Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * node_count), static_cast<Eigen::Index>(3 * n));
   refined_points.clear();
   refined_cells.clear();
-  index_refinement();
+  refined_lookup_.clear();
+  for (auto& cells : cell_lookup_) cells.clear();
+}
+
+bool Space::fits(const LatticeIndex& at) {
+  for (const std::int32_t v : at.ijk)
+    if (v < 0 || (static_cast<std::int64_t>(v) << (kMaxLevel - at.level)) >= (std::int64_t{1} << 21)) return false;
+  return true;
 }
 
 std::uint64_t Space::key(const LatticeIndex& at) {
@@ -52,7 +59,7 @@ std::optional<std::size_t> Space::find(const LatticeIndex& at) const {
     if (!grid.contains(i, j, k)) return std::nullopt;
     return grid.index(i, j, k);
   }
-  if (at.ijk[0] < 0 || at.ijk[1] < 0 || at.ijk[2] < 0) return std::nullopt;
+  if (!fits(at)) return std::nullopt;
   const auto it = refined_lookup_.find(key(at));
   if (it == refined_lookup_.end()) return std::nullopt;
   return it->second;
@@ -67,12 +74,13 @@ Vec3 Space::position(std::size_t p) const {
 bool Space::is_refined(const LatticeIndex& cell) const {
   if (cell.level < 0 || cell.level >= kMaxLevel) return false;
   const auto& cells = cell_lookup_[static_cast<std::size_t>(cell.level)];
-  return !cells.empty() && cells.contains(key(cell));
+  return !cells.empty() && fits(cell) && cells.contains(key(cell));
 }
 
 std::size_t Space::add_point(const LatticeIndex& at) {
   if (at.level < 1 || at.level > kMaxLevel) throw InputError("a refined point lies on levels 1 to " +
                                                              std::to_string(kMaxLevel));
+  if (!fits(at)) throw InputError("the grid is too large to refine (at most 8,192 points along an axis)");
   const std::size_t p = status.size();
   refined_points.push_back(at);
   refined_lookup_[key(at)] = p;
@@ -94,16 +102,9 @@ std::size_t Space::add_point(const LatticeIndex& at) {
 void Space::refine_cell(const LatticeIndex& cell) {
   if (cell.level < 0 || cell.level >= kMaxLevel) throw InputError("a cell can be refined at most " +
                                                                    std::to_string(kMaxLevel) + " times");
+  if (!fits(cell)) throw InputError("the grid is too large to refine (at most 8,192 points along an axis)");
   cell_lookup_[static_cast<std::size_t>(cell.level)].insert(key(cell));
   refined_cells.push_back(cell);
-}
-
-void Space::index_refinement() {
-  refined_lookup_.clear();
-  for (auto& cells : cell_lookup_) cells.clear();
-  for (std::size_t r = 0; r < refined_points.size(); ++r) refined_lookup_[key(refined_points[r])] = grid.size() + r;
-  for (const LatticeIndex& c : refined_cells)
-    if (c.level >= 0 && c.level < kMaxLevel) cell_lookup_[static_cast<std::size_t>(c.level)].insert(key(c));
 }
 
 void Space::store(const PointResult& r) {

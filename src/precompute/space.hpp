@@ -112,8 +112,9 @@ struct Space {
   std::size_t add_point(const LatticeIndex& at);
   /// Marks a cell split (its points are added separately).
   void refine_cell(const LatticeIndex& cell);
-  /// Rebuilds the lookups from refined_points and refined_cells (after reading a file).
-  void index_refinement();
+  /// Whether a refined point or cell can lie at `at`: not negative, and below 2^21 on the
+  /// finest lattice (grids of up to 8,192 points along an axis).
+  [[nodiscard]] static bool fits(const LatticeIndex& at);
 
  private:
   /// Keys of places on the finest lattice (level kMaxLevel): 21 bits per axis.

@@ -173,7 +173,7 @@ Space read_space(const std::filesystem::path& path) {
       std::vector<LatticeIndex> list;
       for (std::size_t i = 0; i < dims[0]; ++i) {
         const LatticeIndex at{flat[4 * i], {flat[4 * i + 1], flat[4 * i + 2], flat[4 * i + 3]}};
-        if (at.level < 0 || at.level > Space::kMaxLevel || at.ijk[0] < 0 || at.ijk[1] < 0 || at.ijk[2] < 0)
+        if (at.level < 0 || at.level > Space::kMaxLevel || !Space::fits(at))
           fail(path, fmt::format("refinement/{} entry {} is not a lattice place", name, i));
         list.push_back(at);
       }

@@ -9,6 +9,7 @@
 #include <random>
 #include <unistd.h>
 
+#include "core/error.hpp"
 #include "precompute/builder.hpp"
 #include "precompute/configuration_solver.hpp"
 #include "precompute/interpolator.hpp"
@@ -184,6 +185,20 @@ TEST(Refinement, ABudgetTooSmallForASplitAddsNothing) {
   const RefineStats stats = f.refine(*f.space, 18, 2);
   EXPECT_EQ(stats.cells, 0u);
   EXPECT_EQ(f.space->point_count(), 27u);
+}
+
+TEST(Refinement, PlacesBeyondTheKeysRangeAreRefusedNotAliased) {
+  // Places are keyed by 21 bits an axis on the finest lattice: a grid of more than 8,192
+  // points along an axis cannot be refined, and says so, rather than two places sharing a key.
+  Space space;
+  space.grid.counts = {10000, 2, 2};
+  space.allocate(1);
+  EXPECT_THROW(space.add_point({1, {2 * 9000 + 1, 1, 1}}), InputError);
+  EXPECT_THROW(space.refine_cell({0, {9000, 0, 0}}), InputError);
+  EXPECT_NO_THROW(space.add_point({1, {2 * 8000 + 1, 1, 1}}));
+  // 2^14 on level 1 is 2^21 on the finest lattice: the same key, masked, as the point above.
+  EXPECT_FALSE(space.find({1, {2 * 8000 + 1 + (1 << 14), 1, 1}}).has_value());
+  EXPECT_TRUE(space.find({1, {2 * 8000 + 1, 1, 1}}).has_value());
 }
 
 }  // namespace
