@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 
 #include "core/error.hpp"
 #include "scene/scene.hpp"
@@ -96,7 +97,10 @@ TEST(SceneFiles, BundledSceneContents) {
 class SceneDir : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("tactus_scene_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+    // One folder per process and test: ctest runs the cases as parallel processes, and a
+    // shared folder let one case's TearDown delete another's mesh.
+    dir_ = fs::temp_directory_path() / ("tactus_scene_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_ / "scenes" / "meshes");
     // A unit tetrahedron's closed surface, outward oriented.
     std::ofstream(dir_ / "scenes" / "meshes" / "tet.obj")
