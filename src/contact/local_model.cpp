@@ -44,11 +44,9 @@ LocalPatch::LocalPatch(LocalModelKind k, const PatchCapacity& c) : kind(k) {
   area.assign(nodes, 0.0);
   release = VecX::Zero(free_dofs);
   applied = VecX::Zero(free_dofs);
-  response = MatX::Zero(free_dofs, free_dofs);
+  response = Eigen::MatrixXf::Zero(free_dofs, free_dofs);
   // The mass-spring arrays only where they are used: a compliance patch copies less.
   const Eigen::Index ms = k == LocalModelKind::mass_spring ? free_dofs : 0;
-  stiffness = MatX::Zero(ms, ms);
-  system_inverse = MatX::Zero(ms, ms);
   mass = VecX::Zero(ms);
   border_drift = VecX::Zero(ms);
 }
@@ -209,11 +207,7 @@ void PatchBuilder::hold_still(LocalPatch& out) {
   const Eigen::Index f3 = dof(out.free_count);
   out.response.topLeftCorner(f3, f3).setZero();
   out.release.head(f3).setZero();
-  if (out.stiffness.rows() >= f3) {  // the mass-spring arrays, where this kind has them
-    out.stiffness.topLeftCorner(f3, f3).setZero();
-    out.system_inverse.topLeftCorner(f3, f3).setZero();
-    out.border_drift.head(f3).setZero();
-  }
+  if (out.border_drift.size() >= f3) out.border_drift.head(f3).setZero();  // where this kind has it
 }
 
 void PatchBuilder::condense_compliance(const Inputs& in, LocalPatch& out) {
@@ -255,28 +249,31 @@ void PatchBuilder::condense_compliance(const Inputs& in, LocalPatch& out) {
     throw std::runtime_error("local model: the condensed stiffness is not positive definite");
 
   const int free = out.free_count;
+  const Eigen::Index f3 = dof(free);
+  response_.setZero(f3, f3);
   unit_.setZero(n);
   for (int j = 0; j < free; ++j) {
     const auto node_j = static_cast<Eigen::Index>(in.surface_to_node[static_cast<std::size_t>(patch_vertex_[static_cast<std::size_t>(j)])]);
     for (int a = 0; a < 3; ++a) {
       const Eigen::Index col = dof(j) + a;
-      if (fixed(3 * node_j + a)) {
-        out.response.col(col).setZero();
-        continue;
-      }
+      if (fixed(3 * node_j + a)) continue;
       unit_[3 * node_j + a] = 1.0;
       solution_ = solver_.solve(unit_);
       unit_[3 * node_j + a] = 0.0;
       for (int i = 0; i < free; ++i) {
         const auto node_i = static_cast<Eigen::Index>(in.surface_to_node[static_cast<std::size_t>(patch_vertex_[static_cast<std::size_t>(i)])]);
-        for (int b = 0; b < 3; ++b) out.response(dof(i) + b, col) = fixed(3 * node_i + b) ? 0.0 : solution_[3 * node_i + b];
+        for (int b = 0; b < 3; ++b) response_(dof(i) + b, col) = fixed(3 * node_i + b) ? 0.0 : solution_[3 * node_i + b];
       }
     }
   }
-  const Eigen::Index f3 = dof(free);
+  out.release.head(f3).noalias() = -response_ * out.applied.head(f3);
+  store_response(out);
+}
+
+void PatchBuilder::store_response(LocalPatch& out) const {
+  const Eigen::Index f3 = response_.rows();
   // Symmetric by construction; average away the round-off so the response stays passive.
-  out.response.topLeftCorner(f3, f3) = 0.5 * (out.response.topLeftCorner(f3, f3) + out.response.topLeftCorner(f3, f3).transpose()).eval();
-  out.release.head(f3).noalias() = -out.response.topLeftCorner(f3, f3) * out.applied.head(f3);
+  out.response.topLeftCorner(f3, f3) = (0.5 * (response_ + response_.transpose())).cast<float>();
 }
 
 void PatchBuilder::fit_mass_spring(const Inputs& in, LocalPatch& out) {
@@ -373,7 +370,6 @@ void PatchBuilder::finish_mass_spring(const Inputs& in, LocalPatch& out) {
   const int nodes = out.node_count, free = out.free_count;
   const Eigen::Index f3 = dof(free);
   const double h = in.frame_time;
-  out.stiffness.topLeftCorner(f3, f3) = full_.topLeftCorner(f3, f3);
   // Border at constant velocity: force on the free nodes per second of it, K_FB·v_B.
   border_velocity_.setZero(dof(nodes) - f3);
   for (int n = free; n < nodes; ++n) border_velocity_.segment<3>(dof(n) - f3) = out.velocity[static_cast<std::size_t>(n)];
@@ -383,8 +379,8 @@ void PatchBuilder::finish_mass_spring(const Inputs& in, LocalPatch& out) {
   system_.diagonal() += out.mass.head(f3) / h;
   const Eigen::LLT<MatX> llt(system_);
   if (llt.info() != Eigen::Success) throw std::runtime_error("local model: the mass-spring system is not positive definite");
-  out.system_inverse.topLeftCorner(f3, f3) = llt.solve(MatX::Identity(f3, f3));
-  out.response.topLeftCorner(f3, f3) = h * out.system_inverse.topLeftCorner(f3, f3);
+  response_ = h * llt.solve(MatX::Identity(f3, f3));
+  store_response(out);
   out.release.head(f3).setZero();
 }
 
@@ -427,7 +423,7 @@ LocalModel::LocalModel(LocalModelKind kind, const PatchCapacity& capacity)
 
 void LocalModel::reset(const LocalPatch& patch, double now) {
   if (patch.position.size() != none_.position.size() || patch.response.rows() != none_.response.rows() ||
-      patch.stiffness.rows() != none_.stiffness.rows())
+      patch.mass.size() != none_.mass.size())
     throw std::invalid_argument("local model: a patch of another capacity or kind");
   patch_ = &patch;
   u_.setZero();
@@ -480,13 +476,16 @@ void LocalModel::advance(std::span<const PatchContact> contacts, double dt, std:
   if (patch_->kind == LocalModelKind::mass_spring) {
     // The response was built for the patch's frame time; a frame of another length (a late
     // frame in real time) advances by that frame time all the same.
+    // Implicit Euler, A·v' = M·v/h − K_FF·u − K_FB·(x_B' − p_B) + f with A = M/h + h·K_FF and
+    // u' = u + h·v'. Since h·A⁻¹·K_FF = I − A⁻¹·M/h, the stiffness drops out:
+    // u' = h·A⁻¹·(M·(u/h + v)/h − f_applied − (since + h)·K_FB·v_B), one product with the
+    // response. (The contact force enters below through the same response.)
     (void)dt;
     const double h = patch_->frame_time;
-    rhs_.head(f3) = patch_->mass.head(f3).cwiseProduct(v_.head(f3)) / h - patch_->applied.head(f3) -
-                    (since_ + h) * patch_->border_drift.head(f3);
-    rhs_.head(f3).noalias() -= patch_->stiffness.topLeftCorner(f3, f3) * u_.head(f3);
-    a = u_.head(f3);
-    a.noalias() += h * patch_->system_inverse.topLeftCorner(f3, f3) * rhs_.head(f3);
+    rhs_.head(f3) = patch_->mass.head(f3).cwiseProduct(u_.head(f3) / h + v_.head(f3)) / h -
+                    patch_->applied.head(f3) - (since_ + h) * patch_->border_drift.head(f3);
+    a.setZero();
+    for (Eigen::Index j = 0; j < f3; ++j) a += rhs_[j] * patch_->response.col(j).head(f3).cast<double>();
   } else {
     a = patch_->release.head(f3);
   }
@@ -514,8 +513,9 @@ void LocalModel::advance(std::span<const PatchContact> contacts, double dt, std:
     column.setZero();
     for (int j = 0; j < count; ++j) {
       const LoadShare& sh = shares_[static_cast<std::size_t>(j)];
-      if (sh.vertex < free)
-        column.noalias() += sh.share * (patch_->response.middleCols<3>(dof(sh.vertex)).topRows(f3) * c.normal);
+      if (sh.vertex >= free) continue;
+      const Vec3 g = sh.share * c.normal;
+      for (int k = 0; k < 3; ++k) column += g[k] * patch_->response.col(dof(sh.vertex) + k).head(f3).cast<double>();
     }
     stiffness[i] = std::max(0.0, c.stiffness);
     law[i] = c.force;

@@ -89,12 +89,13 @@ struct LocalPatch {
   /// The contact load the last step applied to each free node (3·free) [N].
   VecX applied;
   /// Linear response of the free nodes to a change of nodal force over one haptic frame,
-  /// 3F×3F: C itself (compliance) or h·A⁻¹ with A = M/h + D + h·K (mass_spring) [m/N].
-  MatX response;
-  /// mass_spring only: the stiffness among free nodes K_FF (3F×3F), the inverse of A, lumped
-  /// masses (3F) and the force on the free nodes per second of border motion, K_FB·v_B (3F).
-  MatX stiffness;
-  MatX system_inverse;
+  /// 3F×3F, symmetric: C itself (compliance) or h·A⁻¹ with A = M/h + h·K_FF (mass_spring)
+  /// [m/N]. It is the only matrix a frame reads (LocalModel::advance), fresh from the
+  /// simulation thread at each update, so it is stored in single precision: half the memory
+  /// traffic of that frame, and 7 digits are far finer than any device renders.
+  Eigen::MatrixXf response;
+  /// mass_spring only: lumped masses (3F) and the force on the free nodes per second of
+  /// border motion, K_FB·v_B (3F).
   VecX mass;
   VecX border_drift;
   double frame_time = 0.0;  ///< h, the haptic period the mass_spring system was built for [s]
@@ -148,6 +149,8 @@ class PatchBuilder {
   /// A patch that does not yield: zero response, nothing to release, no dynamics.
   static void hold_still(LocalPatch& out);
   void condense_compliance(const Inputs& in, LocalPatch& out);
+  /// out.response from response_, made exactly symmetric and rounded to single precision.
+  void store_response(LocalPatch& out) const;
   void fit_mass_spring(const Inputs& in, LocalPatch& out);
   /// The body's assembled stiffness restricted to the patch, its lumped masses (own_stiffness).
   void take_body_stiffness(const Inputs& in, LocalPatch& out);
@@ -168,6 +171,7 @@ class PatchBuilder {
   Eigen::SimplicialLDLT<physics::SparseMatrix> solver_;
   bool pattern_analyzed_ = false;
   VecX unit_, solution_;
+  MatX response_;  ///< the patch's response in double precision, before it is stored
   // mass_spring
   MatX full_, system_;
   std::vector<double> area_;

@@ -203,6 +203,10 @@ void check_recording(const NoduleRun& run) {
 // soft nodule: the force jumped to 4.4 N with three contact losses, and the map's strongest
 // cell moved off the hard nodule. With the push held constant over each simulation step the
 // skin swung between two depths: peak 1.959 N, mean 0.383 N, largest frame 1.810 N.
+// The touch-down peak and largest frame are set by the proxy's jitter on the sheet in the
+// first 20 ms, which round-off moves by more than 1 %: storing the local patch's response in
+// single precision took them from 1.151 and 1.150 N to 1.135 and 1.081 N (the first frames
+// agree to 3e-10 N; the proxy steps 60 µm apart at t = 0.015 s).
 void check_documented_numbers(const NoduleRun& run) {
   const auto count = [&](const char* kind) {
     const auto it = run.report.events.find(kind);
@@ -211,11 +215,11 @@ void check_documented_numbers(const NoduleRun& run) {
   EXPECT_EQ(count("contact_begin"), 1u) << "the finger touches down once and never loses the skin";
   EXPECT_EQ(count("contact_end"), 0u);
   const PalpationFeedback& f = *run.report.palpation;
-  EXPECT_NEAR(f.peak_force, 1.151, 0.01 * 1.151);
-  EXPECT_NEAR(f.mean_force, 0.411, 0.01 * 0.411);
+  EXPECT_NEAR(f.peak_force, 1.135, 0.01 * 1.135);
+  EXPECT_NEAR(f.mean_force, 0.413, 0.01 * 0.413);
   EXPECT_NEAR(f.coverage, 0.708, 0.005);
   const report::ForceMap map = report::build_force_map(run.model, 0, run.report.frames);
-  EXPECT_NEAR(map.max_peak(), 1.150, 0.01 * 1.150);
+  EXPECT_NEAR(map.max_peak(), 1.081, 0.01 * 1.081);
   double strongest = 0.0;
   Vec2 where = Vec2::Zero();
   for (int row = 0; row < map.rows; ++row)
@@ -224,7 +228,7 @@ void check_documented_numbers(const NoduleRun& run) {
         strongest = map.mean[map.index(column, row)];
         where = map.cell_center(column, row);
       }
-  EXPECT_NEAR(strongest, 0.771, 0.01 * 0.771);
+  EXPECT_NEAR(strongest, 0.769, 0.01 * 0.769);
   EXPECT_NEAR(where.x(), -0.012, 1e-9);  // over the hard nodule, at (-14, +12) mm
   EXPECT_NEAR(where.y(), 0.012, 1e-9);
 }

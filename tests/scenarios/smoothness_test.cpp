@@ -53,8 +53,10 @@ const std::vector<KnownDefect> kKnownDefects = {
     // The contact law on the local patch rings at the haptic rate while the finger lands 3 mm
     // into the sheet (its largest step, 1.47 N at t = 0.03 s); after that the fingertip grazes
     // a sheet sagging away from it, in contact at 0.1-35 mN, and the contact flag flickers at
-    // the simulation rate without a felt force (every short contact under 0.05 N).
-    {"skin_patch", "probe", 440, 0, 1.5},
+    // the simulation rate, mostly without a felt force. Which flickers come near a felt force
+    // follows round-off: with the local patch's response in single precision (one matrix per
+    // frame instead of three) 438 flickers, 2 of them beside 0.09-0.16 N (before: 440, none).
+    {"skin_patch", "probe", 438, 2, 1.5},
     // A simulated operator's hand landing on the coarse organ at 8.5 N (clamped) and bouncing:
     // the patch under the proxy rings at the haptic rate (largest step 6.05 N at t = 1.61 s).
     {"liver_cspace", "hand", 5, 3, 6.1},
@@ -70,9 +72,10 @@ const std::vector<KnownDefect> kKnownDefects = {
     // and 0.71 N). The flicker count follows how the fabric swings, which each change of the
     // hand-over or of the sheet's solve moves: before the hand-over 62 / 24 (thumb, short /
     // felt) and 231 / 24 (index); with it 72 / 26 and 223 / 20; with it and the sheet solved
-    // directly (CHOLMOD instead of CG at 1e-4) 70 / 23 and 223 / 27, 293 / 50 for the pair.
+    // directly (CHOLMOD instead of CG at 1e-4) 70 / 23 and 223 / 27, 293 / 50 for the pair;
+    // with the patch's response in single precision 70 / 23 and 225 / 29.
     {"fabric", "thumb", 70, 23, 0.6},
-    {"fabric", "index", 223, 27, 0.75},
+    {"fabric", "index", 225, 29, 0.75},
 };
 
 Smoothness measure(const SessionReport& r, std::size_t device, const std::string& name) {
