@@ -30,6 +30,19 @@ double effective_modulus(const ElasticMaterial& a, const ElasticMaterial& b) noe
   return 1.0 / compliance;
 }
 
+double layer_stiffening(double nu, double chi, bool bonded) noexcept {
+  constexpr double pi = std::numbers::pi;
+  const double a0 = bonded ? -(1.2876 - 1.4678 * nu + 1.3442 * nu * nu) / (1.0 - nu)
+                           : -0.347 * (3.0 - 2.0 * nu) / (1.0 - nu);
+  const double b0 = bonded ? (0.6387 - 1.0277 * nu + 1.5164 * nu * nu) / (1.0 - nu)
+                           : 0.056 * (5.0 - 2.0 * nu) / (1.0 - nu);
+  const double c1 = -2.0 * a0 / pi;
+  const double c2 = 4.0 * a0 * a0 / (pi * pi);
+  const double c3 = -8.0 / (pi * pi * pi) * (a0 * a0 * a0 + 4.0 * pi * pi / 15.0 * b0);
+  const double c4 = 16.0 * a0 / (pi * pi * pi * pi) * (a0 * a0 * a0 + 3.0 * pi * pi / 5.0 * b0);
+  return 1.0 + chi * (c1 + chi * (c2 + chi * (c3 + chi * c4)));
+}
+
 double hertz_force(double effective_modulus, double effective_radius, double depth) noexcept {
   if (!(depth > 0.0)) return 0.0;
   return 4.0 / 3.0 * effective_modulus * std::sqrt(effective_radius) * depth * std::sqrt(depth);

@@ -30,6 +30,13 @@ void validate(const ElasticMaterial& material, const char* who);
 /// Hertz's sphere-on-half-space law F = (4/3)·E*·√R·d^{3/2}, N, with no validity limits.
 [[nodiscard]] double hertz_force(double effective_modulus, double effective_radius, double depth) noexcept;
 
+/// How much stiffer than Hertz's half-space a layer of thickness h on a rigid base is under a
+/// sphere: Dimitriadis et al. (2002, Biophys. J. 82, eq. 11), the series
+/// 1 − (2α₀/π)χ + (4α₀²/π²)χ² − (8/π³)(α₀³ + 4π²β₀/15)χ³ + (16α₀/π⁴)(α₀³ + 3π²β₀/5)χ⁴ in
+/// χ = √(R·d)/h, with their coefficients for a layer bonded to the base or sliding on it.
+/// Derived for χ ≤ 1; it grows without bound past that.
+[[nodiscard]] double layer_stiffening(double poisson_ratio, double chi, bool bonded) noexcept;
+
 struct HertzParameters {
   double finger_radius = 0.0;  ///< R_f of the finger sphere, m
   ElasticMaterial finger;      ///< the sphere (seed 000: silicone rubber)

@@ -181,13 +181,22 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
   };
   auto unset = [&](const char* name) { return e.find(name) && !e.find(name)->value; };
 
-  // The plane-strain modulus E* = E / (1 − ν²) of a half-space from the loading curve:
-  // least squares of F = E*·shape(d), Hertz's shape (4/3)√R d^{3/2} for a sphere, Sneddon's
-  // 2 a d for a flat punch. A relaxation uses its peak force at the held depth, a creep the
-  // held force at its first depth after the ramp.
+  // The plane-strain modulus E* = E / (1 − ν²) from the loading curve: least squares of
+  // F = E*·shape(d), Hertz's shape (4/3)√R d^{3/2} for a sphere, times Dimitriadis's
+  // stiffening of a layer on a rigid base (bonded or sliding) when the specimen is the
+  // generated block, Sneddon's half-space 2 a d for a flat punch (a thin layer's factor for
+  // the punch, Hayes et al. 1972, is tabulated in their paper, not a closed form, and is not
+  // applied). A relaxation uses its peak force at the held depth, a creep the held force at
+  // its first depth after the ramp.
+  const double nu = e.find("poisson_ratio") && e.find("poisson_ratio")->value ? *e.find("poisson_ratio")->value : 0.45;
   const double r = e.indenter.radius;
+  const bool sphere = e.indenter.shape == IndenterShape::sphere;
+  const bool layer = sphere && e.specimen.mesh.empty() && e.specimen.thickness > 0.0;
+  const bool bonded = e.specimen.bottom == Support::fixed;
   auto shape = [&](double d) {
-    return e.indenter.shape == IndenterShape::sphere ? contact::hertz_force(1.0, r, d) : 2.0 * r * d;
+    if (!sphere) return 2.0 * r * d;
+    const double stiffening = layer ? contact::layer_stiffening(nu, std::sqrt(r * d) / e.specimen.thickness, bonded) : 1.0;
+    return contact::hertz_force(1.0, r, d) * stiffening;
   };
   double e_star = 0.0;
   if (e.kind == CurveKind::depth_force) {
@@ -204,9 +213,10 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
     const double d0 = e.y[static_cast<std::size_t>(std::min(first, e.x.end() - 1) - e.x.begin())];
     e_star = e.hold.value / shape(d0);
   }
-  method = e.indenter.shape == IndenterShape::sphere ? "Hertz (sphere on a half-space)"
-                                                      : "Sneddon (flat punch on a half-space)";
-  const double nu = e.find("poisson_ratio") && e.find("poisson_ratio")->value ? *e.find("poisson_ratio")->value : 0.45;
+  method = !sphere  ? "Sneddon (flat punch on a half-space)"
+           : layer ? fmt::format("Hertz with Dimitriadis's layer stiffening (sphere on a {:g} mm layer {} its base)",
+                                 1e3 * e.specimen.thickness, bonded ? "bonded to" : "sliding on")
+                   : "Hertz (sphere on a half-space)";
   const double young = e_star * (1.0 - nu * nu);
   if (unset("young_modulus")) at("young_modulus") = young;
   const double mu = young / (2.0 * (1.0 + nu)), kappa = young / (3.0 * (1.0 - 2.0 * nu));

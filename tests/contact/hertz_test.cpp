@@ -76,6 +76,23 @@ TEST(Hertz, ForceFollowsTheAnalyticLaw) {
   }
 }
 
+TEST(Hertz, LayerStiffeningMatchesDimitriadisPrintedSeries) {
+  // Dimitriadis et al. 2002 print the series at ν = 0.5 (their eq. 12 and the unbonded
+  // form): bonded 1 + 1.133χ + 1.283χ² + 0.769χ³ + 0.0975χ⁴, sliding 1 + 0.884χ + 0.781χ² +
+  // 0.386χ³ + 0.0048χ⁴. Their general eq. 11 with the bonded α₀, β₀ gives −0.0975 for the
+  // last term; the function follows eq. 11, so the bonded check allows that term's sign.
+  EXPECT_DOUBLE_EQ(layer_stiffening(0.5, 0.0, true), 1.0);
+  for (const double chi : {0.1, 0.3, 0.6, 1.0}) {
+    const double bonded = 1 + 1.133 * chi + 1.283 * chi * chi + 0.769 * chi * chi * chi;
+    EXPECT_NEAR(layer_stiffening(0.5, chi, true), bonded - 0.0975 * std::pow(chi, 4), 1e-3 * bonded) << chi;
+    const double sliding = 1 + 0.884 * chi + 0.781 * chi * chi + 0.386 * chi * chi * chi + 0.0048 * std::pow(chi, 4);
+    EXPECT_NEAR(layer_stiffening(0.5, chi, false), sliding, 1e-3 * sliding) << chi;
+  }
+  // A bonded layer is stiffer than one sliding on its base, and both grow with χ.
+  EXPECT_GT(layer_stiffening(0.45, 0.5, true), layer_stiffening(0.45, 0.5, false));
+  EXPECT_GT(layer_stiffening(0.3, 0.4, false), layer_stiffening(0.3, 0.2, false));
+}
+
 TEST(Hertz, FlatTissueUsesTheFingerRadius) {
   const HertzContact contact(finger_on_tissue());
   const double rf = contact.parameters().finger_radius;

@@ -7,22 +7,16 @@
 
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 
+#include "contact/hertz.hpp"
 #include "fitting/indentation.hpp"
 
 namespace tactus::fitting {
 namespace {
 
 double bonded_layer_hertz(double young, double nu, double radius, double depth, double thickness) {
-  const double pi = std::numbers::pi;
-  const double a0 = -(1.2876 - 1.4678 * nu + 1.3442 * nu * nu) / (1 - nu);
-  const double b0 = (0.6387 - 1.0277 * nu + 1.5164 * nu * nu) / (1 - nu);
-  const double chi = std::sqrt(radius * depth) / thickness;
-  const double series = 1 - 2 * a0 / pi * chi + 4 * a0 * a0 / (pi * pi) * chi * chi -
-                        8 / (pi * pi * pi) * (a0 * a0 * a0 + 4 * pi * pi / 15 * b0) * chi * chi * chi +
-                        16 * a0 / (pi * pi * pi * pi) * (a0 * a0 * a0 + 3 * pi * pi / 5 * b0) * chi * chi * chi * chi;
-  return 4.0 / 3.0 * young / (1 - nu * nu) * std::sqrt(radius) * std::pow(depth, 1.5) * series;
+  return contact::hertz_force(young / (1 - nu * nu), radius, depth) *
+         contact::layer_stiffening(nu, std::sqrt(radius * depth) / thickness, /*bonded=*/true);
 }
 
 /// The forward model's force over the bonded-layer reference at 0.1, 0.2, 0.3 mm, on a
