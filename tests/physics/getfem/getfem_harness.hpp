@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/clock.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/tetrahedralize.hpp"
 #include "physics/body.hpp"
@@ -171,6 +172,7 @@ struct Solution {
   StaticResult result;  ///< of the last load step solved
   int newton_iterations = 0;  ///< over every load step
   double seconds = 0.0;       ///< the load steps' solves, without building the model
+  double cpu_seconds = 0.0;   ///< the same on every thread of the process (the pool's too)
 };
 
 inline Solution solve_tactus(const Case& c) {
@@ -184,6 +186,7 @@ inline Solution solve_tactus(const Case& c) {
   const VecX& rest = fem->rest_positions();
   Solution out;
   const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0 = process_cpu_seconds();
   for (int k = 1; k <= c.steps; ++k) {
     const double t = static_cast<double>(k) / c.steps;
     const VecX previous = s.x;
@@ -201,6 +204,7 @@ inline Solution solve_tactus(const Case& c) {
     if (!out.result.converged) break;
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.cpu_seconds = process_cpu_seconds() - cpu0;
   out.u = s.x - rest;
   out.min_J = 1e300;
   for (std::size_t e = 0; e < fem->elements().size(); ++e)
@@ -223,6 +227,7 @@ struct GetFemSolution {
   std::string error;
   int newton_iterations = 0;  ///< over every load step
   double seconds = 0.0;       ///< its Newton solves (assembly included), without Python's start
+  double cpu_seconds = 0.0;   ///< the same in CPU time of the Python process, every thread
 };
 
 /// Writes the case for getfem_reference.py, runs it and reads its displacements (3N).
@@ -267,6 +272,7 @@ inline GetFemSolution solve_getfem(const Case& c, const fs::path& dir) {
   while (st >> key) {
     if (key == "newton_iterations") st >> g.newton_iterations;
     else if (key == "solve_seconds") st >> g.seconds;
+    else if (key == "solve_cpu_seconds") st >> g.cpu_seconds;
   }
   return g;
 }
