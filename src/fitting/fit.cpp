@@ -195,8 +195,8 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
   const bool bonded = e.specimen.bottom == Support::fixed;
   auto shape = [&](double d) {
     if (!sphere) return 2.0 * r * d;
-    const double stiffening = layer ? contact::layer_stiffening(nu, std::sqrt(r * d) / e.specimen.thickness, bonded) : 1.0;
-    return contact::hertz_force(1.0, r, d) * stiffening;
+    const double chi = std::sqrt(r * d) / e.specimen.thickness;
+    return contact::hertz_force(1.0, r, d) * (layer ? contact::layer_stiffening(nu, chi, bonded) : 1.0);
   };
   double e_star = 0.0;
   if (e.kind == CurveKind::depth_force) {
