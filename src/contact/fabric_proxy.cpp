@@ -52,24 +52,41 @@ struct Nearest {
 };
 
 /// The candidate triangle closest to the capsule's axis at translation x (ties: the first).
+/// `hint`, a candidate likely to be near (the proxy's last triangle; −1: none), only speeds
+/// the search up: the result is the same triangle with or without it.
 Nearest nearest_face(const Vec3& x, const Vec3& e0, const Vec3& e1, std::span<const Vec3> positions,
-                     std::span<const mesh::Triangle> triangles, std::span<const std::int32_t> candidates, int side) {
+                     std::span<const mesh::Triangle> triangles, std::span<const std::int32_t> candidates, int side,
+                     std::int32_t hint = -1) {
   // The axis is at least (distance to a triangle's bounding sphere) from it: a triangle
-  // whose sphere lies beyond the best distance so far (with 1 pm of slack for rounding)
-  // cannot be nearer, and its exact test, most of a haptic frame's cost, is skipped. The
-  // result is the same triangle.
+  // whose sphere lies beyond a distance some triangle reaches (with 1 pm of slack for
+  // rounding) cannot be nearer, and its exact test, most of a haptic frame's cost, is
+  // skipped. That distance starts at the hint's, so the cull works from the first
+  // candidate; the choice among the rest is made in candidate order, as without it.
   constexpr double kSlack = 1e-12;
   Nearest best;
   best.pair.distance = std::numeric_limits<double>::infinity();
-  Face f;
   const Vec3 a0 = x + e0, a1 = x + e1;
+  Face f;
+  double bound = std::numeric_limits<double>::infinity();
+  if (std::find(candidates.begin(), candidates.end(), hint) != candidates.end() &&
+      face_of(hint, positions, triangles, side, f))
+    bound = closest_points_segment_triangle(a0, a1, f.a, f.b, f.c).distance;
   for (const std::int32_t t : candidates) {
-    if (!face_of(t, positions, triangles, side, f)) continue;
-    const Vec3 centre = (f.a + f.b + f.c) / 3.0;
-    const double radius = std::sqrt(std::max({(f.a - centre).squaredNorm(), (f.b - centre).squaredNorm(),
-                                              (f.c - centre).squaredNorm()}));
-    if ((closest_point_on_segment(centre, a0, a1).point - centre).norm() - radius > best.pair.distance + kSlack)
+    if (t < 0 || static_cast<std::size_t>(t) >= triangles.size()) continue;
+    const mesh::Triangle& tri = triangles[static_cast<std::size_t>(t)];
+    if (std::any_of(tri.begin(), tri.end(),
+                    [&](mesh::Index v) { return v < 0 || static_cast<std::size_t>(v) >= positions.size(); }))
       continue;
+    const Vec3& a = positions[static_cast<std::size_t>(tri[0])];
+    const Vec3& b = positions[static_cast<std::size_t>(tri[1])];
+    const Vec3& c = positions[static_cast<std::size_t>(tri[2])];
+    const Vec3 centre = (a + b + c) / 3.0;
+    const double radius =
+        std::sqrt(std::max({(a - centre).squaredNorm(), (b - centre).squaredNorm(), (c - centre).squaredNorm()}));
+    if ((closest_point_on_segment(centre, a0, a1).point - centre).norm() - radius >
+        std::min(best.pair.distance, bound) + kSlack)
+      continue;
+    if (!face_of(t, positions, triangles, side, f)) continue;  // degenerate or not finite
     const SegmentTrianglePair p = closest_points_segment_triangle(a0, a1, f.a, f.b, f.c);
     if (p.distance < best.pair.distance) {
       best.triangle = t;
@@ -173,11 +190,11 @@ FabricProxyResult FabricProxy::update(FabricProxyState& state, const Pose& finge
 
   // The face under the proxy, and the proxy put on its plane (pushed out if the fabric
   // moved into it, lowered if the device still presses).
-  Nearest under = nearest_face(x, e0, e1, positions, triangles, candidates, p.side);
+  Nearest under = nearest_face(x, e0, e1, positions, triangles, candidates, p.side, state.triangle);
   if (under.triangle < 0) return release();
   double h = plane_offset(under.face, e0, e1, r);
   x += (h - under.face.normal.dot(x)) * under.face.normal;
-  const Nearest settled = nearest_face(x, e0, e1, positions, triangles, candidates, p.side);
+  const Nearest settled = nearest_face(x, e0, e1, positions, triangles, candidates, p.side, under.triangle);
   if (settled.triangle < 0 || settled.pair.distance > r + 10.0 * p.tolerance) return release();  // slid off
   if (settled.triangle != under.triangle) {
     under = settled;
@@ -210,7 +227,7 @@ FabricProxyResult FabricProxy::update(FabricProxyState& state, const Pose& finge
     if (speed > stop) v = (1.0 - stop / speed) * v_star;
     x += dt * v;
     // On curved fabric the slide may reach another face: keep on its front.
-    const Nearest after = nearest_face(x, e0, e1, positions, triangles, candidates, p.side);
+    const Nearest after = nearest_face(x, e0, e1, positions, triangles, candidates, p.side, under.triangle);
     if (after.triangle >= 0 && after.triangle != under.triangle) {
       const double h_after = plane_offset(after.face, e0, e1, r);
       const double below = h_after - after.face.normal.dot(x);
@@ -218,7 +235,7 @@ FabricProxyResult FabricProxy::update(FabricProxyState& state, const Pose& finge
     }
   }
 
-  const Nearest contact = nearest_face(x, e0, e1, positions, triangles, candidates, p.side);
+  const Nearest contact = nearest_face(x, e0, e1, positions, triangles, candidates, p.side, under.triangle);
   const Nearest& touched = contact.triangle >= 0 ? contact : under;
   out.in_contact = true;
   out.friction = friction;
