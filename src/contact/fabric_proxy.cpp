@@ -18,8 +18,10 @@ struct Face {
   Vec3 normal;  ///< unit, toward the finger's side (the triangle normal times `side`)
 };
 
-bool face_of(std::int32_t t, std::span<const Vec3> positions, std::span<const mesh::Triangle> triangles, int side,
-             Face& out) {
+/// The corners of triangle t into out (vertices, a, b, c); false where t or a corner index is
+/// out of range.
+bool corners_of(std::int32_t t, std::span<const Vec3> positions, std::span<const mesh::Triangle> triangles,
+                Face& out) {
   if (t < 0 || static_cast<std::size_t>(t) >= triangles.size()) return false;
   const mesh::Triangle& tri = triangles[static_cast<std::size_t>(t)];
   for (int k = 0; k < 3; ++k) {
@@ -30,11 +32,22 @@ bool face_of(std::int32_t t, std::span<const Vec3> positions, std::span<const me
   out.a = positions[static_cast<std::size_t>(tri[0])];
   out.b = positions[static_cast<std::size_t>(tri[1])];
   out.c = positions[static_cast<std::size_t>(tri[2])];
-  const Vec3 n = (out.b - out.a).cross(out.c - out.a);
-  const double len = n.norm();
-  if (!(len > 0.0) || !std::isfinite(len)) return false;  // degenerate or not finite
-  out.normal = (static_cast<double>(side) / len) * n;
   return true;
+}
+
+/// The unit normal of a face whose corners are set, toward `side`; false where it is
+/// degenerate or not finite.
+bool orient(Face& f, int side) {
+  const Vec3 n = (f.b - f.a).cross(f.c - f.a);
+  const double len = n.norm();
+  if (!(len > 0.0) || !std::isfinite(len)) return false;
+  f.normal = (static_cast<double>(side) / len) * n;
+  return true;
+}
+
+bool face_of(std::int32_t t, std::span<const Vec3> positions, std::span<const mesh::Triangle> triangles, int side,
+             Face& out) {
+  return corners_of(t, positions, triangles, out) && orient(out, side);
 }
 
 Vec3 material_point(const Face& f, const Vec3& bary) { return bary[0] * f.a + bary[1] * f.b + bary[2] * f.c; }
@@ -72,21 +85,14 @@ Nearest nearest_face(const Vec3& x, const Vec3& e0, const Vec3& e1, std::span<co
       face_of(hint, positions, triangles, side, f))
     bound = closest_points_segment_triangle(a0, a1, f.a, f.b, f.c).distance;
   for (const std::int32_t t : candidates) {
-    if (t < 0 || static_cast<std::size_t>(t) >= triangles.size()) continue;
-    const mesh::Triangle& tri = triangles[static_cast<std::size_t>(t)];
-    if (std::any_of(tri.begin(), tri.end(),
-                    [&](mesh::Index v) { return v < 0 || static_cast<std::size_t>(v) >= positions.size(); }))
-      continue;
-    const Vec3& a = positions[static_cast<std::size_t>(tri[0])];
-    const Vec3& b = positions[static_cast<std::size_t>(tri[1])];
-    const Vec3& c = positions[static_cast<std::size_t>(tri[2])];
-    const Vec3 centre = (a + b + c) / 3.0;
-    const double radius =
-        std::sqrt(std::max({(a - centre).squaredNorm(), (b - centre).squaredNorm(), (c - centre).squaredNorm()}));
+    if (!corners_of(t, positions, triangles, f)) continue;
+    const Vec3 centre = (f.a + f.b + f.c) / 3.0;
+    const double radius = std::sqrt(std::max({(f.a - centre).squaredNorm(), (f.b - centre).squaredNorm(),
+                                              (f.c - centre).squaredNorm()}));
     if ((closest_point_on_segment(centre, a0, a1).point - centre).norm() - radius >
         std::min(best.pair.distance, bound) + kSlack)
       continue;
-    if (!face_of(t, positions, triangles, side, f)) continue;  // degenerate or not finite
+    if (!orient(f, side)) continue;  // degenerate or not finite
     const SegmentTrianglePair p = closest_points_segment_triangle(a0, a1, f.a, f.b, f.c);
     if (p.distance < best.pair.distance) {
       best.triangle = t;

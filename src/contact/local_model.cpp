@@ -45,7 +45,7 @@ LocalPatch::LocalPatch(LocalModelKind k, const PatchCapacity& c) : kind(k) {
   release = VecX::Zero(free_dofs);
   applied = VecX::Zero(free_dofs);
   response = Eigen::MatrixXf::Zero(free_dofs, free_dofs);
-  // The mass-spring arrays only where they are used: a compliance patch copies less.
+  // The mass-spring arrays only where they are used: a compliance patch carries less.
   const Eigen::Index ms = k == LocalModelKind::mass_spring ? free_dofs : 0;
   mass = VecX::Zero(ms);
   border_drift = VecX::Zero(ms);

@@ -48,6 +48,9 @@ TEST(InitialGuess, ASphereOnAThinLayerTakesTheLayersStiffening) {
               half_space);
   EXPECT_GT(half_space, 1.5 * 6e3);
   EXPECT_NEAR(layered, 6e3, 0.25 * 6e3);
+  // As docs/fitting.md gives them.
+  EXPECT_NEAR(layered, 5.55e3, 0.005e3);
+  EXPECT_NEAR(half_space, 9.25e3, 0.005e3);
 }
 
 TEST(FitRecovers, MooneyRivlinC10WithC01Known) {
