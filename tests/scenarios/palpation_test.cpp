@@ -229,6 +229,20 @@ void check_documented_numbers(const NoduleRun& run) {
         where = map.cell_center(column, row);
       }
   EXPECT_NEAR(strongest, 0.769, 0.01 * 0.769);
+  // After the first simulation step (t = 0.02 s) the force in contact stays between 0.24 and
+  // 0.90 N, and no frame differs from the one before by more than 0.63 N (the touch-down).
+  double low = 1e9, high = 0.0, jump = 0.0;
+  const HapticFrame* last = nullptr;
+  for (const HapticFrame& frame : run.report.frames) {
+    if (last) jump = std::max(jump, (frame.force - last->force).norm());
+    last = &frame;
+    if (frame.t < 0.02 || !frame.contact) continue;
+    low = std::min(low, frame.force.norm());
+    high = std::max(high, frame.force.norm());
+  }
+  EXPECT_NEAR(low, 0.244, 0.01 * 0.244);
+  EXPECT_NEAR(high, 0.897, 0.01 * 0.897);
+  EXPECT_NEAR(jump, 0.633, 0.01 * 0.633);
   EXPECT_NEAR(where.x(), -0.012, 1e-9);  // over the hard nodule, at (-14, +12) mm
   EXPECT_NEAR(where.y(), 0.012, 1e-9);
 }
