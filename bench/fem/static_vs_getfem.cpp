@@ -6,12 +6,16 @@
 // largest nodal difference relative to the largest displacement. CPU time counts every
 // thread of each process: Tactus's pool splits the element loops of meshes over 8,000 tets.
 //
-//   build/release/bench/static_vs_getfem [--quick]     (--quick: the 500-node mesh only)
+//   build/release/bench/static_vs_getfem [--quick] [--threads N]
+//     --quick: the 500-node mesh only; --threads: Tactus's element-loop threads (default: every
+//     core; 1 compares CPU time with GetFEM's one thread without the pool's wake-ups)
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "physics/getfem/getfem_harness.hpp"
 
 using namespace tactus;
@@ -19,7 +23,17 @@ using namespace tactus::physics;
 using namespace tactus::physics::getfem;
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
+      set_thread_limit(static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10)));
+    } else {
+      std::fprintf(stderr, "usage: static_vs_getfem [--quick] [--threads N]\n");
+      return 2;
+    }
+  }
   if (!getfem_available()) {
     std::fprintf(stderr, "static_vs_getfem: GetFEM is not installed for %s (apt-get install python3-getfem)\n",
                  python().c_str());
@@ -36,9 +50,9 @@ int main(int argc, char** argv) {
   if (!quick) sizes.push_back(2000);
   const fs::path dir = fs::temp_directory_path() / ("tactus_static_vs_getfem_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  std::printf("| case | nodes | tets | Newton its Tactus / GetFEM | wall Tactus / GetFEM [ms] "
+  std::printf("| case | nodes | tets | Newton its Tactus / GetFEM | Tactus's factorizations | wall Tactus / GetFEM [ms] "
               "| CPU Tactus / GetFEM [ms] | less wall | less CPU | max rel diff |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   int failures = 0;
   for (std::size_t nodes : sizes)
     for (const Run& run : runs) {
@@ -65,10 +79,10 @@ int main(int argc, char** argv) {
         max_diff = std::max(max_diff, (t.u.segment<3>(i) - g.u.segment<3>(i)).norm());
       }
       const double median = times[times.size() / 2], median_cpu = cpu[cpu.size() / 2];
-      std::printf("| %s, %.0f mm in %d steps | %zu | %zu | %d / %d | %.1f / %.1f | %.1f / %.1f | %.1f× | %.1f× "
+      std::printf("| %s, %.0f mm in %d steps | %zu | %zu | %d / %d | %ld | %.1f / %.1f | %.1f / %.1f | %.1f× | %.1f× "
                   "| %.1e |\n",
                   to_string(run.law).data(), 1e3 * run.push, run.steps, c.mesh.vertices.size(), c.mesh.tets.size(),
-                  t.newton_iterations, g.newton_iterations, 1e3 * median, 1e3 * g.seconds, 1e3 * median_cpu,
+                  t.newton_iterations, g.newton_iterations, t.factorizations, 1e3 * median, 1e3 * g.seconds, 1e3 * median_cpu,
                   1e3 * g.cpu_seconds, g.seconds / median, g.cpu_seconds / median_cpu, max_diff / max_u);
       std::fflush(stdout);
     }

@@ -115,6 +115,15 @@ inline StaticResult solve_static(const Body& body, BodyState& state, const VecX&
 /// linear solve failed.
 bool predict_static(const Body& body, BodyState& state, const VecX& previous, const VecX& f_ext = {});
 
+/// Drops what the solvers carry from one solve to the next (the stiffness factor later static
+/// solves precondition with, the implicit steps' warm starts), so the next solve's result
+/// depends on its inputs alone, not on what this state solved before.
+void forget_solver_history(BodyState& state);
+
+/// Cholesky factorizations this state's solves have made so far (a statistic: static solves
+/// factorize only when the factor in hand has aged).
+long factorizations(const BodyState& state);
+
 /// The balanced state's first-order response to motions of its held dofs. Each column j of
 /// `held` (3N, nonzero on held dofs only) is a unit motion of them; column j of `motion` is
 /// the whole state's motion dx/dθ_j (the held part as given, the free part solving

@@ -90,6 +90,7 @@ PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, con
   state_.x = start ? VecX(rest + *start) : rest;
   state_.v.setZero();
   state_.q.setZero();
+  physics::forget_solver_history(state_);
   r.status = PointStatus::solved;
   // The path from `from` to `target` is walked in fractions of it. A step whose solve fails
   // is retried from the last converged state at half the size (a shorter step starts

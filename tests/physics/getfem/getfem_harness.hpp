@@ -171,6 +171,7 @@ struct Solution {
   double min_J = 0.0;
   StaticResult result;  ///< of the last load step solved
   int newton_iterations = 0;  ///< over every load step
+  long factorizations = 0;    ///< Cholesky factorizations, the predictors' included
   double seconds = 0.0;       ///< the load steps' solves, without building the model
   double cpu_seconds = 0.0;   ///< the same on every thread of the process (the pool's too)
 };
@@ -205,6 +206,7 @@ inline Solution solve_tactus(const Case& c) {
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.cpu_seconds = process_cpu_seconds() - cpu0;
+  out.factorizations = factorizations(s);
   out.u = s.x - rest;
   out.min_J = 1e300;
   for (std::size_t e = 0; e < fem->elements().size(); ++e)
