@@ -187,7 +187,12 @@ void hyperelastic_stress_tangent(const LawParams& p, const Mat3& F, Mat3& P, Mat
   G.col(0) = vec9(g1);
   G.col(1) = vec9(g2);
   G.col(2) = vec9(gJ);
-  A.noalias() = G * e.h * G.transpose();
+  // G·h·Gᵀ as rank-one terms of h's nonzero entries only (neo-Hookean has one): a general
+  // product of these shapes went through Eigen's blocked kernels at several times the cost.
+  A.setZero();
+  for (int b = 0; b < 3; ++b)
+    for (int a = 0; a < 3; ++a)
+      if (e.h(a, b) != 0.0) A.noalias() += (e.h(a, b) * G.col(a)) * G.col(b).transpose();
   A.diagonal().array() += 2.0 * e.d[0];  // d2 I1 / dF2 = 2 I
   if (e.d[1] != 0.0) {
     // d(g2)[dF] = 2 (dI1 F + I1 dF - dF C - F dF^T F - F F^T dF), dI1 = 2 F : dF.
