@@ -220,7 +220,7 @@ void hyperelastic_stress_tangent(const LawParams& p, const Mat3& F, Mat3& P, Mat
 }
 
 void project_psd(Mat9& A) {
-  A = 0.5 * (A + A.transpose());
+  A = (0.5 * (A + A.transpose())).eval();  // eval: in place, A's transpose would read entries already averaged
   Eigen::LLT<Mat9> llt(A);
   if (llt.info() == Eigen::Success) return;
   Eigen::SelfAdjointEigenSolver<Mat9> eig(A);
