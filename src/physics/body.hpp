@@ -116,8 +116,8 @@ inline StaticResult solve_static(const Body& body, BodyState& state, const VecX&
 bool predict_static(const Body& body, BodyState& state, const VecX& previous, const VecX& f_ext = {});
 
 /// Drops what the solvers carry from one solve to the next (the stiffness factor later static
-/// solves precondition with, the implicit steps' warm starts), so the next solve's result
-/// depends on its inputs alone, not on what this state solved before.
+/// solves precondition with, the implicit steps' conjugate-gradient starting guesses), so the
+/// next solve's result depends on its inputs alone, not on what this state solved before.
 void forget_solver_history(BodyState& state);
 
 /// Cholesky factorizations this state's solves have made so far (a statistic: static solves

@@ -721,7 +721,9 @@ long factorizations(const BodyState& s) { return s.solver_scratch ? s.solver_scr
 void forget_solver_history(BodyState& s) {
   if (!s.solver_scratch) return;
   s.solver_scratch->stiffness_factor = false;
+  s.solver_scratch->warm.setZero();
   s.solver_scratch->warm_count = 0;
+  for (VecX& response : s.solver_scratch->spring_response) response.setZero();
 }
 
 bool predict_static(const Body& body, BodyState& s, const VecX& previous, const VecX& f_ext) {
