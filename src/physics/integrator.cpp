@@ -845,6 +845,10 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
     result.iterations = it;
     if (balanced(force_known)) return finish(true);
     const double r = result.residual_force;
+    // Inexact Newton: a direction solved by solve_lagged balances its tangent to a fraction of
+    // the residual, and no finer than half of what convergence asks for.
+    const double lagged_target =
+        std::max(kLaggedForcing * r, 0.5 * std::max(settings.force_tolerance, settings.tolerance * scale));
     // The exact tangent where it is positive definite, which Cholesky detects: Newton then
     // converges quadratically, where the projected tangent (the fallback) converges linearly
     // once elements are compressed or stretched far.
@@ -854,11 +858,7 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
       fell_back = true;
     } else if (exact_possible && model.linearize_exact(s.x, s.v, s.q, *s.model_scratch)) {
       try {
-        // Inexact Newton: the direction solves the tangent to a fraction of the residual, and
-        // no finer than half of what convergence asks for.
-        const double target =
-            std::max(kLaggedForcing * r, 0.5 * std::max(settings.force_tolerance, settings.tolerance * scale));
-        if (!solve_lagged(body, s, w.force, target, w.delta)) {
+        if (!solve_lagged(body, s, w.force, lagged_target, w.delta)) {
           w.delta.setZero();
           solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
         }
@@ -874,8 +874,10 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
     if (!direction) {
       if (fell_back) ++result.projected_iterations;
       model.linearize(s.x, s.v, s.q, *s.model_scratch);
-      w.delta.setZero();
-      solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
+      if (!solve_lagged(body, s, w.force, lagged_target, w.delta)) {
+        w.delta.setZero();
+        solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
+      }
     }
     if (!w.delta.allFinite()) break;
     // Backtracking line search. The merit is the total potential energy (elastic minus the
