@@ -29,7 +29,13 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
     } else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
-      set_thread_limit(static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10)));
+      char* end = nullptr;
+      const unsigned long threads = std::strtoul(argv[++i], &end, 10);
+      if (*end != '\0' || threads < 1 || threads > 256) {
+        std::fprintf(stderr, "static_vs_getfem: --threads takes a count from 1 to 256, not '%s'\n", argv[i]);
+        return 2;
+      }
+      set_thread_limit(static_cast<unsigned>(threads));
     } else {
       std::fprintf(stderr, "usage: static_vs_getfem [--quick] [--threads N]\n");
       return 2;
