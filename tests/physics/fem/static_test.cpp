@@ -173,6 +173,26 @@ TEST(FemStatic, BlockInUniaxialTensionMatchesEachLawsStress) {
   }
 }
 
+/// A 2 cm cube of `law` (E 10 kPa, ν 0.45) on its bottom face, solved by Cholesky without
+/// gravity, with the centre node of its top face held as well (for a test to press down).
+struct PressedCube {
+  static constexpr double L = 0.02;
+  mesh::TetMesh mesh;
+  Body body;
+  std::int32_t top = 0;  ///< the top face's centre node
+
+  explicit PressedCube(FemLaw law) : mesh(mesh::box_volume(Vec3(L, L, L), 4, 4, 4)) {
+    for (auto& v : mesh.vertices) v += Vec3(L / 2, L / 2, L / 2);
+    body.model = std::make_shared<TetFem>(mesh, material(law, 1e4, 0.45));
+    body.settings.solver = LinearSolver::cholesky;
+    body.gravity = Vec3::Zero();
+    body.fix_nodes(fem_test::nodes_at(mesh, 2, 0.0));
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+      if ((mesh.vertices[i] - Vec3(L / 2, L / 2, L)).norm() < 1e-9) top = static_cast<std::int32_t>(i);
+    body.fix_nodes({top});
+  }
+};
+
 TEST(StaticSolve, NewtonTakesTheExactTangentWhereItIsDefiniteAndTheProjectedOneWhereNot) {
   // A 2 cm StVK cube on its bottom face, its top face's centre node pushed down. A 1 mm press
   // keeps every element's exact tangent close to the rest one: Newton on it converges
@@ -180,18 +200,9 @@ TEST(StaticSolve, NewtonTakesTheExactTangentWhereItIsDefiniteAndTheProjectedOneW
   // the elements under that node in deep compression, where the exact tangent is not
   // definite: the first steps fall back to the projected tangent, and the solve still
   // converges.
-  const double L = 0.02;
-  mesh::TetMesh m = mesh::box_volume(Vec3(L, L, L), 4, 4, 4);
-  for (auto& v : m.vertices) v += Vec3(L / 2, L / 2, L / 2);
-  Body body;
-  body.model = std::make_shared<TetFem>(m, material(FemLaw::stvk, 1e4, 0.45));
-  body.settings.solver = LinearSolver::cholesky;
-  body.gravity = Vec3::Zero();
-  body.fix_nodes(fem_test::nodes_at(m, 2, 0.0));
-  std::size_t top = 0;
-  for (std::size_t i = 0; i < m.vertices.size(); ++i)
-    if ((m.vertices[i] - Vec3(L / 2, L / 2, L)).norm() < 1e-9) top = i;
-  body.fix_nodes({static_cast<std::int32_t>(top)});
+  const PressedCube cube(FemLaw::stvk);
+  const Body& body = cube.body;
+  const auto top = cube.top;
   struct Outcome {
     StaticResult r;
     double reaction = 0.0;
@@ -214,7 +225,7 @@ TEST(StaticSolve, NewtonTakesTheExactTangentWhereItIsDefiniteAndTheProjectedOneW
   // equilibrium turns elements inside out (refused, see GetFemComparison's liver), so the
   // deep press is neo-Hookean, whose exact tangent is not definite there either.
   Body neo_hookean = body;
-  neo_hookean.model = std::make_shared<TetFem>(m, material(FemLaw::neo_hookean, 1e4, 0.45));
+  neo_hookean.model = std::make_shared<TetFem>(cube.mesh, material(FemLaw::neo_hookean, 1e4, 0.45));
   const Outcome deep = press(neo_hookean, 0.010);
   ASSERT_TRUE(deep.r.converged) << deep.r.residual << " after " << deep.r.iterations << ", stagnated "
                                 << deep.r.stagnated << ", projected " << deep.r.projected_iterations;
@@ -223,7 +234,8 @@ TEST(StaticSolve, NewtonTakesTheExactTangentWhereItIsDefiniteAndTheProjectedOneW
 
   // The same equilibria as the projected-only Newton (CG on the projected tangent), to the
   // tolerance: the tangent changes the path, not the answer.
-  for (const auto& [exact, depth] : {std::pair{&body, 0.001}, std::pair{&neo_hookean, 0.010}}) {
+  const Body* const neo_hookean_body = &neo_hookean;
+  for (const auto& [exact, depth] : {std::pair{&body, 0.001}, std::pair{neo_hookean_body, 0.010}}) {
     Body projected = *exact;
     projected.settings.solver = LinearSolver::conjugate_gradient;
     const Outcome a = press(*exact, depth), b = press(projected, depth, 2000);
@@ -281,19 +293,9 @@ TEST(StaticSolve, AnEarlierFactorStandsInForMostFactorizations) {
   // tangent, preconditioned with an earlier tangent's factor: far fewer factorizations than
   // directions, and the same equilibrium (to the tolerance) as Newton without any factor
   // (matrix-free CG on the projected tangent, which never factorizes).
-  const double L = 0.02;
-  mesh::TetMesh m = mesh::box_volume(Vec3(L, L, L), 4, 4, 4);
-  for (auto& v : m.vertices) v += Vec3(L / 2, L / 2, L / 2);
-  Body body;
-  body.model = std::make_shared<TetFem>(m, material(FemLaw::neo_hookean, 1e4, 0.45));
-  body.settings.solver = LinearSolver::cholesky;
-  body.gravity = Vec3::Zero();
-  body.fix_nodes(fem_test::nodes_at(m, 2, 0.0));
-  std::int32_t top = 0;
-  for (std::size_t i = 0; i < m.vertices.size(); ++i)
-    if ((m.vertices[i] - Vec3(L / 2, L / 2, L)).norm() < 1e-9) top = static_cast<std::int32_t>(i);
-  body.fix_nodes({top});
-  const Eigen::Index dof = 3 * static_cast<Eigen::Index>(top) + 2;
+  const PressedCube cube(FemLaw::neo_hookean);
+  const Body& body = cube.body;
+  const Eigen::Index dof = 3 * static_cast<Eigen::Index>(cube.top) + 2;
   constexpr int kSteps = 12;
   constexpr double kDepth = 0.006;
   struct Outcome {
@@ -306,7 +308,7 @@ TEST(StaticSolve, AnEarlierFactorStandsInForMostFactorizations) {
     Outcome o;
     for (int k = 1; k <= kSteps; ++k) {
       const VecX previous = s.x;
-      s.x[dof] = m.vertices[static_cast<std::size_t>(top)].z() - kDepth * k / kSteps;
+      s.x[dof] = cube.mesh.vertices[static_cast<std::size_t>(cube.top)].z() - kDepth * k / kSteps;
       predict_static(b, s, previous);
       const StaticResult r = solve_static(b, s, {}, StaticSettings{200, 0.0, 1e-10});
       EXPECT_TRUE(r.converged) << "load step " << k << ": " << r.residual_force << " N";
