@@ -111,7 +111,7 @@ class Press {
       body_.fixed_dofs[i + 2] = 1;
       if (punch) body_.fixed_dofs[i] = body_.fixed_dofs[i + 1] = 1;
     }
-    state_.solver_scratch.reset();  // the free dofs changed
+    physics::fixed_dofs_changed(body_, state_);
   }
 
   /// The sphere's lower surface above (x, y) at the current depth; +inf outside its radius.

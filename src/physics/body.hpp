@@ -120,6 +120,12 @@ bool predict_static(const Body& body, BodyState& state, const VecX& previous, co
 /// next solve's result depends on its inputs alone, not on what this state solved before.
 void forget_solver_history(BodyState& state);
 
+/// The body's fixed_dofs changed since this state last solved (a contact set that grew or
+/// shrank): the solvers take the new ones at the next solve. The stiffness factor in hand
+/// still preconditions the next static solves (it factorizes a definite matrix, only one
+/// with other rows held), and the first factorization analyses the new pattern.
+void fixed_dofs_changed(const Body& body, BodyState& state);
+
 /// Cholesky factorizations this state's solves have made so far (a statistic: static solves
 /// factorize only when the factor in hand has aged).
 long factorizations(const BodyState& state);

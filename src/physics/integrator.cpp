@@ -718,6 +718,16 @@ double static_force_scale(const SolverScratch& w, const VecX& load) {
 
 long factorizations(const BodyState& s) { return s.solver_scratch ? s.solver_scratch->factorizations : 0; }
 
+void fixed_dofs_changed(const Body& body, BodyState& s) {
+  if (!s.solver_scratch) return;
+  SolverScratch& w = *s.solver_scratch;
+  w.free_mask.setOnes(s.x.size());
+  for (std::size_t i = 0; i < body.fixed_dofs.size() && static_cast<Eigen::Index>(i) < s.x.size(); ++i)
+    if (body.fixed_dofs[i]) w.free_mask[static_cast<Eigen::Index>(i)] = 0.0;
+  w.pattern_analyzed = false;  // the matrix drops other rows and columns now
+  w.scatter.clear();
+}
+
 void forget_solver_history(BodyState& s) {
   if (!s.solver_scratch) return;
   s.solver_scratch->stiffness_factor = false;
