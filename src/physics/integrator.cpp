@@ -352,14 +352,27 @@ bool solve_lagged(const Body& body, BodyState& s, const VecX& rhs, double target
   return false;
 }
 
+/// Solves the stiffness tangent the model last linearized, K·x = rhs on the free dofs: with
+/// the factor in hand to `target` where it serves (solve_lagged), else by a fresh solve.
+void solve_stiffness(const Body& body, BodyState& s, const VecX& rhs, double target, VecX& x) {
+  if (solve_lagged(body, s, rhs, target, x)) return;
+  x.setZero(rhs.size());
+  solve_linear(body, s, 0.0, 0.0, 1.0, rhs, x);
+}
+
+/// w.free_mask from the body's fixed dofs: 1 on free dofs, 0 on fixed ones.
+void read_free_mask(const Body& body, SolverScratch& w, Eigen::Index n) {
+  w.free_mask.setOnes(n);
+  for (std::size_t i = 0; i < body.fixed_dofs.size() && static_cast<Eigen::Index>(i) < n; ++i)
+    if (body.fixed_dofs[i]) w.free_mask[static_cast<Eigen::Index>(i)] = 0.0;
+}
+
 void prepare(const Body& body, BodyState& s) {
   if (!s.solver_scratch) s.solver_scratch = std::make_shared<SolverScratch>();
   SolverScratch& w = *s.solver_scratch;
   const auto n = s.x.size();
   if (w.free_mask.size() != n) {
-    w.free_mask = VecX::Ones(n);
-    for (std::size_t i = 0; i < body.fixed_dofs.size() && static_cast<Eigen::Index>(i) < n; ++i)
-      if (body.fixed_dofs[i]) w.free_mask[static_cast<Eigen::Index>(i)] = 0.0;
+    read_free_mask(body, w, n);
     // Sized once so that stepping allocates nothing.
     for (VecX* v : {&w.warm, &w.warm_previous, &w.warm_older, &w.force, &w.rhs, &w.delta, &w.residual, &w.z,
                     &w.p, &w.Ap, &w.diag, &w.x_trial, &w.v_trial})
@@ -721,9 +734,7 @@ long factorizations(const BodyState& s) { return s.solver_scratch ? s.solver_scr
 void fixed_dofs_changed(const Body& body, BodyState& s) {
   if (!s.solver_scratch) return;
   SolverScratch& w = *s.solver_scratch;
-  w.free_mask.setOnes(s.x.size());
-  for (std::size_t i = 0; i < body.fixed_dofs.size() && static_cast<Eigen::Index>(i) < s.x.size(); ++i)
-    if (body.fixed_dofs[i]) w.free_mask[static_cast<Eigen::Index>(i)] = 0.0;
+  read_free_mask(body, w, s.x.size());
   w.pattern_analyzed = false;  // the matrix drops other rows and columns now
   w.scatter.clear();
 }
@@ -755,10 +766,8 @@ bool predict_static(const Body& body, BodyState& s, const VecX& previous, const 
     w.rhs.setZero();
     model.add_stiffness_product(w.x_trial, w.rhs, *s.model_scratch);
     w.rhs = w.force - w.rhs;
-    w.delta.setZero();
     try {
-      if (!solve_lagged(body, s, w.rhs, kLaggedForcing * w.rhs.cwiseProduct(w.free_mask).norm(), w.delta))
-        solve_linear(body, s, 0.0, 0.0, 1.0, w.rhs, w.delta);
+      solve_stiffness(body, s, w.rhs, kLaggedForcing * w.rhs.cwiseProduct(w.free_mask).norm(), w.delta);
     } catch (const std::runtime_error&) {
       return false;
     }
@@ -868,10 +877,7 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
       fell_back = true;
     } else if (exact_possible && model.linearize_exact(s.x, s.v, s.q, *s.model_scratch)) {
       try {
-        if (!solve_lagged(body, s, w.force, lagged_target, w.delta)) {
-          w.delta.setZero();
-          solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
-        }
+        solve_stiffness(body, s, w.force, lagged_target, w.delta);
         direction = w.delta.allFinite();
       } catch (const std::runtime_error&) {
       }
@@ -884,10 +890,7 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
     if (!direction) {
       if (fell_back) ++result.projected_iterations;
       model.linearize(s.x, s.v, s.q, *s.model_scratch);
-      if (!solve_lagged(body, s, w.force, lagged_target, w.delta)) {
-        w.delta.setZero();
-        solve_linear(body, s, 0.0, 0.0, 1.0, w.force, w.delta);
-      }
+      solve_stiffness(body, s, w.force, lagged_target, w.delta);
     }
     if (!w.delta.allFinite()) break;
     // Backtracking line search. The merit is the total potential energy (elastic minus the
