@@ -301,8 +301,9 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
 constexpr double kLaggedForcing = 1e-3;
 
 /// Most iterations solve_lagged may take. Each costs a substitution with the factor and a
-/// stiffness product; assembling and factorizing a tangent afresh costs about twelve of them
-/// (2,125-node organ, 12,511 tets: 2.2 ms against 30 ms).
+/// stiffness product; assembling and factorizing a tangent afresh costs about ten of them
+/// (2,125-node organ, one thread: 2.7 ms against 22 ms for the factorization alone,
+/// bench/lagged_factor_costs).
 constexpr int kMaxLaggedIterations = 10;
 /// A factor whose last solve took this many iterations has aged (the tangents drifted from
 /// it over the load steps): the next solve factorizes afresh, and the ones after it take a
