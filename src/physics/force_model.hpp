@@ -6,6 +6,7 @@
 #include <Eigen/SparseCore>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "core/math.hpp"
@@ -85,6 +86,14 @@ class ForceModel {
                                  Scratch& s) const;
   /// Appends a·K + b·D as triplets (after linearize), for direct solvers.
   virtual void add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const = 0;
+  /// For models whose triplets keep their number, order and places from call to call (a
+  /// pattern fixed at construction): adds the values that add_triplets(a, b) and then, where
+  /// mass != 0, add_mass_triplets(mass) would append, the k-th into values[slots[k]] (none
+  /// where slots[k] < 0). Direct solvers reassemble a matrix of known pattern this way
+  /// without building triplets. Returns false, having done nothing, where the model does not
+  /// offer it (the default) or slots has not one entry per triplet.
+  virtual bool add_matrix_values(double a, double b, double mass, std::span<const std::int32_t> slots, double* values,
+                                 const Scratch& s) const;
 
   /// Advances internal variables over a step of length dt that ended at x (for instance the
   /// dashpot elongations of standard-linear-solid springs). Default: none.

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -14,6 +15,7 @@
 
 #include "physics/block_cg.hpp"
 #include "physics/body.hpp"
+#include "physics/node_ordered_cholesky.hpp"
 
 namespace tactus::physics {
 
@@ -28,6 +30,11 @@ void ForceModel::add_mass_product(double scale, const VecX& in, VecX& out) const
 void ForceModel::add_mass_triplets(double scale, std::vector<Triplet>& out) const {
   const VecX& m = lumped_mass();
   for (Eigen::Index i = 0; i < m.size(); ++i) out.emplace_back(i, i, scale * m[i]);
+}
+
+bool ForceModel::add_matrix_values(double, double, double, std::span<const std::int32_t>, double*,
+                                   const Scratch&) const {
+  return false;
 }
 
 bool ForceModel::linearize_exact(const VecX&, const VecX&, const VecX&, Scratch&) const { return false; }
@@ -79,7 +86,14 @@ struct SolverScratch {
   SparseMatrix matrix;
   /// Where each of the last assembly's triplets landed in matrix's values (assemble_matrix).
   std::vector<Eigen::Index> scatter;
-  Eigen::CholmodSupernodalLLT<SparseMatrix> cholesky;
+  /// Where each triplet the model appends lands in matrix's values (−1: a dropped upper or
+  /// fixed entry), for models that reassemble from values alone (add_matrix_values); the
+  /// diagonal's place for each dof; and whether the mass triplets followed the model's.
+  std::vector<std::int32_t> slots;
+  std::vector<std::int32_t> diagonal_slots;
+  bool slots_with_mass = false;
+  bool values_refused = false;  ///< the model offers no add_matrix_values: keep no slots
+  NodeOrderedCholesky cholesky;
   bool pattern_analyzed = false;
   /// cholesky holds a factorized stiffness tangent (a static solve's), which preconditions
   /// the tangents of the iterations and load steps after it (solve_lagged).
@@ -192,6 +206,43 @@ void assemble_matrix(SolverScratch& w, Eigen::Index n) {
   }
 }
 
+/// After assemble_matrix: w.slots held, for each triplet of the model, its index among the
+/// kept ones (the first `kept` of the assembly's, the dofs' diagonal after them) or −1; now
+/// its place in the matrix's values.
+void record_slots(SolverScratch& w, std::size_t kept, bool with_mass) {
+  if (w.matrix.nonZeros() > std::numeric_limits<std::int32_t>::max()) {
+    w.slots.clear();
+    return;
+  }
+  for (std::int32_t& slot : w.slots)
+    if (slot >= 0) slot = static_cast<std::int32_t>(w.scatter[static_cast<std::size_t>(slot)]);
+  w.diagonal_slots.resize(w.scatter.size() - kept);
+  for (std::size_t i = 0; i < w.diagonal_slots.size(); ++i)
+    w.diagonal_slots[i] = static_cast<std::int32_t>(w.scatter[kept + i]);
+  w.slots_with_mass = with_mass;
+}
+
+/// Reassembles w.matrix (a·M + b·D + c·K, lower triangle, fixed dofs on the identity) from
+/// the model's values alone where its pattern is known (w.slots) and the model offers them:
+/// no triplets to build, filter and sort. Adds in the order the triplet assembly does, so
+/// the matrix has the same bits. Returns false where it cannot.
+bool assemble_from_values(const ForceModel& model, double a, double b, double c, SolverScratch& w,
+                          const Scratch& ms, Eigen::Index n) {
+  if (w.slots.empty() || w.slots_with_mass != (a != 0.0) || w.matrix.rows() != n || !w.matrix.isCompressed() ||
+      w.diagonal_slots.size() != static_cast<std::size_t>(n))
+    return false;
+  double* values = w.matrix.valuePtr();
+  std::fill(values, values + w.matrix.nonZeros(), 0.0);
+  if (!model.add_matrix_values(c, b, a, w.slots, values, ms)) {
+    w.values_refused = true;
+    w.slots.clear();
+    return false;
+  }
+  for (Eigen::Index i = 0; i < n; ++i)
+    values[w.diagonal_slots[static_cast<std::size_t>(i)]] += w.free_mask[i] != 0.0 ? 0.0 : 1.0;
+  return true;
+}
+
 /// Solves (a·M + b·D + c·K) x = rhs over the free dofs, linearized already. CG warm starts
 /// from x's incoming value. Returns the number of iterations (0 for Cholesky).
 int solve_linear(const Body& body, BodyState& s, double a, double b, double c, const VecX& rhs,
@@ -204,25 +255,46 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
   if (body.settings.solver == LinearSolver::cholesky) {
     cholmod_without_openmp_teams();
     std::optional<ProfileScope> timed(std::in_place, s, &StepProfile::assembly);
-    w.triplets.clear();
-    model.add_triplets(c, b, w.triplets, ms);
-    if (a != 0.0) model.add_mass_triplets(a, w.triplets);
     const auto n = static_cast<Eigen::Index>(m.size());
-    // Fixed dofs: drop their rows and columns and put 1 on the diagonal, so x = 0 there.
-    // Only the lower triangle: the factorization reads no other (Eigen's Cholmod classes
-    // take the Lower half by default), and half the entries are half the assembly.
-    std::size_t keep = 0;
-    for (const auto& t : w.triplets)
-      if (t.row() >= t.col() && w.free_mask[t.row()] != 0.0 && w.free_mask[t.col()] != 0.0) w.triplets[keep++] = t;
-    w.triplets.resize(keep);
-    for (Eigen::Index i = 0; i < n; ++i) w.triplets.emplace_back(i, i, w.free_mask[i] != 0.0 ? 0.0 : 1.0);
-    assemble_matrix(w, n);
+    if (!assemble_from_values(model, a, b, c, w, ms, n)) {
+      w.triplets.clear();
+      model.add_triplets(c, b, w.triplets, ms);
+      if (a != 0.0) model.add_mass_triplets(a, w.triplets);
+      // Fixed dofs: drop their rows and columns and put 1 on the diagonal, so x = 0 there.
+      // Only the lower triangle: the factorization reads no other (Eigen's Cholmod classes
+      // take the Lower half by default), and half the entries are half the assembly.
+      const bool with_slots = !w.values_refused;
+      w.slots.assign(with_slots ? w.triplets.size() : 0, -1);
+      std::size_t keep = 0;
+      for (std::size_t k = 0; k < w.triplets.size(); ++k) {
+        const Triplet& t = w.triplets[k];
+        if (t.row() >= t.col() && w.free_mask[t.row()] != 0.0 && w.free_mask[t.col()] != 0.0) {
+          if (with_slots) w.slots[k] = static_cast<std::int32_t>(keep);
+          w.triplets[keep++] = t;
+        }
+      }
+      w.triplets.resize(keep);
+      for (Eigen::Index i = 0; i < n; ++i) w.triplets.emplace_back(i, i, w.free_mask[i] != 0.0 ? 0.0 : 1.0);
+      assemble_matrix(w, n);
+      if (with_slots) record_slots(w, keep, a != 0.0);
+    }
     timed.emplace(s, &StepProfile::solve);
     if (!w.pattern_analyzed) {
+      // METIS draws from one random generator for the whole process, seeded at each call:
+      // two analyses at once (the precompute's workers) would draw from each other's
+      // sequence and order their matrices, and so round their factors, by timing.
+      static std::mutex analysis;
+      const std::lock_guard<std::mutex> one_at_a_time(analysis);
       // An indefinite matrix is reported through info() below (the static solve expects it
       // of an exact tangent), not printed by CHOLMOD.
       w.cholesky.cholmod().print = 0;
-      w.cholesky.analyzePattern(w.matrix);
+      // A static solve factorizes a few times per analysis, so the cheaper analysis pays; an
+      // implicit step's matrix is factorized every step for the life of the scene, so CHOLMOD
+      // chooses the order with the least fill (it tries AMD and METIS on the dofs).
+      if (a == 0.0 && b == 0.0)
+        w.cholesky.analyze_by_nodes(w.matrix);
+      else
+        w.cholesky.analyzePattern(w.matrix);
       w.pattern_analyzed = true;
     }
     w.cholesky.factorize(w.matrix);
@@ -738,6 +810,7 @@ void fixed_dofs_changed(const Body& body, BodyState& s) {
   read_free_mask(body, w, s.x.size());
   w.pattern_analyzed = false;  // the matrix drops other rows and columns now
   w.scatter.clear();
+  w.slots.clear();
 }
 
 void forget_solver_history(BodyState& s) {
@@ -861,6 +934,9 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
   const bool exact_possible = body.settings.solver == LinearSolver::cholesky;
   int exact_wait = 0, exact_backoff = 1;
   bool force_known = false;
+  // The potential energy at s.x where the line search computed it at its accepted point
+  // (NaN: not known).
+  double energy_known = std::numeric_limits<double>::quiet_NaN();
   for (int it = 0; it < settings.max_iterations; ++it) {
     result.iterations = it;
     if (balanced(force_known)) return finish(true);
@@ -900,7 +976,8 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
     // steps where the residual norm would reject them. A step that lowers the residual norm is
     // accepted too, for models whose energy omits part of the force (viscous branches).
     const double slope = -w.force.dot(w.delta);  // dΠ/dα at α = 0 (force = −∇Π on free dofs)
-    const double energy = static_potential(body, s, f_ext);
+    const double energy = std::isnan(energy_known) ? static_potential(body, s, f_ext) : energy_known;
+    energy_known = std::numeric_limits<double>::quiet_NaN();
     double alpha = 1.0;
     bool decreased = false;
     for (int ls = 0; ls < 20; ++ls, alpha *= 0.5) {
@@ -915,6 +992,7 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
         const double e_trial = static_potential(body, s, f_ext);
         std::swap(s.x, w.x_trial);
         energy_down = std::isfinite(e_trial) && e_trial <= energy + 1e-4 * alpha * slope;
+        energy_known = e_trial;  // the accepted trial's, where the search stops here
       }
       if (residual_down || energy_down) {
         decreased = true;

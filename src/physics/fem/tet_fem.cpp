@@ -535,7 +535,7 @@ void TetFem::tangent_columns(const VecX& dx, double c_tangent, double b_rest, st
     const TetElement& el = elements_[e];
     Mat3 S = Mat3::Zero();
     if (c_tangent != 0.0) {
-      const Vec9 dP = c.tangent[e] * vec9(gradient_of(dx, el));
+      const Vec9 dP = c.tangent[e].lazyProduct(vec9(gradient_of(dx, el)));  // unrolled: 9×9 is too small for a GEMV kernel
       S = (c_tangent * el.volume) * Eigen::Map<const Mat3>(dP.data());
     }
     for (int a = 0; a < 4; ++a) Eigen::Map<Vec3>(out[static_cast<std::size_t>(a)].data()) = S * el.grad.col(a);
@@ -592,23 +592,33 @@ void TetFem::add_mass_product(double scale, const VecX& in, VecX& out) const {
     add_consistent_mass(scale, in, out);
 }
 
-void TetFem::add_mass_triplets(double scale, std::vector<Triplet>& out) const {
+template <class Emit>
+void TetFem::emit_mass_triplets(double scale, Emit&& emit) const {
   if (mass_kind_ == FemMass::lumped) {
-    ForceModel::add_mass_triplets(scale, out);
+    for (Eigen::Index i = 0; i < mass_.size(); ++i) emit(i, i, scale * mass_[i]);
     return;
   }
   // rho V/20 (1 + delta_ab) on the three diagonals of each node pair's block; the vertices
   // no element uses keep their lumped mass.
-  out.reserve(out.size() + 48 * elements_.size() + static_cast<std::size_t>(mass_.size()));
   for (const TetElement& el : elements_) {
     const double m = scale * density_of(el) * el.volume / 20.0;
     for (std::size_t a = 0; a < 4; ++a)
       for (std::size_t b = 0; b < 4; ++b)
-        for (int i = 0; i < 3; ++i)
-          out.emplace_back(3 * el.nodes[a] + i, 3 * el.nodes[b] + i, a == b ? 2.0 * m : m);
+        for (int i = 0; i < 3; ++i) emit(3 * el.nodes[a] + i, 3 * el.nodes[b] + i, a == b ? 2.0 * m : m);
   }
   for (Eigen::Index i = 0; i < mass_.size(); ++i)
-    if (consistent_own_[i] == mass_diagonal_[i]) out.emplace_back(i, i, scale * mass_diagonal_[i]);
+    if (consistent_own_[i] == mass_diagonal_[i]) emit(i, i, scale * mass_diagonal_[i]);
+}
+
+std::size_t TetFem::mass_triplet_count() const {
+  if (mass_kind_ == FemMass::lumped) return static_cast<std::size_t>(mass_.size());
+  return 48 * elements_.size() +
+         static_cast<std::size_t>((consistent_own_.array() == mass_diagonal_.array()).count());
+}
+
+void TetFem::add_mass_triplets(double scale, std::vector<Triplet>& out) const {
+  out.reserve(out.size() + mass_triplet_count());
+  emit_mass_triplets(scale, [&](Eigen::Index row, Eigen::Index col, double v) { out.emplace_back(row, col, v); });
 }
 
 void TetFem::add_stiffness_product(const VecX& dx, VecX& out, const Scratch& s) const {
@@ -789,10 +799,9 @@ void TetFem::element_matrix(std::size_t e, double a, double b, const Cache& c, M
   }
 }
 
-void TetFem::add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const {
-  const Cache& c = cache(s);
+template <class Emit>
+void TetFem::emit_triplets(double a, double b, const Cache& c, Emit&& emit) const {
   Mat12 k;
-  out.reserve(out.size() + 144 * elements_.size() + static_cast<std::size_t>(mass_.size()));
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     element_matrix(e, a, b, c, k);
     const TetElement& el = elements_[e];
@@ -800,10 +809,32 @@ void TetFem::add_triplets(double a, double b, std::vector<Triplet>& out, const S
       for (int rn = 0; rn < 4; ++rn)
         for (int j = 0; j < 3; ++j)
           for (int i = 0; i < 3; ++i)
-            out.emplace_back(3 * el.nodes[static_cast<std::size_t>(rn)] + i, 3 * el.nodes[static_cast<std::size_t>(cn)] + j,
-                             k(3 * rn + i, 3 * cn + j));
+            emit(3 * el.nodes[static_cast<std::size_t>(rn)] + i, 3 * el.nodes[static_cast<std::size_t>(cn)] + j,
+                 k(3 * rn + i, 3 * cn + j));
   }
-  if (b != 0.0 && material().rayleigh_mass > 0.0) add_mass_triplets(b * material().rayleigh_mass, out);
+  if (b != 0.0 && material().rayleigh_mass > 0.0) emit_mass_triplets(b * material().rayleigh_mass, emit);
+}
+
+std::size_t TetFem::triplet_count(double b) const {
+  return 144 * elements_.size() + (b != 0.0 && material().rayleigh_mass > 0.0 ? mass_triplet_count() : 0);
+}
+
+void TetFem::add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const {
+  out.reserve(out.size() + triplet_count(b));
+  emit_triplets(a, b, cache(s), [&](Eigen::Index row, Eigen::Index col, double v) { out.emplace_back(row, col, v); });
+}
+
+bool TetFem::add_matrix_values(double a, double b, double mass, std::span<const std::int32_t> slots, double* values,
+                               const Scratch& s) const {
+  if (slots.size() != triplet_count(b) + (mass != 0.0 ? mass_triplet_count() : 0)) return false;
+  std::size_t k = 0;
+  auto add = [&](Eigen::Index, Eigen::Index, double v) {
+    if (slots[k] >= 0) values[slots[k]] += v;
+    ++k;
+  };
+  emit_triplets(a, b, cache(s), add);
+  if (mass != 0.0) emit_mass_triplets(mass, add);
+  return true;
 }
 
 void TetFem::update_internal(const VecX& x, double dt, VecX& q, Scratch& s) const {

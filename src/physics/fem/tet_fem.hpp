@@ -70,6 +70,8 @@ class TetFem final : public ForceModel {
   void linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
                          Scratch& s) const override;
   void add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const override;
+  bool add_matrix_values(double a, double b, double mass, std::span<const std::int32_t> slots, double* values,
+                         const Scratch& s) const override;
   void update_internal(const VecX& x, double dt, VecX& q, Scratch& s) const override;
   /// Elastic energy of the laws' strain energy densities (the Maxwell branches' stored
   /// energy is not included).
@@ -113,6 +115,15 @@ class TetFem final : public ForceModel {
   /// order, plus mass_scale·M·in.
   void gather(const Cache& c, double mass_scale, const VecX& in, VecX& out) const;
   void element_matrix(std::size_t e, double a, double b, const Cache& c, Eigen::Matrix<double, 12, 12>& k) const;
+  /// emit(row, col, value) for each triplet of add_triplets(a, b), in its order.
+  template <class Emit>
+  void emit_triplets(double a, double b, const Cache& c, Emit&& emit) const;
+  /// emit(row, col, value) for each triplet of add_mass_triplets(scale), in its order.
+  template <class Emit>
+  void emit_mass_triplets(double scale, Emit&& emit) const;
+  /// The number of triplets add_triplets(a, b) appends.
+  [[nodiscard]] std::size_t triplet_count(double b) const;
+  [[nodiscard]] std::size_t mass_triplet_count() const;
   [[nodiscard]] bool rotated() const { return law().law != FemLaw::linear; }
   [[nodiscard]] const LawParams& law_of(const TetElement& el) const { return laws_[static_cast<std::size_t>(el.material)]; }
   [[nodiscard]] double density_of(const TetElement& el) const { return densities_[static_cast<std::size_t>(el.material)]; }
