@@ -631,7 +631,21 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
   // First iteration, linearized at (x_n, v_n) (Baraff & Witkin 1998):
   //   (M + hD + h²K) Δv = h (f_n − h K v_n)
   w.z = -h * s.v;
-  {
+  // The exact tangent of hyperelastic laws where the direct solver finds M + hD + h²K
+  // definite (the mass outweighs a compressed element's negative stiffness at the scenes'
+  // steps): no per-element projection to pay for (scenes/liver.toml's step took half the time
+  // then, docs/BENCHMARKS.md). Else, and for CG, the projected tangent.
+  const bool try_exact = body.settings.solver == LinearSolver::cholesky;
+  bool exact = false;
+  if (try_exact) {
+    const ProfileScope timed(s, &StepProfile::forces);
+    exact = model.linearize_exact(s.x, s.v, s.q, *s.model_scratch);
+    if (exact) {
+      model.forces(s.x, s.v, s.q, w.rhs, *s.model_scratch);
+      model.add_stiffness_product(w.z, w.rhs, *s.model_scratch);  // rhs = f − h K v
+    }
+  }
+  if (!exact) {
     const ProfileScope timed(s, &StepProfile::forces);
     model.linearized_forces(s.x, s.v, s.q, w.z, w.rhs, *s.model_scratch);  // rhs = f − h K v
   }
@@ -646,7 +660,19 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
     w.delta = w.warm;
   const bool fold = !springs.empty() && w.path_known && w.matrix_free;
   if (fold) fold_springs(s, h, springs, s.v, w.rhs);
-  s.last_linear_iterations = solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+  bool solved = false;
+  if (exact) {
+    try {
+      s.last_linear_iterations = solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+      solved = true;
+    } catch (const std::runtime_error&) {
+      const ProfileScope timed(s, &StepProfile::forces);
+      model.linearized_forces(s.x, s.v, s.q, w.z, w.rhs, *s.model_scratch);
+      add_loads(body, f_ext, w.rhs);
+      w.rhs *= h;
+    }
+  }
+  if (!solved) s.last_linear_iterations = solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
   if (fold) s.last_linear_iterations += settle_folded(body, s, h, springs, s.v, w.rhs, w.delta);
   std::swap(w.warm_older, w.warm_previous);
   std::swap(w.warm_previous, w.warm);
@@ -677,10 +703,22 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
     if (w.rhs.norm() <= body.settings.newton_tolerance * h * scale) break;
     for (std::size_t j = 0; j < springs.size(); ++j)
       w.rhs -= (h * std::max(0.0, push_at(w, springs[j], j, w.v_trial, h))) * w.spring_push[j];
-    model.linearize(w.x_trial, w.v_trial, s.q, *s.model_scratch);
     w.delta.setZero();
     if (fold) fold_springs(s, h, springs, w.v_trial, w.rhs);
-    s.last_linear_iterations += solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+    // The exact tangent first, as in the first iteration.
+    solved = false;
+    if (try_exact && model.linearize_exact(w.x_trial, w.v_trial, s.q, *s.model_scratch)) {
+      try {
+        s.last_linear_iterations += solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+        solved = true;
+      } catch (const std::runtime_error&) {
+        w.delta.setZero();
+      }
+    }
+    if (!solved) {
+      model.linearize(w.x_trial, w.v_trial, s.q, *s.model_scratch);
+      s.last_linear_iterations += solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+    }
     if (fold) s.last_linear_iterations += settle_folded(body, s, h, springs, w.v_trial, w.rhs, w.delta);
     else if (!springs.empty()) s.last_linear_iterations += couple_springs(body, s, h, springs, w.v_trial, w.delta);
     w.v_trial += w.delta;

@@ -2,6 +2,7 @@
 // stability at large time steps and viscoelastic relaxation.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -71,6 +72,75 @@ double worst_edge_strain(const TetFem& fem, const VecX& x) {
         worst = std::max(worst, std::abs((x.segment<3>(a) - x.segment<3>(c)).norm() - rest) / rest);
       }
   return worst;
+}
+
+/// A neo-Hookean block squashed 35 % and twisted, at rest: the start of the steps below.
+struct SquashedBlock {
+  Body body;
+  BodyState state;
+  explicit SquashedBlock(LinearSolver solver) {
+    body.model = std::make_shared<TetFem>(mesh::box_volume(Vec3(0.02, 0.02, 0.02), 2, 2, 2),
+                                          material(FemLaw::neo_hookean, 1e4, 0.45));
+    body.settings.solver = solver;
+    body.settings.cg_tolerance = 1e-14;
+    body.settings.cg_max_iterations = 5000;
+    state = make_state(body);
+    state.x = fem_test::deformed(state.x, fem_test::rotation(0.2, Vec3(0, 0, 1)) * Vec3(1.1, 1.05, 0.65).asDiagonal());
+  }
+  /// The linearized step's velocity solved densely, (M + h²K) v = h f(x) from rest, with the
+  /// exact or the projected tangent; and the smallest eigenvalue of that matrix.
+  [[nodiscard]] std::pair<VecX, double> dense_step(double h, bool exact) const {
+    const auto scratch = body.model->make_scratch();
+    const VecX v = VecX::Zero(state.x.size());
+    VecX f(state.x.size());
+    body.model->forces(state.x, v, state.q, f, *scratch);
+    if (!exact || !body.model->linearize_exact(state.x, v, state.q, *scratch))
+      body.model->linearize(state.x, v, state.q, *scratch);
+    std::vector<Triplet> triplets;
+    body.model->add_triplets(h * h, 0.0, triplets, *scratch);
+    body.model->add_mass_triplets(1.0, triplets);
+    SparseMatrix a(state.x.size(), state.x.size());
+    a.setFromTriplets(triplets.begin(), triplets.end());
+    const Eigen::MatrixXd dense(a);
+    const double lowest = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(dense).eigenvalues().minCoeff();
+    return {dense.fullPivLu().solve(h * f), lowest};
+  }
+  [[nodiscard]] VecX stepped(double h) {
+    step(body, state, h);
+    return state.v;
+  }
+};
+
+TEST(FemDynamics, DirectStepsLinearizeWithTheExactTangentWhereDefinite) {
+  // At 1 ms the mass outweighs the squashed elements' negative stiffness: the direct solver
+  // takes the exact tangent, CG the projected one, and each matches its dense solve (the
+  // two tangents differ here: the steps differ by more than the solves' round-off).
+  const double h = 1e-3;
+  SquashedBlock direct(LinearSolver::cholesky), cg(LinearSolver::conjugate_gradient);
+  const auto [exact, exact_lowest] = direct.dense_step(h, true);
+  const auto [projected, projected_lowest] = direct.dense_step(h, false);
+  ASSERT_GT(exact_lowest, 0.0);
+  ASSERT_GT((exact - projected).norm(), 1e-6 * exact.norm()) << "the tangents do not differ here";
+  EXPECT_LT((direct.stepped(h) - exact).norm(), 1e-10 * exact.norm());
+  EXPECT_LT((cg.stepped(h) - projected).norm(), 1e-10 * projected.norm());
+}
+
+TEST(FemDynamics, DirectStepsFallBackToTheProjectedTangentWhereTheExactIsNotDefinite) {
+  // At a 10 s step M + h²K with the exact tangent is indefinite (the squashed block's
+  // stress softens it along some modes): Cholesky says so and the step takes the projected
+  // tangent, as its dense solve. That matrix's condition number is 2e9 (the mass alone
+  // holds the rigid modes), so round-off allows about 2e-7 between the two solves; 1e-6
+  // leaves room and is far below the exact tangent's step (over 1e-3 away).
+  const double h = 10.0;
+  SquashedBlock direct(LinearSolver::cholesky);
+  const auto [exact, exact_lowest] = direct.dense_step(h, true);
+  const auto [projected, projected_lowest] = direct.dense_step(h, false);
+  ASSERT_LT(exact_lowest, 0.0) << "the exact system is definite here";
+  ASSERT_GT(projected_lowest, 0.0);
+  ASSERT_GT((exact - projected).norm(), 1e-3 * projected.norm());
+  const VecX v = direct.stepped(h);
+  ASSERT_TRUE(v.allFinite());
+  EXPECT_LT((v - projected).norm(), 1e-6 * projected.norm());
 }
 
 TEST(FemDynamics, SquashedNeoHookeanBlockRecoversItsShape) {
