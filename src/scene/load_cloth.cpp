@@ -32,8 +32,10 @@ physics::KesDirection read_kes_direction(Reader& d, double tensile_max_load) {
   k.wt = d.required_number("WT", Range::positive());
   k.b = d.required_number("B", Range::positive());
   k.g = d.required_number("G", Range::positive());
-  // Recorded for the reader of the database; the model does not use hysteresis or recovery.
-  for (const char* key : {"RT", "2HB", "2HG", "2HG5"}) (void)d.number(key, Range::non_negative());
+  k.hg = d.number("2HG", 0.0, Range::non_negative());
+  // Recorded for the reader of the database; the model does not use them (one shear loop
+  // width, 2HG; no tensile recovery or bending hysteresis).
+  for (const char* key : {"RT", "2HB", "2HG5"}) (void)d.number(key, Range::non_negative());
   const double mismatch = physics::kes_tensile_energy_mismatch(k, tensile_max_load);
   if (mismatch > 0.05)
     d.fail("WT", fmt::format("WT = {} disagrees by {:.0f} % with LT·½·F_m·EMT/100 = {} (the definition of LT); "
@@ -127,6 +129,7 @@ physics::ClothMaterial read_curves(Reader& c) {
   m.shear = read_curve(c, "shear", "angle", "force", Below::mirror);
   m.bend_warp = read_curve(c, "bend_warp", "curvature", "moment", Below::mirror);
   m.bend_weft = read_curve(c, "bend_weft", "curvature", "moment", Below::mirror);
+  m.shear_friction = c.number("shear_friction", 0.0, Range::non_negative());
   c.finish();
   return m;
 }
@@ -172,6 +175,12 @@ void read_cloth(Reader& r, Body& b) {
     material = read_curves(curves);
     c.fabric_source = r.context().file;
   }
+  // The shear loop (KES 2HG) only where the scene asks for it.
+  if (!r.boolean("shear_hysteresis", false))
+    material.shear_friction = 0.0;
+  else if (!(material.shear_friction > 0.0))
+    r.fail("shear_hysteresis", named ? "fabric '" + c.fabric + "' has no 2HG (the shear loop's width) in the database"
+                                     : "the scene's own curves give no `shear_friction`");
   // Damping time constants [s]: a choice, not a measurement (docs/scene-format.md).
   physics::ClothMaterial& m = material;
   m.stretch_damping = m.shear_damping = 1e-3;

@@ -85,6 +85,30 @@ bend_weft = { curvature = [0.0, 100.0], moment = [0.0, 5e-4] }
   EXPECT_TRUE(m.bodies[0].cloth->fabric.empty());
 }
 
+TEST(ClothScene, ShearHysteresisTakesTheFabrics2HGOnlyWhenAsked) {
+  const std::string where = std::string(TACTUS_SOURCE_DIR) + "/scenes/x.toml";
+  EXPECT_EQ(parse_scene(kCloth, where).bodies[0].cloth->model->material().shear_friction, 0.0);
+  const Model m = parse_scene(kCloth + "shear_hysteresis = true\n", where);
+  // Denim's 2HG is 3.575 gf/cm in warp and weft (data/fabrics.toml): H = 2HG/2 in N/m.
+  EXPECT_NEAR(m.bodies[0].cloth->model->material().shear_friction, 0.5 * 3.575 * 0.980665, 1e-12);
+  EXPECT_EQ(m.bodies[0].cloth->model->internal_size(), m.bodies[0].cloth->model->triangles().size());
+
+  // The scene's own curves give it, or the key is an error naming the missing value.
+  const std::string own = "[bodies.fabric]\nkind = \"cloth\"\nsize = [0.2, 0.1]\nspacing = 0.01\n"
+                          "shear_hysteresis = true\n"
+                          "[bodies.fabric.curves]\nareal_density = 0.2\n"
+                          "warp = { strain = [0.0, 0.02], tension = [0.0, 40.0] }\n"
+                          "weft = { strain = [0.0, 0.03], tension = [0.0, 20.0] }\n"
+                          "shear = { angle = [0.0, 0.2], force = [0.0, 2.0] }\n"
+                          "bend_warp = { curvature = [0.0, 100.0], moment = [0.0, 1e-3] }\n"
+                          "bend_weft = { curvature = [0.0, 100.0], moment = [0.0, 5e-4] }\n";
+  EXPECT_NE(error_of(own).find(":5:20: bodies.fabric.shear_hysteresis: the scene's own curves give no `shear_friction`"),
+            std::string::npos)
+      << error_of(own);
+  EXPECT_DOUBLE_EQ(parse_scene(own + "shear_friction = 1.5\n", "x.toml").bodies[0].cloth->model->material().shear_friction,
+                   1.5);
+}
+
 TEST(ClothScene, BadFabricsAreLocated) {
   EXPECT_EQ(error_of(with_line(kCloth, 3, "fabric = \"dennim\"")).find(":3:10: bodies.fabric.fabric: no fabric 'dennim'"),
             error_of(with_line(kCloth, 3, "fabric = \"dennim\"")).find(":3:10:"));

@@ -78,6 +78,10 @@ ClothModel::ClothModel(const ClothMesh& cloth, ClothMaterial material) : materia
     throw InputError("cloth: the areal density must be positive and finite");
   for (double beta : {material_.stretch_damping, material_.shear_damping, material_.bend_damping})
     if (!(beta >= 0.0 && std::isfinite(beta))) throw InputError("cloth: damping time constants must be finite and >= 0");
+  if (!(material_.shear_friction >= 0.0 && std::isfinite(material_.shear_friction)))
+    throw InputError("cloth: the shear friction must be finite and >= 0");
+  if (!(material_.shear_stick_angle > 0.0 && material_.shear_stick_angle < 0.1))
+    throw InputError("cloth: the shear stick angle must be in (0, 0.1) rad");
   const mesh::HalfEdgeMesh topology(m);  // rejects non-manifold and inconsistently oriented meshes
 
   rest_.resize(3 * static_cast<Eigen::Index>(nodes));
@@ -230,7 +234,7 @@ double ClothModel::yarn_curvature(const VecX& x, std::size_t y) const {
 }
 
 template <bool Linearize>
-void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) const {
+void ClothModel::evaluate(const VecX& x, const VecX& v, const VecX& q, VecX* f, Scratch& s) const {
   auto& cs = static_cast<ClothScratch&>(s);
   if (f) f->setZero(rest_.size());
   const bool damped = f && v.size() == rest_.size();
@@ -251,6 +255,13 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
     Vec3 g[3];
     for (int n = 0; n < 3; ++n) g[n] = c * (r.a[n] * pu + r.b[n] * pv);
     const double ku = mat.warp.slope(eu), kv = mat.weft.slope(ev), ks = mat.shear.slope(gamma);
+    // The shear friction: its force, and its stiffness while it sticks.
+    double friction = 0.0, friction_stiffness = 0.0;
+    if (mat.shear_friction > 0.0) {
+      const double slip = gamma - stick_angle(q, t);
+      friction = shear_friction_force(gamma, stick_angle(q, t));
+      if (std::abs(slip) < mat.shear_stick_angle) friction_stiffness = mat.shear_friction / mat.shear_stick_angle;
+    }
     // The tensions, looked up once for the force and the linearization alike.
     const double tu = mat.warp.value(eu), tv = mat.weft.value(ev);
     if (f) {
@@ -266,7 +277,7 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
       }
       const double su = r.area * (tu + mat.stretch_damping * ku * rate_u);
       const double sv = r.area * (tv + mat.stretch_damping * kv * rate_v);
-      const double ss = r.area * (ts + mat.shear_damping * ks * rate_s);
+      const double ss = r.area * (ts + friction + mat.shear_damping * ks * rate_s);
       for (int n = 0; n < 3; ++n) node(*f, tri[static_cast<std::size_t>(n)]) -= su * r.a[n] * wu + sv * r.b[n] * wv + ss * g[n];
     }
     if constexpr (Linearize) {
@@ -280,7 +291,7 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
       for (int n = 0; n < 3; ++n) l.g[n] = g[n];
       l.wu = wu;
       l.wv = wv;
-      l.ks = r.area * ks;
+      l.ks = r.area * (ks + friction_stiffness);
       l.du = r.area * mat.stretch_damping * ku;
       l.dv = r.area * mat.stretch_damping * kv;
       l.ds = r.area * mat.shear_damping * ks;
@@ -342,17 +353,17 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) con
   }
 }
 
-void ClothModel::forces(const VecX& x, const VecX& v, const VecX&, VecX& f, Scratch& s) const {
-  evaluate<false>(x, v, &f, s);
+void ClothModel::forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratch& s) const {
+  evaluate<false>(x, v, q, &f, s);
 }
 
-void ClothModel::linearize(const VecX& x, const VecX& v, const VecX&, Scratch& s) const {
-  evaluate<true>(x, v, nullptr, s);
+void ClothModel::linearize(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const {
+  evaluate<true>(x, v, q, nullptr, s);
 }
 
-void ClothModel::linearized_forces(const VecX& x, const VecX& v, const VecX&, const VecX& dx, VecX& f,
+void ClothModel::linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
                                    Scratch& s) const {
-  evaluate<true>(x, v, &f, s);
+  evaluate<true>(x, v, q, &f, s);
   add_stiffness_product(dx, f, s);
 }
 
@@ -509,12 +520,33 @@ void ClothModel::add_triplets(double a, double b, std::vector<Triplet>& out, con
   }
 }
 
-double ClothModel::elastic_energy(const VecX& x, const VecX&) const {
+double ClothModel::shear_friction_force(double gamma, double stick) const {
+  const double limit = material_.shear_friction;
+  return std::clamp(limit / material_.shear_stick_angle * (gamma - stick), -limit, limit);
+}
+
+void ClothModel::update_internal(const VecX& x, double, VecX& q, Scratch&) const {
+  if (internal_size() == 0 || static_cast<std::size_t>(q.size()) != internal_size()) return;
+  const double reach = material_.shear_stick_angle;
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    const double gamma = triangle_strain(x, t)[2];
+    double& stick = q[static_cast<Eigen::Index>(t)];
+    stick = gamma - std::clamp(gamma - stick, -reach, reach);
+  }
+}
+
+double ClothModel::elastic_energy(const VecX& x, const VecX& q) const {
   double energy = 0.0;
+  const double limit = material_.shear_friction, reach = material_.shear_stick_angle;
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     const Vec3 e = triangle_strain(x, t);
-    energy += rest_triangles_[t].area *
-              (material_.warp.integral(e[0]) + material_.weft.integral(e[1]) + material_.shear.integral(e[2]));
+    double friction = 0.0;
+    if (limit > 0.0) {
+      const double slip = std::abs(e[2] - stick_angle(q, t));
+      friction = slip <= reach ? 0.5 * limit / reach * slip * slip : limit * (slip - 0.5 * reach);
+    }
+    energy += rest_triangles_[t].area * (material_.warp.integral(e[0]) + material_.weft.integral(e[1]) +
+                                         material_.shear.integral(e[2]) + friction);
   }
   for (std::size_t h = 0; h < hinges_.size(); ++h) {
     const ClothHinge& hinge = hinges_[h];

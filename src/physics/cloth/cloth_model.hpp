@@ -25,6 +25,11 @@
 //   right triangles: there a cantilever strip bends 25–40 % too far and refining does not
 //   cure it (docs/validation-fabric.md). Along the yarns K holds no twist, its Hessian is
 //   exact and constant in direction, and the strip converges to the elastica.
+// - Shear hysteresis (optional, KES 2HG): a friction element beside the shear curve, per
+//   triangle a stick angle γ_s (the internal variable) and the force per unit width
+//   clamp(k_h·(γ − γ_s), ±H); where it saturates, γ_s follows γ at the end of each step. Once
+//   slipped, shearing forward and back runs ±H off the curve: a loop 2H wide at every angle,
+//   KES's 2HG (the model has one width: 2HG5, at 5°, is not matched).
 // - Damping per term along the term's own direction (§III-B2d): force −β·k·g(g·v), g the
 //   term's gradient and k its tangent stiffness, with one time constant β per kind.
 // - Lumped masses: areal density × area / 3 per vertex.
@@ -43,8 +48,15 @@ struct ClothMaterial {
   MeasuredCurve shear;                 ///< shear force per unit width [N/m] against angle [rad]
   MeasuredCurve bend_warp, bend_weft;  ///< moment per unit width [N·m/m] against curvature [1/m]
   double areal_density = 0.0;          ///< [kg/m²]
-  /// Damping time constants [s] of stretch, shear and bending (damping = β × tangent stiffness).
+  /// Damping time constants [s] of stretch, shear and bending (damping = β × tangent stiffness
+  /// of the curves; the shear friction is not damped).
   double stretch_damping = 0.0, shear_damping = 0.0, bend_damping = 0.0;
+  /// Shear friction H [N/m], half the width of the shear loop (KES 2HG / 2); 0: none.
+  double shear_friction = 0.0;
+  /// The shear change [rad] over which the friction goes from sticking to slipping (its
+  /// stiffness is H over it): small against the ±8° of the KES test and the 0.5° where it
+  /// reads 2HG, large enough for the implicit step's tangent.
+  double shear_stick_angle = 0.1 * 3.14159265358979323846 / 180.0;
 };
 
 /// Bending along a yarn: consecutive nodes a, b, c of a warp or weft line, straight and
@@ -99,6 +111,10 @@ class ClothModel final : public ForceModel {
   [[nodiscard]] const VecX& rest_positions() const override { return rest_; }
   [[nodiscard]] const VecX& lumped_mass() const override { return mass_; }
   [[nodiscard]] std::unique_ptr<Scratch> make_scratch() const override;
+  /// One stick angle per triangle where the fabric has shear friction.
+  [[nodiscard]] std::size_t internal_size() const override {
+    return material_.shear_friction > 0.0 ? triangles_.size() : 0;
+  }
   void forces(const VecX& x, const VecX& v, const VecX& q, VecX& f, Scratch& s) const override;
   void linearize(const VecX& x, const VecX& v, const VecX& q, Scratch& s) const override;
   /// The force and the linearization in one pass over the elements, then K·dx.
@@ -109,7 +125,13 @@ class ClothModel final : public ForceModel {
   void add_diagonal(double a, double b, VecX& out, const Scratch& s) const override;
   const BlockMatrix* assemble_system(double a, double b, double c, Scratch& s) const override;
   void add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const override;
+  /// The stick angles follow the shear angles where the friction slips.
+  void update_internal(const VecX& x, double dt, VecX& q, Scratch& s) const override;
+  /// The curves' energy, and the friction's while it sticks (beyond, the convex potential
+  /// whose slope is ±H: the force at fixed stick angles is its gradient).
   [[nodiscard]] double elastic_energy(const VecX& x, const VecX& q) const override;
+  /// The shear friction's force per unit width [N/m] at shear angle γ with stick angle γ_s.
+  [[nodiscard]] double shear_friction_force(double gamma, double stick) const;
 
   /// A triangle's constant part: W_u = Σ a_n x_n, W_v = Σ b_n x_n.
   struct TriangleRest {
@@ -121,7 +143,12 @@ class ClothModel final : public ForceModel {
   /// A triangle's warp and weft vectors W_u, W_v at x.
   [[nodiscard]] std::pair<Vec3, Vec3> warp_weft(const VecX& x, std::size_t t) const;
   template <bool Linearize>
-  void evaluate(const VecX& x, const VecX& v, VecX* f, Scratch& s) const;
+  void evaluate(const VecX& x, const VecX& v, const VecX& q, VecX* f, Scratch& s) const;
+  /// Triangle t's stick angle in q (0 where q holds none).
+  [[nodiscard]] double stick_angle(const VecX& q, std::size_t t) const {
+    return static_cast<std::size_t>(q.size()) == internal_size() && internal_size() > 0 ? q[static_cast<Eigen::Index>(t)]
+                                                                                       : 0.0;
+  }
 
   VecX rest_, mass_;
   ClothMaterial material_;

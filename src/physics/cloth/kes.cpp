@@ -29,12 +29,15 @@ MeasuredCurve kes_tensile_curve(const KesDirection& d, double tensile_max_load, 
 ClothMaterial kes_material(const KesFabric& fabric, const std::string& what) {
   for (double v : {fabric.warp.b, fabric.weft.b, fabric.warp.g, fabric.weft.g})
     if (!(v > 0.0 && std::isfinite(v))) throw InputError(what + ": B and G must be positive");
+  for (double v : {fabric.warp.hg, fabric.weft.hg})
+    if (!(v >= 0.0 && std::isfinite(v))) throw InputError(what + ": 2HG must be finite and >= 0");
   if (!(fabric.w > 0.0 && std::isfinite(fabric.w))) throw InputError(what + ": the weight W must be positive");
   ClothMaterial m;
   m.warp = kes_tensile_curve(fabric.warp, fabric.tensile_max_load, what + " (warp)");
   m.weft = kes_tensile_curve(fabric.weft, fabric.tensile_max_load, what + " (weft)");
   const double g = 0.5 * (fabric.warp.g + fabric.weft.g) * kGfPerCm * 180.0 / std::numbers::pi;
   m.shear = MeasuredCurve::line(g, what + " (shear)");
+  m.shear_friction = 0.25 * (fabric.warp.hg + fabric.weft.hg) * kGfPerCm;
   constexpr double kGfCm2PerCm = kGramForce * 1e-4 / 1e-2;  // 1 gf·cm²/cm in N·m
   m.bend_warp = MeasuredCurve::line(fabric.warp.b * kGfCm2PerCm, what + " (warp bending)");
   m.bend_weft = MeasuredCurve::line(fabric.weft.b * kGfCm2PerCm, what + " (weft bending)");

@@ -12,6 +12,7 @@ struct KesDirection {
   double wt = 0.0;   ///< WT: tensile energy [gf·cm/cm²]
   double b = 0.0;    ///< B: bending rigidity [gf·cm²/cm]
   double g = 0.0;    ///< G: shear stiffness [gf/(cm·degree)]
+  double hg = 0.0;   ///< 2HG: the shear loop's width at 0.5° [gf/cm]; 0: not measured
 };
 
 struct KesFabric {
@@ -30,8 +31,9 @@ inline constexpr double kGramForce = 9.80665e-3;  ///< [N]
 MeasuredCurve kes_tensile_curve(const KesDirection& d, double tensile_max_load, const std::string& what);
 
 /// The ClothMaterial of a KES fabric: tensile curves as above, shear T = G·γ (the mean of
-/// warp and weft G, converted to N/m per radian), bending M = B·K per direction (N·m), areal
-/// density W·0.01 kg/m². Damping time constants are the caller's.
+/// warp and weft G, converted to N/m per radian), shear friction H = 2HG/2 (the mean of warp
+/// and weft, N/m; 0 where not measured), bending M = B·K per direction (N·m), areal density
+/// W·0.01 kg/m². Damping time constants are the caller's.
 ClothMaterial kes_material(const KesFabric& fabric, const std::string& what);
 
 /// Relative mismatch of WT against LT·½F_m·ε_m (the definition of LT): a check on published data.

@@ -77,6 +77,51 @@ TEST(ClothModel, ForcesAreMinusTheEnergyGradient) {
   }
 }
 
+TEST(ClothModel, ShearFrictionForceIsMinusItsEnergyGradientAtFixedStickAngles) {
+  // With the stick angles held, the friction is the gradient of a convex potential
+  // (quadratic while it sticks, of slope ±H beyond): the force must be −∇E there, with some
+  // triangles sticking and some slipping either way.
+  const auto sheet = rectangular_sheet(0.03, 0.02, 0.01);
+  ClothMaterial m = test_material();
+  m.shear_friction = 2.0;
+  m.shear_stick_angle = 0.01;
+  const ClothModel model(sheet.cloth, m);
+  ASSERT_EQ(model.internal_size(), model.triangles().size());
+  const VecX x = model.rest_positions() + random_vector(model.rest_positions().size(), 1, 1.5e-3);
+  VecX q(static_cast<Eigen::Index>(model.internal_size()));
+  int sticking = 0, slipping = 0;
+  for (std::size_t t = 0; t < model.triangles().size(); ++t) {
+    const double gamma = model.triangle_strain(x, t)[2];
+    const double offset = (t % 3 == 0 ? 0.5 : (t % 3 == 1 ? 3.0 : -3.0)) * m.shear_stick_angle;
+    q[static_cast<Eigen::Index>(t)] = gamma - offset;
+    (std::abs(offset) < m.shear_stick_angle ? sticking : slipping) += 1;
+  }
+  ASSERT_GT(sticking, 0);
+  ASSERT_GT(slipping, 0);
+  auto s = model.make_scratch();
+  VecX force(x.size());
+  model.forces(x, VecX::Zero(x.size()), q, force, *s);
+  const double h = 1e-8;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    VecX xp = x, xm = x;
+    xp[i] += h;
+    xm[i] -= h;
+    const double derivative = (model.elastic_energy(xp, q) - model.elastic_energy(xm, q)) / (2 * h);
+    EXPECT_NEAR(force[i], -derivative, 1e-6 * (1.0 + force.cwiseAbs().maxCoeff())) << "dof " << i;
+  }
+  // The step's end: the slipping triangles' stick angles follow, the sticking ones stay.
+  VecX after = q;
+  model.update_internal(x, 1e-3, after, *s);
+  for (std::size_t t = 0; t < model.triangles().size(); ++t) {
+    const auto i = static_cast<Eigen::Index>(t);
+    const double slip = model.triangle_strain(x, t)[2] - after[i];
+    if (t % 3 == 0)
+      EXPECT_EQ(after[i], q[i]) << "triangle " << t;
+    else
+      EXPECT_NEAR(std::abs(slip), m.shear_stick_angle, 1e-15) << "triangle " << t;
+  }
+}
+
 TEST(ClothModel, ConservesLinearAndAngularMomentum) {
   for (auto bending : {SheetBending::hinges, SheetBending::yarns}) {
   SCOPED_TRACE(bending == SheetBending::hinges ? "hinges" : "yarns");
@@ -134,10 +179,20 @@ TEST(ClothModel, LinearizedForcesInOnePassAreTheThreeCallsBitForBit) {
 TEST(ClothModel, StiffnessIsExactWhereTheDroppedTermsVanish) {
   // Stretched in its plane without shear or bending: the shear and bending terms that the
   // Gauss–Newton tangent leaves out are proportional to the shear force and the moment, both
-  // zero here, so K must equal the force's derivative exactly.
-  for (auto bending : {SheetBending::hinges, SheetBending::yarns}) {
+  // zero here, so K must equal the force's derivative exactly; with shear friction too (it
+  // sticks at γ = 0 with the stick angles at 0, and its stiffness joins the shear's).
+  for (auto bending : {SheetBending::hinges, SheetBending::yarns})
+  for (double friction : {0.0, 2.0}) {
   SCOPED_TRACE(bending == SheetBending::hinges ? "hinges" : "yarns");
-  const Fixture f = make_fixture(bending);
+  SCOPED_TRACE(friction);
+  Fixture f = make_fixture(bending);
+  if (friction > 0.0) {
+    ClothMaterial m = test_material();
+    m.shear_friction = friction;
+    m.shear_stick_angle = 0.01;
+    f.model = std::make_shared<ClothModel>(
+        rectangular_sheet(0.03, 0.02, 0.01, Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), bending).cloth, m);
+  }
   VecX x = f.model->rest_positions();
   for (Eigen::Index n = 0; n < x.size() / 3; ++n) {
     x[3 * n] *= 1.06;

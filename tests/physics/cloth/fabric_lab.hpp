@@ -168,6 +168,58 @@ inline double picture_frame_force(const ClothMaterial& m, double side, double ga
   return (energy_at(gamma + h) - energy_at(gamma - h)) / (2 * h);
 }
 
+/// The KES shear test on the picture frame: the frame sheared quasi-statically 0 → +γ_max →
+/// −γ_max → +γ_max in steps of `step`, the sheet balanced at each and its stick angles then
+/// following (update_internal, as at the end of a time step). Returns the force the frame
+/// needs, dE/dγ as virtual work of the balanced sheet's forces, −Σ f_n·∂x_n/∂γ, while it moves
+/// (before the stick angles follow), at angle `at` on the way down from +γ_max and on the way
+/// back up from −γ_max. `at` and γ_max must be multiples of `step`.
+inline std::pair<double, double> picture_frame_loop(const ClothMaterial& m, double side, double gamma_max, double step,
+                                                    double at, bool& converged) {
+  converged = true;
+  const auto grid = rectangular_sheet(side, side, 0.01);
+  Body body;
+  body.model = std::make_shared<ClothModel>(grid.cloth, m);
+  body.settings.solver = LinearSolver::cholesky;
+  std::vector<std::int32_t> border;
+  for (int j = 0; j < grid.nodes_v; ++j)
+    for (int i = 0; i < grid.nodes_u; ++i)
+      if (i == 0 || j == 0 || i == grid.nodes_u - 1 || j == grid.nodes_v - 1) border.push_back(grid.at(i, j));
+  body.fix_nodes(border);
+  BodyState state = make_state(body);
+  auto frame_force = [&](double angle) {
+    VecX f(state.x.size());
+    body.model->forces(state.x, VecX::Zero(state.x.size()), state.q, f, *state.model_scratch);
+    double work = 0.0;
+    for (std::size_t n = 0; n < grid.cloth.uv.size(); ++n) {
+      const double v = grid.cloth.uv[n].y();
+      work -= f.segment<3>(3 * static_cast<Eigen::Index>(n)).dot(Vec3(std::cos(angle) * v, -std::sin(angle) * v, 0.0));
+    }
+    return work;
+  };
+  const auto steps = static_cast<int>(std::lround(gamma_max / step));
+  const auto at_step = static_cast<int>(std::lround(at / step));
+  double down = 0.0, up = 0.0;
+  auto go = [&](int from, int to, double* record) {
+    const int dir = to > from ? 1 : -1;
+    for (int k = from + dir; k != to + dir; k += dir) {
+      const double angle = k * step;
+      for (std::int32_t n : border) {
+        const Vec2 uv = grid.cloth.uv[static_cast<std::size_t>(n)];
+        state.x.segment<3>(3 * n) = Vec3(uv.x() + std::sin(angle) * uv.y(), std::cos(angle) * uv.y(), 0.0);
+      }
+      const auto r = solve_static(body, state, {}, StaticSettings{100, 1e-10, 1e-12});
+      converged = converged && r.converged;
+      if (record && k == at_step) *record = frame_force(angle);
+      body.model->update_internal(state.x, 1.0, state.q, *state.model_scratch);
+    }
+  };
+  go(0, steps, nullptr);
+  go(steps, -steps, &down);
+  go(-steps, steps, &up);
+  return {down, up};
+}
+
 /// Peirce's bending length read as the standard reads it: the overhang at which the chord
 /// from the platform's edge to the tip falls 41.5° below the horizontal, halved (bisection
 /// between `lo` and `hi`).

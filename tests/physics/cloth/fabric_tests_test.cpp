@@ -83,6 +83,31 @@ TEST(FabricPictureFrame, FrameForceFollowsTheShearCurve) {
   }
 }
 
+TEST(FabricPictureFrame, ShearLoopIsAsWideAs2HGAndItsMeanFollowsG) {
+  // The KES shear test (±8°): with 2HG given, the loop's width at 0.5° is 2HG and its mean
+  // rises with the slope G between 0.5° and 5° (KES reads G there). The sheet shears
+  // homogeneously, so every triangle's friction has slipped to ±H by 0.5° after turning at
+  // ∓8° (its stick angle is 0.1°): the width holds to the balance's tolerance (1e-10 of the
+  // forces), 1e-6 here.
+  KesFabric kes = test_fabric();
+  kes.warp.hg = 2.2;
+  kes.weft.hg = 1.8;
+  const ClothMaterial m = kes_material(kes, "test fabric");
+  const double gf_per_cm = kGramForce / 1e-2, deg = std::numbers::pi / 180.0, side = 0.1;
+  const double width = 0.5 * (2.2 + 1.8) * gf_per_cm;                      // 2HG [N/m]
+  const double g = 0.5 * (kes.warp.g + kes.weft.g) * gf_per_cm / deg;      // G [N/m per rad]
+  bool converged = false;
+  const auto [down_small, up_small] = picture_frame_loop(m, side, 8 * deg, 0.5 * deg, 0.5 * deg, converged);
+  EXPECT_TRUE(converged);
+  EXPECT_NEAR((up_small - down_small) / (side * side), width, 1e-6 * width);
+  const auto [down_large, up_large] = picture_frame_loop(m, side, 8 * deg, 0.5 * deg, 5 * deg, converged);
+  EXPECT_TRUE(converged);
+  const double slope = (0.5 * (down_large + up_large) - 0.5 * (down_small + up_small)) / (4.5 * deg) / (side * side);
+  EXPECT_NEAR(slope, g, 1e-6 * g);
+  // The one width the model has: at 5° the loop is 2HG wide too (KES's 2HG5 is not matched).
+  EXPECT_NEAR((up_large - down_large) / (side * side), width, 1e-6 * width);
+}
+
 TEST(FabricEnergy, ReleasedUndampedFabricGainsNoEnergy) {
   // A sheet clamped at its top edge, released swung out of its plane under gravity, without
   // damping: it swings and flexes, and implicit Euler may only lose energy.
