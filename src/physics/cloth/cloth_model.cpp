@@ -492,12 +492,9 @@ const BlockMatrix* ClothModel::assemble_system(double a, double b, double c, Scr
   return &A;
 }
 
-void ClothModel::add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const {
+template <class Emit>
+void ClothModel::emit_blocks(double a, double b, const Scratch& s, Emit&& emit) const {
   const auto& cs = static_cast<const ClothScratch&>(s);
-  auto emit = [&out](std::int32_t i, std::int32_t j, const Mat3& block) {
-    for (int r = 0; r < 3; ++r)
-      for (int q = 0; q < 3; ++q) out.emplace_back(3 * i + r, 3 * j + q, block(r, q));
-  };
   for (std::size_t t = 0; t < triangles_.size(); ++t)
     for (int n = 0; n < 3; ++n)
       for (int m = 0; m < 3; ++m)
@@ -506,18 +503,43 @@ void ClothModel::add_triplets(double a, double b, std::vector<Triplet>& out, con
   for (std::size_t h = 0; h < hinges_.size(); ++h) {
     const HingeLinear& l = cs.hinges[h];
     const double w = a * l.k + b * l.d;
-    if (w == 0.0) continue;
     const std::int32_t nodes[4] = {hinges_[h].e0, hinges_[h].e1, hinges_[h].o0, hinges_[h].o1};
     for (int n = 0; n < 4; ++n)
-      for (int m = 0; m < 4; ++m) emit(nodes[n], nodes[m], w * l.g[n] * l.g[m].transpose());
+      for (int m = 0; m < 4; ++m) emit(nodes[n], nodes[m], Mat3(w * l.g[n] * l.g[m].transpose()));
   }
   for (std::size_t y = 0; y < yarns_.size(); ++y) {
     const YarnLinear& l = cs.yarns[y];
     const Mat3 h = a * l.h + (b * l.d) * (l.t * l.t.transpose());
     const std::int32_t nodes[3] = {yarns_[y].a, yarns_[y].b, yarns_[y].c};
     for (int n = 0; n < 3; ++n)
-      for (int m = 0; m < 3; ++m) emit(nodes[n], nodes[m], (kYarnWeight[n] * kYarnWeight[m]) * h);
+      for (int m = 0; m < 3; ++m) emit(nodes[n], nodes[m], Mat3((kYarnWeight[n] * kYarnWeight[m]) * h));
   }
+}
+
+void ClothModel::add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const {
+  emit_blocks(a, b, s, [&out](std::int32_t i, std::int32_t j, const Mat3& block) {
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) out.emplace_back(3 * i + r, 3 * j + q, block(r, q));
+  });
+}
+
+bool ClothModel::add_matrix_values(double a, double b, double mass, std::span<const std::int32_t> slots,
+                                   double* values, const Scratch& s) const {
+  const std::size_t blocks = 9 * triangles_.size() + 16 * hinges_.size() + 9 * yarns_.size();
+  if (slots.size() != 9 * blocks + (mass != 0.0 ? static_cast<std::size_t>(mass_.size()) : 0)) return false;
+  std::size_t k = 0;
+  auto add = [&](double v) {
+    if (slots[k] >= 0) values[slots[k]] += v;
+    ++k;
+  };
+  emit_blocks(a, b, s, [&](std::int32_t, std::int32_t, const Mat3& block) {
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) add(block(r, q));
+  });
+  // The lumped mass, as ForceModel::add_mass_triplets appends it.
+  if (mass != 0.0)
+    for (Eigen::Index i = 0; i < mass_.size(); ++i) add(mass * mass_[i]);
+  return true;
 }
 
 double ClothModel::shear_friction_force(double gamma, double stick) const {

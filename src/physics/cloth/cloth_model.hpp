@@ -125,6 +125,8 @@ class ClothModel final : public ForceModel {
   void add_diagonal(double a, double b, VecX& out, const Scratch& s) const override;
   const BlockMatrix* assemble_system(double a, double b, double c, Scratch& s) const override;
   void add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const override;
+  bool add_matrix_values(double a, double b, double mass, std::span<const std::int32_t> slots, double* values,
+                         const Scratch& s) const override;
   /// The stick angles follow the shear angles where the friction slips.
   void update_internal(const VecX& x, double dt, VecX& q, Scratch& s) const override;
   /// The curves' energy, and the friction's while it sticks (beyond, the convex potential
@@ -142,6 +144,10 @@ class ClothModel final : public ForceModel {
  private:
   /// A triangle's warp and weft vectors W_u, W_v at x.
   [[nodiscard]] std::pair<Vec3, Vec3> warp_weft(const VecX& x, std::size_t t) const;
+  /// emit(i, j, block) for each 3×3 block of add_triplets(a, b), in its order (every element
+  /// emits its blocks, zero or not, so the pattern never changes).
+  template <class Emit>
+  void emit_blocks(double a, double b, const Scratch& s, Emit&& emit) const;
   template <bool Linearize>
   void evaluate(const VecX& x, const VecX& v, const VecX& q, VecX* f, Scratch& s) const;
   /// Triangle t's stick angle in q (0 where q holds none).
