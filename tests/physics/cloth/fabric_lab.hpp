@@ -139,30 +139,39 @@ inline double simulated_chord_angle(const ClothMaterial& m, double overhang, dou
   return std::atan2(root.z() - tip.z(), tip.x() - root.x());
 }
 
+/// A square sheet of side `side` at 10 mm whose border is held on a picture frame.
+struct PictureFrame {
+  SheetGrid grid;
+  Body body;
+  std::vector<std::int32_t> border;
+  PictureFrame(const ClothMaterial& m, double side) : grid(rectangular_sheet(side, side, 0.01)) {
+    body.model = std::make_shared<ClothModel>(grid.cloth, m);
+    body.settings.solver = LinearSolver::cholesky;
+    for (int j = 0; j < grid.nodes_v; ++j)
+      for (int i = 0; i < grid.nodes_u; ++i)
+        if (i == 0 || j == 0 || i == grid.nodes_u - 1 || j == grid.nodes_v - 1) border.push_back(grid.at(i, j));
+    body.fix_nodes(border);
+  }
+  /// Where (u, v) of the fabric lies on the frame sheared by `angle`.
+  [[nodiscard]] static Vec3 sheared(const Vec2& uv, double angle) {
+    return {uv.x() + std::sin(angle) * uv.y(), std::cos(angle) * uv.y(), 0.0};
+  }
+};
+
 /// The picture frame: a square sheet of side `side` whose border follows a frame sheared by γ
 /// (sides keep their length, the corner angle closes by γ), the inside free. Returns the
 /// frame's generalized force dE/dγ (central difference of the equilibrium energy), which the
 /// shear curve says is side²·T_s(γ).
 inline double picture_frame_force(const ClothMaterial& m, double side, double gamma, bool& converged) {
   converged = true;
-  const auto grid = rectangular_sheet(side, side, 0.01);
-  Body body;
-  body.model = std::make_shared<ClothModel>(grid.cloth, m);
-  body.settings.solver = LinearSolver::cholesky;
-  std::vector<std::int32_t> border;
-  for (int j = 0; j < grid.nodes_v; ++j)
-    for (int i = 0; i < grid.nodes_u; ++i)
-      if (i == 0 || j == 0 || i == grid.nodes_u - 1 || j == grid.nodes_v - 1) border.push_back(grid.at(i, j));
-  body.fix_nodes(border);
+  PictureFrame frame(m, side);
   auto energy_at = [&](double angle) {
-    BodyState state = make_state(body);
-    for (Eigen::Index n = 0; n < state.x.size() / 3; ++n) {
-      const Vec2 uv = grid.cloth.uv[static_cast<std::size_t>(n)];
-      state.x.segment<3>(3 * n) = Vec3(uv.x() + std::sin(angle) * uv.y(), std::cos(angle) * uv.y(), 0.0);
-    }
-    const auto r = solve_static(body, state, {}, StaticSettings{100, 1e-10, 1e-12});
+    BodyState state = make_state(frame.body);
+    for (Eigen::Index n = 0; n < state.x.size() / 3; ++n)
+      state.x.segment<3>(3 * n) = PictureFrame::sheared(frame.grid.cloth.uv[static_cast<std::size_t>(n)], angle);
+    const auto r = solve_static(frame.body, state, {}, StaticSettings{100, 1e-10, 1e-12});
     converged = converged && r.converged;
-    return body.model->elastic_energy(state.x, state.q);
+    return frame.body.model->elastic_energy(state.x, state.q);
   };
   const double h = 1e-5;
   return (energy_at(gamma + h) - energy_at(gamma - h)) / (2 * h);
@@ -177,15 +186,9 @@ inline double picture_frame_force(const ClothMaterial& m, double side, double ga
 inline std::pair<double, double> picture_frame_loop(const ClothMaterial& m, double side, double gamma_max, double step,
                                                     double at, bool& converged) {
   converged = true;
-  const auto grid = rectangular_sheet(side, side, 0.01);
-  Body body;
-  body.model = std::make_shared<ClothModel>(grid.cloth, m);
-  body.settings.solver = LinearSolver::cholesky;
-  std::vector<std::int32_t> border;
-  for (int j = 0; j < grid.nodes_v; ++j)
-    for (int i = 0; i < grid.nodes_u; ++i)
-      if (i == 0 || j == 0 || i == grid.nodes_u - 1 || j == grid.nodes_v - 1) border.push_back(grid.at(i, j));
-  body.fix_nodes(border);
+  PictureFrame frame(m, side);
+  const Body& body = frame.body;
+  const SheetGrid& grid = frame.grid;
   BodyState state = make_state(body);
   auto frame_force = [&](double angle) {
     VecX f(state.x.size());
@@ -204,10 +207,8 @@ inline std::pair<double, double> picture_frame_loop(const ClothMaterial& m, doub
     const int dir = to > from ? 1 : -1;
     for (int k = from + dir; k != to + dir; k += dir) {
       const double angle = k * step;
-      for (std::int32_t n : border) {
-        const Vec2 uv = grid.cloth.uv[static_cast<std::size_t>(n)];
-        state.x.segment<3>(3 * n) = Vec3(uv.x() + std::sin(angle) * uv.y(), std::cos(angle) * uv.y(), 0.0);
-      }
+      for (std::int32_t n : frame.border)
+        state.x.segment<3>(3 * n) = PictureFrame::sheared(grid.cloth.uv[static_cast<std::size_t>(n)], angle);
       const auto r = solve_static(body, state, {}, StaticSettings{100, 1e-10, 1e-12});
       converged = converged && r.converged;
       if (record && k == at_step) *record = frame_force(angle);
