@@ -234,6 +234,14 @@ void LiveMaterialModel::add_triplets(double a, double b, std::vector<physics::Tr
       if (extra_[i] != 0.0) out.emplace_back(i, i, b * extra_[i]);
 }
 
+bool LiveMaterialModel::add_matrix_values(double a, double b, double mass, std::span<const std::int32_t> slots,
+                                          double* values, const physics::Scratch& s) const {
+  // The added damping's triplets come between the model's and the mass's, and their number
+  // follows the edits: those matrices are assembled from triplets.
+  if (has_extra_ && b != 0.0) return false;
+  return inner_->add_matrix_values(scale_ * a, scale_ * b, mass, slots, values, inner_of(s));
+}
+
 void LiveMaterialModel::update_internal(const VecX& x, double dt, VecX& q, physics::Scratch& s) const {
   inner_->update_internal(x, dt, q, inner_of(s));
 }

@@ -161,6 +161,9 @@ class LiveMaterialModel final : public physics::ForceModel {
   void linearized_forces(const VecX& x, const VecX& v, const VecX& q, const VecX& dx, VecX& f,
                          physics::Scratch& s) const override;
   void add_triplets(double a, double b, std::vector<physics::Triplet>& out, const physics::Scratch& s) const override;
+  /// The scene model's values, where no added damping follows its triplets.
+  bool add_matrix_values(double a, double b, double mass, std::span<const std::int32_t> slots, double* values,
+                         const physics::Scratch& s) const override;
   void update_internal(const VecX& x, double dt, VecX& q, physics::Scratch& s) const override;
   [[nodiscard]] double elastic_energy(const VecX& x, const VecX& q) const override;
 

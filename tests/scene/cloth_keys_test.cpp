@@ -102,11 +102,12 @@ TEST(ClothScene, ShearHysteresisTakesTheFabrics2HGOnlyWhenAsked) {
                           "shear = { angle = [0.0, 0.2], force = [0.0, 2.0] }\n"
                           "bend_warp = { curvature = [0.0, 100.0], moment = [0.0, 1e-3] }\n"
                           "bend_weft = { curvature = [0.0, 100.0], moment = [0.0, 5e-4] }\n";
-  EXPECT_NE(error_of(own).find(":5:20: bodies.fabric.shear_hysteresis: the scene's own curves give no `shear_friction`"),
+  const std::string missing = error_of(own);
+  EXPECT_NE(missing.find(":5:20: bodies.fabric.shear_hysteresis: the scene's own curves give no `shear_friction`"),
             std::string::npos)
-      << error_of(own);
-  EXPECT_DOUBLE_EQ(parse_scene(own + "shear_friction = 1.5\n", "x.toml").bodies[0].cloth->model->material().shear_friction,
-                   1.5);
+      << missing;
+  const Model given = parse_scene(own + "shear_friction = 1.5\n", "x.toml");
+  EXPECT_DOUBLE_EQ(given.bodies[0].cloth->model->material().shear_friction, 1.5);
 }
 
 TEST(ClothScene, BadFabricsAreLocated) {

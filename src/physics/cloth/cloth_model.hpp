@@ -152,8 +152,8 @@ class ClothModel final : public ForceModel {
   void evaluate(const VecX& x, const VecX& v, const VecX& q, VecX* f, Scratch& s) const;
   /// Triangle t's stick angle in q (0 where q holds none).
   [[nodiscard]] double stick_angle(const VecX& q, std::size_t t) const {
-    return static_cast<std::size_t>(q.size()) == internal_size() && internal_size() > 0 ? q[static_cast<Eigen::Index>(t)]
-                                                                                       : 0.0;
+    const bool held = internal_size() > 0 && static_cast<std::size_t>(q.size()) == internal_size();
+    return held ? q[static_cast<Eigen::Index>(t)] : 0.0;
   }
 
   VecX rest_, mass_;

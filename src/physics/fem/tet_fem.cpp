@@ -535,7 +535,8 @@ void TetFem::tangent_columns(const VecX& dx, double c_tangent, double b_rest, st
     const TetElement& el = elements_[e];
     Mat3 S = Mat3::Zero();
     if (c_tangent != 0.0) {
-      const Vec9 dP = c.tangent[e].lazyProduct(vec9(gradient_of(dx, el)));  // unrolled: 9×9 is too small for a GEMV kernel
+      // Unrolled: a 9×9 product is too small for Eigen's GEMV kernel.
+      const Vec9 dP = c.tangent[e].lazyProduct(vec9(gradient_of(dx, el)));
       S = (c_tangent * el.volume) * Eigen::Map<const Mat3>(dP.data());
     }
     for (int a = 0; a < 4; ++a) Eigen::Map<Vec3>(out[static_cast<std::size_t>(a)].data()) = S * el.grad.col(a);
