@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "fem_test_util.hpp"
 
@@ -88,7 +89,8 @@ struct SquashedBlock {
     state.x = fem_test::deformed(state.x, fem_test::rotation(0.2, Vec3(0, 0, 1)) * Vec3(1.1, 1.05, 0.65).asDiagonal());
   }
   /// The linearized step's velocity solved densely, (M + h²K) v = h f(x) from rest, with the
-  /// exact or the projected tangent; and the smallest eigenvalue of that matrix.
+  /// exact or the projected tangent; and the smallest eigenvalue of that matrix (its
+  /// condition number goes to the test's record, condition_exact / condition_projected).
   [[nodiscard]] std::pair<VecX, double> dense_step(double h, bool exact) const {
     const auto scratch = body.model->make_scratch();
     const VecX v = VecX::Zero(state.x.size());
@@ -102,7 +104,10 @@ struct SquashedBlock {
     SparseMatrix a(state.x.size(), state.x.size());
     a.setFromTriplets(triplets.begin(), triplets.end());
     const Eigen::MatrixXd dense(a);
-    const double lowest = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(dense).eigenvalues().minCoeff();
+    const VecX eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(dense).eigenvalues();
+    const double lowest = eigenvalues.minCoeff();
+    ::testing::Test::RecordProperty(exact ? "condition_exact" : "condition_projected",
+                                    std::to_string(eigenvalues.maxCoeff() / eigenvalues.cwiseAbs().minCoeff()));
     return {dense.fullPivLu().solve(h * f), lowest};
   }
   [[nodiscard]] VecX stepped(double h) {
@@ -128,7 +133,7 @@ TEST(FemDynamics, DirectStepsLinearizeWithTheExactTangentWhereDefinite) {
 TEST(FemDynamics, DirectStepsFallBackToTheProjectedTangentWhereTheExactIsNotDefinite) {
   // At a 10 s step M + h²K with the exact tangent is indefinite (the squashed block's
   // stress softens it along some modes): Cholesky says so and the step takes the projected
-  // tangent, as its dense solve. That matrix's condition number is 2e9 (the mass alone
+  // tangent, as its dense solve. That matrix's condition number is 2e9 (recorded: the mass alone
   // holds the rigid modes), so round-off allows about 2e-7 between the two solves; 1e-6
   // leaves room and is far below the exact tangent's step (over 1e-3 away).
   const double h = 10.0;
