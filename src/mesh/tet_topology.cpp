@@ -126,4 +126,37 @@ BoundarySurface extract_boundary(const TetMesh& mesh, const TetTopology& topolog
   return out;
 }
 
+BoundarySurface extract_region_surface(const TetMesh& mesh, const TetTopology& topology, const std::vector<int>& inside,
+                                       const std::vector<int>& facing) {
+  if (mesh.tet_regions.size() != mesh.tets.size())
+    throw InputError("the mesh tags no regions; a region's surface needs tagged tetrahedra");
+  auto in = [](const std::vector<int>& set, int tag) { return std::find(set.begin(), set.end(), tag) != set.end(); };
+  auto region = [&](Index t) { return t < 0 ? kOutsideRegion : mesh.tet_regions[static_cast<std::size_t>(t)]; };
+  BoundarySurface out;
+  out.volume_to_surface.assign(mesh.vertices.size(), -1);
+  for (std::size_t f = 0; f < topology.faces.size(); ++f) {
+    const auto [first, second] = topology.face_tets[f];
+    Triangle tri = topology.faces[f];  // seen from outside `first`
+    Index owner = first;
+    if (in(inside, region(first)) && in(facing, region(second))) {
+    } else if (second >= 0 && in(inside, region(second)) && in(facing, region(first))) {
+      std::swap(tri[1], tri[2]);
+      owner = second;
+    } else {
+      continue;
+    }
+    for (Index& v : tri) {
+      if (out.volume_to_surface[v] < 0) {
+        out.volume_to_surface[v] = static_cast<Index>(out.surface_to_volume.size());
+        out.surface_to_volume.push_back(v);
+        out.surface.vertices.push_back(mesh.vertices[v]);
+      }
+      v = out.volume_to_surface[v];
+    }
+    out.surface.triangles.push_back(tri);
+    out.face_tet.push_back(owner);
+  }
+  return out;
+}
+
 }  // namespace tactus::mesh

@@ -51,4 +51,14 @@ struct BoundarySurface {
 BoundarySurface extract_boundary(const TetMesh& mesh);
 BoundarySurface extract_boundary(const TetMesh& mesh, const TetTopology& topology);
 
+/// Region tag of "outside the mesh" for extract_region_surface's `facing`.
+inline constexpr int kOutsideRegion = 0;
+
+/// The faces where tets tagged with one of `inside` meet tets tagged with one of `facing`
+/// (kOutsideRegion: the mesh's boundary), oriented out of the `inside` tets, with their own
+/// compact vertex numbering: a segmented tissue's outer skin, a fascia between two
+/// tissues, a vessel's wall. Needs tet_regions; a tag in both sets is an error of the caller.
+BoundarySurface extract_region_surface(const TetMesh& mesh, const TetTopology& topology, const std::vector<int>& inside,
+                                       const std::vector<int>& facing);
+
 }  // namespace tactus::mesh

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "imaging/label_image.hpp"
+#include "imaging/label_mesher.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/io/mesh_io.hpp"
 #include "mesh/tet_topology.hpp"
@@ -220,9 +222,106 @@ void tetrahedralize_surface(Reader& r, std::string_view key, LoadedMesh& out, co
   out.source += ", tetrahedralized";
 }
 
-LoadedMesh read_mesh_key(Reader& r, bool volumetric) {
+/// mesh = { labels = "segmentation.nii.gz", cell_size = ... }: every nonzero label of a
+/// label image meshed as its own region (imaging/label_mesher.hpp; `tactus mesh --labels`).
+LoadedMesh mesh_labels(Reader& m) {
+  const std::filesystem::path path = resolve_file(m, "labels", m.required_string("labels"));
+  const auto png_spacing = m.vec3("spacing");
+  if (png_spacing && !(png_spacing->array() > 0.0).all()) m.fail("spacing", "every spacing must be positive");
+  imaging::LabelMeshOptions o;
+  o.cell_size = m.required_number("cell_size", Range::positive());
+  if (auto sizes = m.table("cell_size_label")) {
+    std::vector<std::string> keys;
+    for (auto&& [key, node] : sizes->table()) keys.emplace_back(key.str());
+    for (const std::string& key : keys) {
+      int label = 0;
+      const auto [end, error] = std::from_chars(key.data(), key.data() + key.size(), label);
+      if (error != std::errc() || end != key.data() + key.size() || label == 0)
+        sizes->fail(key, "a label is named by its nonzero integer value in the image, not '" + key + "'");
+      o.cell_size_by_label[label] = sizes->required_number(key, Range::positive());
+    }
+    sizes->finish();
+  }
+  o.facet_distance = m.number("facet_distance", Range::positive());
+  o.smooth_sigma = m.number("smooth", 0.0, Range::closed(0.0, 10.0));
+  o.sliver_bound_deg = m.number("sliver_bound", o.sliver_bound_deg, Range::closed(0.0, 15.0));
+  o.min_voxels = static_cast<std::size_t>(m.integer("min_voxels", 8, 1, 1000000000));
+  o.progress = false;  // a scene loads in a second or two; the command prints the bar
+  LoadedMesh out;
+  try {
+    const imaging::LabelImage image = imaging::read_label_image(path, png_spacing);
+    // About one tetrahedron per tenth of a cell's cube (circumradius r): the refinement's
+    // cost, checked before it starts.
+    double cells = 0.0;
+    for (const auto& l : imaging::count_labels(image)) {
+      const auto size = o.cell_size_by_label.find(l.label);
+      const double r = size == o.cell_size_by_label.end() ? o.cell_size : std::min(o.cell_size, size->second);
+      cells += static_cast<double>(l.voxels) * image.voxel_volume() / (0.1 * r * r * r);
+    }
+    check_budget(m, "cell_size", cells);
+    out.volume = imaging::mesh_label_image(image, o);
+  } catch (const InputError& e) {
+    if (e.where().line) throw;
+    m.fail("labels", e.what());
+  }
+  out.source = path.generic_string() + ", meshed by label";
+  return out;
+}
+
+/// Region tags: one integer or an array of them.
+std::vector<int> read_tags(Reader& m, std::string_view key) {
+  const toml::node* n = m.get(key);
+  if (n && n->is_integer()) return {static_cast<int>(*m.integer(key, -1000000000, 1000000000))};
+  std::vector<int> out;
+  for (const auto t : m.integer_list(key, -1000000000, 1000000000)) out.push_back(static_cast<int>(t));
+  return out;
+}
+
+/// mesh = { region = [...], facing = [...] }: where the host's tetrahedra tagged `region` meet
+/// those tagged `facing` (0: outside the host; default: every other tag and the outside),
+/// oriented out of `region`. The surface's vertices are the host's nodes.
+LoadedMesh region_surface(Reader& m, const Body& host) {
+  if (!host.volume || host.volume->tet_regions.empty())
+    m.fail("region", "body '" + host.name + "''s mesh " + host.mesh_source + " tags no regions");
+  const std::set<int> present(host.volume->tet_regions.begin(), host.volume->tet_regions.end());
+  std::string tags;
+  for (const int t : present) tags += (tags.empty() ? "" : ", ") + std::to_string(t);
+  const std::vector<int> inside = read_tags(m, "region");
+  if (inside.empty()) m.fail("region", "give at least one region tag");
+  for (const int t : inside)
+    if (!present.count(t) || t == mesh::kOutsideRegion)
+      m.fail("region", fmt::format("body '{}' has no region {} (its regions: {})", host.name, t, tags));
+  std::vector<int> facing = read_tags(m, "facing");
+  if (!m.has("facing")) {
+    facing.push_back(mesh::kOutsideRegion);
+    for (const int t : present)
+      if (std::find(inside.begin(), inside.end(), t) == inside.end()) facing.push_back(t);
+  }
+  if (facing.empty()) m.fail("facing", "give at least one region tag (0: the outside of the body)");
+  for (const int t : facing) {
+    if (t != mesh::kOutsideRegion && !present.count(t))
+      m.fail("facing", fmt::format("body '{}' has no region {} (its regions: {}; 0 is its outside)", host.name, t, tags));
+    if (std::find(inside.begin(), inside.end(), t) != inside.end())
+      m.fail("facing", fmt::format("region {} is in both 'region' and 'facing'", t));
+  }
+  LoadedMesh out;
+  out.surface = mesh::extract_region_surface(*host.volume, mesh::TetTopology(*host.volume), inside, facing).surface;
+  const auto list = [](const std::vector<int>& v) {
+    std::string text;
+    for (const int t : v) text += (text.empty() ? "" : ", ") + std::to_string(t);
+    return text;
+  };
+  out.source = fmt::format("body '{}', region {} facing {}", host.name, list(inside), list(facing));
+  if (out.surface->triangles.empty()) m.fail("region", out.source + ": the regions do not meet");
+  return out;
+}
+
+/// Reads `mesh`: a file name, or a table with one source (file, generator, labels, or the
+/// region keys, which take their tetrahedra from `host`: an embedded body's, a mapped
+/// surface's own body).
+LoadedMesh read_mesh_key(Reader& r, bool volumetric, const Body* host = nullptr) {
   const toml::node* n = r.get("mesh");
-  if (!n) r.fail_missing("mesh", "a file name or a table with 'file' or 'generator'");
+  if (!n) r.fail_missing("mesh", "a file name or a table with 'file', 'generator', 'labels' or 'region'");
   if (n->is_string()) {
     LoadedMesh out = read_file_mesh(r, "mesh", r.required_string("mesh"));
     if (volumetric && !out.volume && out.surface) tetrahedralize_surface(r, "mesh", out, TetOptions{});
@@ -231,28 +330,42 @@ LoadedMesh read_mesh_key(Reader& r, bool volumetric) {
   if (!n->is_table()) r.fail("mesh", "expected a string (file name) or a table, got " + type_name(n->type()));
 
   Reader m = *r.table("mesh");
-  const bool has_file = m.table().contains("file");
-  const bool has_gen = m.table().contains("generator");
-  if (has_file == has_gen) m.fail_here("give exactly one of 'file' and 'generator'");
+  const char* source = nullptr;
+  for (const char* key : {"file", "generator", "labels", "region"})
+    if (m.table().contains(key)) {
+      if (source) m.fail(key, fmt::format("give one of 'file', 'generator', 'labels' and 'region', not both '{}' and '{}'",
+                                          source, key));
+      source = key;
+    }
+  if (!source) m.fail_here("give one of 'file', 'generator', 'labels' (a label image) and 'region' (a host's regions)");
+  if (std::string_view(source) == "region" && !host)
+    m.fail("region", "a region's surface is cut from the tetrahedra of a host: for 'embedded' bodies and 'mapped' "
+                     "surfaces");
+  if (std::string_view(source) == "labels" && !volumetric)
+    m.fail("labels", "a label image gives tetrahedra: for 'fem' and 'tet_mass_spring' bodies");
   LoadedMesh out;
+  const std::string_view kind = source;
   try {
-    out = has_file ? read_file_mesh(m, "file", m.required_string("file"))
-                   : generate(m, m.required_string("generator"), volumetric);
+    out = kind == "file"      ? read_file_mesh(m, "file", m.required_string("file"))
+          : kind == "labels"  ? mesh_labels(m)
+          : kind == "region"  ? region_surface(m, *host)
+                              : generate(m, m.required_string("generator"), volumetric);
   } catch (const InputError& e) {
     if (e.where().line) throw;  // already located in the scene
-    m.fail(has_file ? "file" : "generator", e.what());
+    m.fail(kind, e.what());
   }
   const double scale = m.number("scale", 1.0, Range::positive());
   const Vec3 rotate = m.vec3("rotate", Vec3::Zero());
   const Vec3 translate = m.vec3("translate", Vec3::Zero());
   if (scale != 1.0 || !rotate.isZero() || !translate.isZero()) {
+    if (kind == "region") m.fail_here("a region's surface lies on its host's nodes; it takes no scale, rotate or translate");
     if (out.surface) transform(out.surface->vertices, scale, rotate, translate);
     if (out.volume) transform(out.volume->vertices, scale, rotate, translate);
     if (out.quads) transform(out.quads->vertices, scale, rotate, translate);
   }
   if (volumetric && !out.volume && out.surface) {
     const TetOptions options = read_tet_options(m);
-    tetrahedralize_surface(m, has_file ? "file" : "generator", out, options);
+    tetrahedralize_surface(m, kind, out, options);
   }
   m.finish();
   return out;
@@ -305,16 +418,16 @@ std::vector<mesh::Index> border_nodes(const mesh::TriMesh& s) {
   return out;
 }
 
-/// The nodes one of the selectors (nodes, box, side, marker, border) picks; sets `selector`
+/// The nodes one of the selectors (nodes, box, side, marker, border, region) picks; sets `selector`
 /// to a description. Used by fixed regions, loads and prescribed displacements.
 std::vector<mesh::Index> select_nodes(Reader& f, const Body& b, std::string& selector) {
   const auto& vertices = b.simulation_vertices();
   const auto& t = f.table();
   const int selectors = int(t.contains("nodes")) + int(t.contains("box")) + int(t.contains("side")) +
-                        int(t.contains("marker")) + int(t.contains("border"));
+                        int(t.contains("marker")) + int(t.contains("border")) + int(t.contains("region"));
   if (selectors != 1)
-    f.fail_here(selectors == 0 ? "missing a node selector: give one of nodes, box, side, marker, border"
-                               : "give only one node selector (nodes, box, side, marker or border)");
+    f.fail_here(selectors == 0 ? "missing a node selector: give one of nodes, box, side, marker, border, region"
+                               : "give only one node selector (nodes, box, side, marker, border or region)");
   std::vector<mesh::Index> nodes;
   if (t.contains("nodes")) {
     selector = "nodes";
@@ -352,6 +465,21 @@ std::vector<mesh::Index> select_nodes(Reader& f, const Body& b, std::string& sel
     for (std::size_t i = 0; i < b.volume->faces.size(); ++i)
       if (b.volume->face_markers[i] == marker)
         for (const auto v : b.volume->faces[i]) nodes.push_back(v);
+  } else if (t.contains("region")) {
+    // Every node of the tetrahedra tagged so: the tissue on a segmented bone.
+    const std::vector<int> tags = read_tags(f, "region");
+    if (tags.empty()) f.fail("region", "give at least one region tag");
+    if (!b.volume || b.volume->tet_regions.empty())
+      f.fail("region", "the body's mesh " + b.mesh_source + " tags no regions");
+    selector = "region";
+    for (const int tag : tags) {
+      if (std::find(b.volume->tet_regions.begin(), b.volume->tet_regions.end(), tag) == b.volume->tet_regions.end())
+        f.fail("region", fmt::format("the mesh {} has no region {}", b.mesh_source, tag));
+      selector += " " + std::to_string(tag);
+    }
+    for (std::size_t k = 0; k < b.volume->tets.size(); ++k)
+      if (std::find(tags.begin(), tags.end(), b.volume->tet_regions[k]) != tags.end())
+        for (const auto v : b.volume->tets[k]) nodes.push_back(v);
   } else {
     selector = "border";
     if (!f.boolean("border", true)) f.fail("border", "only 'border = true' selects nodes");
@@ -423,7 +551,7 @@ MappedSurface read_mapped_surface(Reader& f, const Body& b, std::size_t index) {
                                  {"collision", MappedRole::collision},
                                  {"embedded", MappedRole::embedded}},
                                 std::nullopt);
-  LoadedMesh m = read_mesh_key(f, false);
+  LoadedMesh m = read_mesh_key(f, false, &b);
   s.source = m.source;
   if (m.surface && !m.surface->triangles.empty()) {
     s.mesh = std::move(*m.surface);
@@ -485,7 +613,7 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
     if (!model.bodies[host].volumetric())
       r.fail("host", fmt::format("body '{}' is '{}'; an embedded surface rides on the tetrahedra of a 'fem' or "
                                  "'tet_mass_spring' body", model.bodies[host].name, to_string(model.bodies[host].kind)));
-    LoadedMesh m = read_mesh_key(r, false);
+    LoadedMesh m = read_mesh_key(r, false, &model.bodies[host]);
     b.mesh_source = m.source;
     if (!m.surface || m.surface->triangles.empty()) r.fail("mesh", m.source + " holds no triangle surface");
     b.surface = std::move(*m.surface);

@@ -73,6 +73,49 @@ TEST(TetTopology, BoundaryOfBoxVolumeIsClosedAndOutward) {
   }
 }
 
+/// A 3 × 1 × 1 box of unit cubes tagged 1, 2, 3 along x.
+TetMesh three_regions() {
+  TetMesh m = box_volume(Vec3(3, 1, 1), 3, 1, 1);
+  for (const Tet& t : m.tets) {
+    double x = 0.0;
+    for (const Index v : t) x += 0.25 * m.vertices[static_cast<std::size_t>(v)].x();
+    m.tet_regions.push_back(x < -0.5 ? 1 : x < 0.5 ? 2 : 3);
+  }
+  return m;
+}
+
+TEST(TetTopology, RegionSurfacesAreTheInterfacesFacingOutOfTheirRegion) {
+  const TetMesh m = three_regions();
+  const TetTopology topo(m);
+  // Region 2's whole boundary encloses its unit cube, outward.
+  const BoundarySurface whole = extract_region_surface(m, topo, {2}, {kOutsideRegion, 1, 3});
+  EXPECT_NEAR(whole.surface.signed_volume(), 1.0, 1e-12);
+  EXPECT_TRUE(HalfEdgeMesh(whole.surface).closed());
+  // Where 2 meets 3 only: the unit square at x = 0.5, its normals along +x (out of 2).
+  const BoundarySurface wall = extract_region_surface(m, topo, {2}, {3});
+  EXPECT_NEAR(wall.surface.area(), 1.0, 1e-12);
+  for (std::size_t f = 0; f < wall.surface.triangles.size(); ++f) {
+    EXPECT_GT(wall.surface.face_normal(f).x(), 0.999);
+    for (const Index v : wall.surface.triangles[f]) EXPECT_DOUBLE_EQ(wall.surface.vertices[v].x(), 0.5);
+    // The face's tet is region 2's, and the vertices are the tets' nodes.
+    EXPECT_EQ(m.tet_regions[static_cast<std::size_t>(wall.face_tet[f])], 2);
+  }
+  for (std::size_t s = 0; s < wall.surface_to_volume.size(); ++s)
+    EXPECT_EQ(wall.surface.vertices[s], m.vertices[wall.surface_to_volume[s]]);
+  // The same wall seen from 3 faces the other way.
+  const BoundarySurface back = extract_region_surface(m, topo, {3}, {2});
+  EXPECT_NEAR(back.surface.area(), 1.0, 1e-12);
+  EXPECT_LT(back.surface.face_normal(0).x(), -0.999);
+  // Regions 1 and 2 together against the outside: the box's boundary less the cube of 3.
+  const BoundarySurface outer = extract_region_surface(m, topo, {1, 2}, {kOutsideRegion});
+  EXPECT_NEAR(outer.surface.area(), 2.0 * 4.0 + 1.0, 1e-12);
+  // 1 and 3 do not meet.
+  EXPECT_TRUE(extract_region_surface(m, topo, {1}, {3}).surface.triangles.empty());
+  TetMesh untagged = m;
+  untagged.tet_regions.clear();
+  EXPECT_THROW((void)extract_region_surface(untagged, TetTopology(untagged), {1}, {2}), InputError);
+}
+
 TEST(TetTopology, RejectsFaceSharedByThreeTets) {
   TetMesh m;
   m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}, {1, 1, 1}};
