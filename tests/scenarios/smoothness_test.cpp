@@ -155,8 +155,8 @@ TEST_P(ScenarioSmoothness, NoChatterAndNoJolt) {
 const std::vector<std::string> kScenarios = {"default",         "nodule",           "tissues",
                                              "needle_block",    "pulse_demo",       "skin_patch",
                                              "femoral",         "femoral_s1_idle",  "femoral_s2_palpation",
-                                             "femoral_s3_needle", "liver_cspace",     "fabric",
-                                             "room"};
+                                             "femoral_s3_needle", "femoral_labels",  "liver_cspace",
+                                             "fabric",          "room"};
 
 INSTANTIATE_TEST_SUITE_P(Bundled, ScenarioSmoothness, ::testing::ValuesIn(kScenarios),
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
