@@ -37,6 +37,14 @@ void validate(const ElasticMaterial& material, const char* who);
 /// Derived for χ ≤ 1; it grows without bound past that.
 [[nodiscard]] double layer_stiffening(double poisson_ratio, double chi, bool bonded) noexcept;
 
+/// Hayes et al.'s (1972, J. Biomech. 5) factor κ for a rigid flat punch of radius a on an
+/// elastic layer of thickness h bonded to a rigid base: F = 4·G·a·d·κ / (1 − ν) =
+/// 2·a·E*·d·κ, κ = 1 on a half-space (Sneddon). Computed here from the problem's Fredholm
+/// equation of the second kind (docs/fitting.md derives it) by Nyström quadrature, to 1e-5
+/// or better; a/h in [0, 20], ν in (−1, 0.5]. Its cost grows with a/h: a fraction of a
+/// second, once per fit.
+[[nodiscard]] double punch_layer_factor(double poisson_ratio, double a_over_h);
+
 struct HertzParameters {
   double finger_radius = 0.0;  ///< R_f of the finger sphere, m
   ElasticMaterial finger;      ///< the sphere (seed 000: silicone rubber)

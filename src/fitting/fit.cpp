@@ -182,19 +182,23 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
   auto unset = [&](const char* name) { return e.find(name) && !e.find(name)->value; };
 
   // The plane-strain modulus E* = E / (1 − ν²) from the loading curve: least squares of
-  // F = E*·shape(d), Hertz's shape (4/3)√R d^{3/2} for a sphere, times Dimitriadis's
-  // stiffening of a layer on a rigid base (bonded or sliding) when the specimen is the
-  // generated block, Sneddon's half-space 2 a d for a flat punch (a thin layer's factor for
-  // the punch, Hayes et al. 1972, is tabulated in their paper, not a closed form, and is not
-  // applied). A relaxation uses its peak force at the held depth, a creep the held force at
-  // its first depth after the ramp.
+  // F = E*·shape(d). On the generated block (a layer of thickness h on a rigid base): for a
+  // sphere Hertz's (4/3)√R d^{3/2} times Dimitriadis's stiffening (bonded or sliding base);
+  // for a flat punch Sneddon's 2 a d times Hayes's κ(ν, a/h) on a bonded base, Sneddon's
+  // alone on a sliding one (κ is computed for a bonded base only). On a specimen mesh, the
+  // half-space laws. A relaxation uses its peak force at the held depth, a creep the held
+  // force at its first depth after the ramp.
   const double nu = e.find("poisson_ratio") && e.find("poisson_ratio")->value ? *e.find("poisson_ratio")->value : 0.45;
   const double r = e.indenter.radius;
   const bool sphere = e.indenter.shape == IndenterShape::sphere;
-  const bool layer = sphere && e.specimen.mesh.empty() && e.specimen.thickness > 0.0;
   const bool bonded = e.specimen.bottom == Support::fixed;
+  const bool block = e.specimen.mesh.empty() && e.specimen.thickness > 0.0;
+  const bool layer = block && (sphere || bonded);
+  // κ is tabulated up to a/h = 20; a thinner layer's guess is still far closer than Sneddon's.
+  const double punch_factor =
+      layer && !sphere ? contact::punch_layer_factor(nu, std::min(r / e.specimen.thickness, 20.0)) : 1.0;
   auto shape = [&](double d) {
-    if (!sphere) return 2.0 * r * d;
+    if (!sphere) return 2.0 * r * d * punch_factor;
     const double chi = std::sqrt(r * d) / e.specimen.thickness;
     return contact::hertz_force(1.0, r, d) * (layer ? contact::layer_stiffening(nu, chi, bonded) : 1.0);
   };
@@ -213,10 +217,14 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
     const double d0 = e.y[static_cast<std::size_t>(std::min(first, e.x.end() - 1) - e.x.begin())];
     e_star = e.hold.value / shape(d0);
   }
-  method = !sphere  ? "Sneddon (flat punch on a half-space)"
-           : layer ? fmt::format("Hertz with Dimitriadis's layer stiffening (sphere on a {:g} mm layer {} its base)",
-                                 1e3 * e.specimen.thickness, bonded ? "bonded to" : "sliding on")
-                   : "Hertz (sphere on a half-space)";
+  method = !layer   ? (sphere  ? "Hertz (sphere on a half-space)"
+                       : block ? "Sneddon (flat punch on a half-space; no layer factor for a sliding base)"
+                               : "Sneddon (flat punch on a half-space)")
+           : sphere ? fmt::format("Hertz with Dimitriadis's layer stiffening (sphere on a {:g} mm layer {} its base)",
+                                  1e3 * e.specimen.thickness, bonded ? "bonded to" : "sliding on")
+                    : fmt::format("Sneddon with Hayes's layer factor {:.3f} (flat punch, a/h = {:.3g}, on a {:g} mm "
+                                  "layer bonded to its base)",
+                                  punch_factor, r / e.specimen.thickness, 1e3 * e.specimen.thickness);
   const double young = e_star * (1.0 - nu * nu);
   if (unset("young_modulus")) at("young_modulus") = young;
   const double mu = young / (2.0 * (1.0 + nu)), kappa = young / (3.0 * (1.0 - 2.0 * nu));

@@ -93,6 +93,48 @@ TEST(Hertz, LayerStiffeningMatchesDimitriadisPrintedSeries) {
   EXPECT_GT(layer_stiffening(0.3, 0.4, false), layer_stiffening(0.3, 0.2, false));
 }
 
+TEST(Hertz, PunchOnALayerMeetsItsLimits) {
+  // A half-space: Sneddon's law, κ = 1.
+  EXPECT_DOUBLE_EQ(punch_layer_factor(0.3, 0.0), 1.0);
+  // A thick layer (a ≪ h): κ = 1 + cλ + c²λ² + O(λ³), λ = a/h, c = (2/π)∫₀^∞ M, the same
+  // first-order term as Dimitriadis et al.'s sphere series on a bonded layer (2002, eq. 11),
+  // −2α₀/π. Their α₀ is a quadratic fit in ν; 1 % covers the fit.
+  for (const double nu : {0.3, 0.4, 0.45, 0.5}) {
+    const double c = 2.0 / std::numbers::pi * (1.2876 - 1.4678 * nu + 1.3442 * nu * nu) / (1.0 - nu);
+    const double lambda = 0.01;
+    const double slope = (punch_layer_factor(nu, lambda) - 1.0) / lambda;
+    EXPECT_NEAR(slope, c * (1.0 + c * lambda), 0.01 * c) << nu;
+  }
+  // A thin compressible layer (a ≫ h): the layer under the punch is compressed with no room
+  // to spread, F → π a² d (λ + 2μ)/h, so κ → (π/2)(a/h)(1 − ν)²/(1 − 2ν), with an edge
+  // correction falling as h/a: (κ/κ∞ − 1)·a/h settles to a constant (measured +0.25 at
+  // ν = 0.3, −0.22 at ν = 0.4: the edge adds stiffness or relieves it).
+  for (const double nu : {0.3, 0.4}) {
+    const auto ratio = [nu](double lambda) {
+      return punch_layer_factor(nu, lambda) / (std::numbers::pi / 2.0 * lambda * (1 - nu) * (1 - nu) / (1 - 2 * nu));
+    };
+    const double r8 = ratio(8.0), r16 = ratio(16.0);
+    EXPECT_NEAR(r16, 1.0, 0.03) << nu;
+    EXPECT_NEAR((r16 - 1.0) * 16.0, (r8 - 1.0) * 8.0, 0.1 * std::abs(r8 - 1.0) * 8.0) << nu;
+  }
+  // A thin incompressible layer: the squeeze flow between a sliding punch and a bonded base,
+  // p = 3Gd(a² − r²)/(4h³), F = 3πGda⁴/(8h³), so κ → 3πλ³/64, approached slowly from above.
+  double before = 1e9;
+  for (const double lambda : {4.0, 8.0, 16.0}) {
+    const double ratio = punch_layer_factor(0.5, lambda) / (3.0 * std::numbers::pi * std::pow(lambda, 3) / 64.0);
+    EXPECT_GT(ratio, 1.0) << lambda;
+    EXPECT_LT(ratio, before) << lambda;
+    before = ratio;
+  }
+  EXPECT_LT(before, 1.5);
+  // Stiffer as the layer thins, and stiffer as it grows less compressible.
+  EXPECT_GT(punch_layer_factor(0.3, 1.0), punch_layer_factor(0.3, 0.5));
+  EXPECT_GT(punch_layer_factor(0.45, 1.0), punch_layer_factor(0.3, 1.0));
+  EXPECT_THROW((void)punch_layer_factor(0.6, 1.0), InputError);
+  EXPECT_THROW((void)punch_layer_factor(0.3, 25.0), InputError);
+  EXPECT_THROW((void)punch_layer_factor(0.3, std::nan("")), InputError);
+}
+
 TEST(Hertz, FlatTissueUsesTheFingerRadius) {
   const HertzContact contact(finger_on_tissue());
   const double rf = contact.parameters().finger_radius;
