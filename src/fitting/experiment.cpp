@@ -34,9 +34,27 @@ Range range_of(const std::string& key) {
 }
 
 void read_indenter(Reader r, Experiment& e) {
-  e.indenter.shape = r.choice<IndenterShape>(
-      "shape", {{"sphere", IndenterShape::sphere}, {"flat_punch", IndenterShape::flat_punch}}, std::nullopt);
-  e.indenter.radius = r.required_number("radius", Range::positive());
+  Indenter& i = e.indenter;
+  i.shape = r.choice<IndenterShape>("shape",
+                                    {{"sphere", IndenterShape::sphere},
+                                     {"flat_punch", IndenterShape::flat_punch},
+                                     {"finger", IndenterShape::finger},
+                                     {"fingerpad", IndenterShape::fingerpad}},
+                                    std::nullopt);
+  i.radius = r.required_number("radius", Range::positive());
+  const bool finger = i.shape == IndenterShape::finger, pad = i.shape == IndenterShape::fingerpad;
+  for (const char* key : {"young_modulus", "poisson_ratio"})
+    if (!finger && r.has(key)) r.fail(key, fmt::format("'{}' is a finger's (shape = \"finger\")", key));
+  for (const char* key : {"b", "m"})
+    if (!pad && r.has(key)) r.fail(key, fmt::format("'{}' is a fingerpad's (shape = \"fingerpad\")", key));
+  if (finger) {
+    i.finger_young_modulus = r.number("young_modulus", i.finger_young_modulus, Range::positive());
+    i.finger_poisson_ratio = r.number("poisson_ratio", i.finger_poisson_ratio, Range::open_closed(-1.0, 0.5));
+  }
+  if (pad) {
+    i.pad_b = r.number("b", i.pad_b, Range::positive());
+    i.pad_m = r.number("m", i.pad_m, Range::positive());
+  }
   r.finish();
 }
 
@@ -254,6 +272,10 @@ Experiment parse_experiment(const std::string& toml_text, const std::string& sou
   if (e.kind == CurveKind::depth_force && e.prony_terms > 0)
     r.fail("material", "Prony terms are fitted to a relaxation (time,force) or creep (time,depth) curve; this curve is "
                        "depth,force");
+  if (e.kind != CurveKind::depth_force && (e.indenter.shape == IndenterShape::finger ||
+                                           e.indenter.shape == IndenterShape::fingerpad))
+    r.fail("indenter", "a finger presses loading curves (depth,force); relaxation and creep under a finger are not "
+                       "modelled");
   if (e.kind != CurveKind::depth_force && e.prony_terms == 0)
     r.fail("material", "a relaxation (time,force) or creep (time,depth) curve needs [material.viscoelastic] terms to fit");
   data->finish();

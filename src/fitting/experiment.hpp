@@ -14,7 +14,10 @@
 
 namespace tactus::fitting {
 
-enum class IndenterShape { flat_punch, sphere };
+/// A sphere, a flat punch, or a fingertip: a sphere with the finger's own elasticity (Hertz's
+/// two bodies: the scenes' `sphere` tool under `hertz_finger`) or with Pawluk and Howe's
+/// measured fingerpad in series (the scenes' `fingerpad` algorithm).
+enum class IndenterShape { flat_punch, sphere, finger, fingerpad };
 enum class Support { fixed, sliding };
 
 /// What the CSV's two columns are: a loading curve (depth, force); a relaxation under a
@@ -23,7 +26,16 @@ enum class CurveKind { depth_force, time_force, time_depth };
 
 struct Indenter {
   IndenterShape shape = IndenterShape::sphere;
-  double radius = 0.0;  ///< sphere radius R, or flat punch radius a [m]
+  double radius = 0.0;  ///< sphere (or fingertip) radius R, or flat punch radius a [m]
+  /// finger: the fingertip's E [Pa] and ν (the scenes' `sphere` tool's defaults).
+  double finger_young_modulus = 1e6;
+  double finger_poisson_ratio = 0.48;
+  /// fingerpad: F = (b/m)(e^{m·d} − 1) for the pad's compression d (the scenes' defaults).
+  double pad_b = 190.0;   ///< [N/m]
+  double pad_m = 2100.0;  ///< [1/m]
+
+  /// Everything but the punch presses the specimen as a rigid sphere of `radius`.
+  [[nodiscard]] bool round() const { return shape != IndenterShape::flat_punch; }
 };
 
 struct Specimen {

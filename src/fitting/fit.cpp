@@ -190,7 +190,7 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
   // force at its first depth after the ramp.
   const double nu = e.find("poisson_ratio") && e.find("poisson_ratio")->value ? *e.find("poisson_ratio")->value : 0.45;
   const double r = e.indenter.radius;
-  const bool sphere = e.indenter.shape == IndenterShape::sphere;
+  const bool sphere = e.indenter.round();
   const bool bonded = e.specimen.bottom == Support::fixed;
   const bool block = e.specimen.mesh.empty() && e.specimen.thickness > 0.0;
   const bool layer = block && (sphere || bonded);
@@ -202,14 +202,28 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
     const double chi = std::sqrt(r * d) / e.specimen.thickness;
     return contact::hertz_force(1.0, r, d) * (layer ? contact::layer_stiffening(nu, chi, bonded) : 1.0);
   };
+  // A fingerpad takes its share of each depth first (in series: its compression at the
+  // measured force); a finger's compliance is taken off the fitted one after (Hertz's two
+  // bodies add compliances).
+  const Indenter& finger = e.indenter;
+  auto tissue_depth = [&](std::size_t i) {
+    if (finger.shape != IndenterShape::fingerpad) return e.x[i];
+    return std::max(e.x[i] - std::log1p(finger.pad_m * e.y[i] / finger.pad_b) / finger.pad_m, 1e-3 * e.x[i]);
+  };
   double e_star = 0.0;
   if (e.kind == CurveKind::depth_force) {
     double num = 0.0, den = 0.0;
     for (std::size_t i = 0; i < e.x.size(); ++i) {
-      num += e.y[i] * shape(e.x[i]);
-      den += shape(e.x[i]) * shape(e.x[i]);
+      num += e.y[i] * shape(tissue_depth(i));
+      den += shape(tissue_depth(i)) * shape(tissue_depth(i));
     }
     e_star = num / den;
+    if (finger.shape == IndenterShape::finger) {
+      const double c_finger = (1.0 - finger.finger_poisson_ratio * finger.finger_poisson_ratio) / finger.finger_young_modulus;
+      // A curve stiffer than the finger itself leaves nothing for the tissue: keep the
+      // rigid-sphere guess and let the optimizer walk.
+      if (1.0 / e_star > c_finger) e_star = 1.0 / (1.0 / e_star - c_finger);
+    }
   } else if (e.kind == CurveKind::time_force) {
     e_star = *std::max_element(e.y.begin(), e.y.end()) / shape(e.hold.value);
   } else {
@@ -217,6 +231,9 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
     const double d0 = e.y[static_cast<std::size_t>(std::min(first, e.x.end() - 1) - e.x.begin())];
     e_star = e.hold.value / shape(d0);
   }
+  const char* finger_note = finger.shape == IndenterShape::finger      ? ", less the finger's compliance"
+                            : finger.shape == IndenterShape::fingerpad ? ", less the fingerpad's compression"
+                                                                       : "";
   method = !layer   ? (sphere  ? "Hertz (sphere on a half-space)"
                        : block ? "Sneddon (flat punch on a half-space; no layer factor for a sliding base)"
                                : "Sneddon (flat punch on a half-space)")
@@ -225,6 +242,7 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
                     : fmt::format("Sneddon with Hayes's layer factor {:.3f} (flat punch, a/h = {:.3g}, on a {:g} mm "
                                   "layer bonded to its base)",
                                   punch_factor, r / e.specimen.thickness, 1e3 * e.specimen.thickness);
+  method += finger_note;
   const double young = e_star * (1.0 - nu * nu);
   if (unset("young_modulus")) at("young_modulus") = young;
   const double mu = young / (2.0 * (1.0 + nu)), kappa = young / (3.0 * (1.0 - 2.0 * nu));
@@ -254,7 +272,7 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
       const auto first = static_cast<std::size_t>(
           std::min(std::lower_bound(e.x.begin(), e.x.end(), e.hold.ramp_time), e.x.end() - 1) - e.x.begin());
       const double d0 = e.y[first], d_end = e.y.back();
-      const double power = e.indenter.shape == IndenterShape::sphere ? 1.5 : 1.0;
+      const double power = e.indenter.round() ? 1.5 : 1.0;
       g_total = std::clamp(1.0 - std::pow(d0 / d_end, power), 0.05, 0.9);
       const double target = d_end - (d_end - d0) / std::exp(1.0);
       std::size_t i = first;

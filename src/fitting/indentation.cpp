@@ -16,6 +16,17 @@
 namespace tactus::fitting {
 namespace {
 
+/// y at x, as a power law (a line in log–log) between the samples that bracket x; below the
+/// first or past the last, the first's or the last's pair's law. xs increase, every x and y
+/// positive.
+double power_law_between(std::span<const double> xs, std::span<const double> ys, double x) {
+  if (!(x > 0.0)) return 0.0;
+  std::size_t k = 1;
+  while (k + 1 < xs.size() && xs[k] < x) ++k;
+  const double slope = std::log(ys[k] / ys[k - 1]) / std::log(xs[k] / xs[k - 1]);
+  return ys[k - 1] * std::pow(x / xs[k - 1], slope);
+}
+
 /// Ramp steps of a relaxation's loading (the hereditary integral's quadrature).
 constexpr int kRampSteps = 10;
 /// A creep's elastic curve: depths pressed up to its limit; its quadrature's ramp steps and
@@ -71,7 +82,7 @@ class Press {
     rest_ = state_.x;
     equilibrium_ = rest_;
     in_contact_.assign(top_.size(), 0);
-    if (e.indenter.shape == IndenterShape::flat_punch) {
+    if (!e.indenter.round()) {
       for (std::size_t k = 0; k < top_.size(); ++k)
         in_contact_[k] = horizontal_distance(node_rest(top_[k]), top_centre_) <= e.indenter.radius * (1 + 1e-9);
       apply_contact_set();
@@ -104,7 +115,7 @@ class Press {
 
   void apply_contact_set() {
     body_.fixed_dofs = support_;
-    const bool punch = e_.indenter.shape == IndenterShape::flat_punch;
+    const bool punch = !e_.indenter.round();
     for (std::size_t k = 0; k < top_.size(); ++k) {
       if (!in_contact_[k]) continue;
       const auto i = 3 * static_cast<std::size_t>(top_[k]);
@@ -125,7 +136,7 @@ class Press {
   /// Places the held contact nodes for `depth` and balances; the sphere iterates its
   /// active set. False when a solve fails.
   bool balance_at(double depth) {
-    const bool punch = e_.indenter.shape == IndenterShape::flat_punch;
+    const bool punch = !e_.indenter.round();
     for (int pass = 0; pass < (punch ? 1 : kMaxActiveSetPasses); ++pass) {
       if (!punch) {
         // Nodes now inside the sphere join the contact.
@@ -253,7 +264,7 @@ IndentationModel::IndentationModel(const Experiment& experiment) : experiment_(&
   if (2 * reach >= std::min(hi.x() - lo.x(), hi.y() - lo.y()))
     throw InputError(SourceLocation{where, {}, {}, {}},
                      fmt::format("the indenter's diameter {:.4g} m is not smaller than the specimen's top face", 2 * reach));
-  if (experiment.indenter.shape == IndenterShape::flat_punch) {
+  if (!experiment.indenter.round()) {
     const auto covered = std::count_if(top_nodes_.begin(), top_nodes_.end(), [&](std::int32_t n) {
       return horizontal_distance(mesh_.vertices[static_cast<std::size_t>(n)], top_centre_) <= reach * (1 + 1e-9);
     });
@@ -279,7 +290,11 @@ double IndentationModel::hold_depth(double t) const {
 
 std::vector<double> IndentationModel::curve(const physics::FemMaterial& material) const {
   const Experiment& e = *experiment_;
-  if (e.kind == CurveKind::depth_force) return forces(material, e.x);
+  if (e.kind == CurveKind::depth_force) {
+    if (e.indenter.shape == IndenterShape::finger) return finger_forces(material);
+    if (e.indenter.shape == IndenterShape::fingerpad) return fingerpad_forces(material);
+    return forces(material, e.x);
+  }
   if (e.kind == CurveKind::time_depth) return creep(material);
   // Relaxation: the elastic force along the ramp, relaxed by the hereditary integral.
   std::vector<double> times, depths;
@@ -292,6 +307,48 @@ std::vector<double> IndentationModel::curve(const physics::FemMaterial& material
   return hereditary_relaxation(material.prony, times, elastic, e.x);
 }
 
+std::vector<double> IndentationModel::finger_forces(const physics::FemMaterial& material) const {
+  // Two elastic bodies in Hertz contact act as a rigid sphere on one body of compliance
+  // c = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ (Johnson, Contact Mechanics, eq. 4.22): at the same
+  // approach the force is the rigid sphere's times c_tissue / (c_tissue + c_finger). Exact
+  // on a half-space with the tissue's small-strain E and ν; on a layer or at large strain,
+  // the finger's share is taken the same way.
+  const Indenter& i = experiment_->indenter;
+  const double tissue = (1.0 - material.poisson_ratio * material.poisson_ratio) / material.young_modulus;
+  const double finger = (1.0 - i.finger_poisson_ratio * i.finger_poisson_ratio) / i.finger_young_modulus;
+  std::vector<double> out = forces(material, experiment_->x);
+  for (double& f : out) f *= tissue / (tissue + finger);
+  return out;
+}
+
+std::vector<double> IndentationModel::fingerpad_forces(const physics::FemMaterial& material) const {
+  // The pad in series with the tissue: the finger's depth D = d + ln(1 + m·F/b)/m with
+  // F = F_tissue(d). F_tissue is pressed at the curve's depths, between them and below the
+  // first (d < D always), and interpolated as a power law between those; D(d) increases,
+  // so each depth's d is found by bisection.
+  const Indenter& pad = experiment_->indenter;
+  const std::vector<double>& depths = experiment_->x;
+  std::vector<double> pressed{depths.front() / 8.0, depths.front() / 4.0, depths.front() / 2.0};
+  for (std::size_t k = 0; k < depths.size(); ++k) {
+    pressed.push_back(depths[k]);
+    if (k + 1 < depths.size()) pressed.push_back(std::sqrt(depths[k] * depths[k + 1]));
+  }
+  const std::vector<double> tissue = forces(material, pressed);
+  if (!(tissue.front() > 0.0)) throw std::runtime_error("the specimen bears no force at an eighth of the first depth");
+  auto force_at = [&](double d) { return power_law_between(pressed, tissue, d); };
+  auto finger_depth = [&](double d) { return d + std::log1p(pad.pad_m * force_at(d) / pad.pad_b) / pad.pad_m; };
+  std::vector<double> out;
+  for (const double depth : depths) {
+    double lo = 0.0, hi = depth;
+    for (int k = 0; k < 100 && hi - lo > 1e-12 * depth; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (finger_depth(mid) < depth ? lo : hi) = mid;
+    }
+    out.push_back(force_at(0.5 * (lo + hi)));
+  }
+  return out;
+}
+
 std::vector<double> IndentationModel::creep(const physics::FemMaterial& material) const {
   const Experiment& e = *experiment_;
   double g_inf = 1.0;
@@ -301,7 +358,7 @@ std::vector<double> IndentationModel::creep(const physics::FemMaterial& material
   // to a small depth gives the scale, the curve's power (1.5 for a sphere, 1 for a punch)
   // where it will reach, then kCreepDepths depths up to 1.1 times that, more if short.
   const double target = e.hold.value / g_inf;
-  const double power = e.indenter.shape == IndenterShape::sphere ? 1.5 : 1.0;
+  const double power = e.indenter.round() ? 1.5 : 1.0;
   Press press(*this, e, top_centre_, top_nodes_, bottom_nodes_, material);
   std::vector<double> depths{1e-3 * e.specimen.thickness};
   std::vector<double> elastic{press.press_to(depths[0])};
@@ -329,10 +386,7 @@ std::vector<double> IndentationModel::creep(const physics::FemMaterial& material
       out.push_back(0.0);
       continue;
     }
-    std::size_t k = 1;
-    while (k + 1 < elastic.size() && elastic[k] < f) ++k;
-    const double slope = std::log(depths[k] / depths[k - 1]) / std::log(elastic[k] / elastic[k - 1]);
-    out.push_back(depths[k - 1] * std::pow(f / elastic[k - 1], slope));
+    out.push_back(power_law_between(elastic, depths, f));
   }
   return out;
 }

@@ -6,10 +6,11 @@
 // those nodes.
 //  - flat punch of radius a: the top nodes within a of the axis move with the punch
 //    (bonded: no slip under the punch);
-//  - sphere of radius R: frictionless contact by an active set: the top nodes the sphere
-//    reaches are projected onto it (z held, x and y free); nodes the body pulls into the
-//    sphere (a tensile reaction) are released and nodes that end inside it are added, until
-//    the set stops changing.
+//  - sphere of radius R, a fingertip's too: frictionless contact by an active set: the top
+//    nodes the sphere reaches are projected onto it (z held, x and y free); nodes the body
+//    pulls into the sphere (a tensile reaction) are released and nodes that end inside it
+//    are added, until the set stops changing. A finger's own elasticity or its pad then
+//    shares the depth (IndentationModel::curve).
 // A relaxation curve is the hereditary integral of the elastic force along the ramp; a creep
 // curve inverts that integral for the held force (docs/fitting.md, "Relaxation and creep").
 #include <memory>
@@ -45,6 +46,9 @@ class IndentationModel {
   /// Creep: the elastic force history hereditary_creep gives, turned into depths through the
   /// elastic curve pressed up to the force the creep tends to.
   [[nodiscard]] std::vector<double> creep(const physics::FemMaterial& material) const;
+  /// A loading curve under a finger (Hertz's two bodies) or a fingerpad (in series).
+  [[nodiscard]] std::vector<double> finger_forces(const physics::FemMaterial& material) const;
+  [[nodiscard]] std::vector<double> fingerpad_forces(const physics::FemMaterial& material) const;
 
   const Experiment* experiment_;
   mesh::TetMesh mesh_;

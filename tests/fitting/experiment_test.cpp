@@ -61,6 +61,39 @@ TEST_F(ExperimentFile, ReadsTheIndenterSpecimenMaterialAndCurve) {
   EXPECT_FALSE(e.find("poisson_ratio")->free);
 }
 
+TEST_F(ExperimentFile, AFingerTakesItsElasticityAndAFingerpadItsLaw) {
+  auto with = [](const std::string& indenter) {
+    std::string text = experiment();
+    const std::string sphere = "[indenter]\nshape = \"sphere\"\nradius = 0.005\n";
+    return indenter + text.substr(sphere.size());
+  };
+  Experiment e = parse_experiment(with("[indenter]\nshape = \"finger\"\nradius = 0.008\nyoung_modulus = 2e5\n"),
+                                  "exp.toml", dir_);
+  EXPECT_EQ(e.indenter.shape, IndenterShape::finger);
+  EXPECT_TRUE(e.indenter.round());
+  EXPECT_DOUBLE_EQ(e.indenter.finger_young_modulus, 2e5);
+  EXPECT_DOUBLE_EQ(e.indenter.finger_poisson_ratio, 0.48);  // the scenes' sphere tool's
+  e = parse_experiment(with("[indenter]\nshape = \"fingerpad\"\nradius = 0.008\nm = 1500\n"), "exp.toml", dir_);
+  EXPECT_EQ(e.indenter.shape, IndenterShape::fingerpad);
+  EXPECT_DOUBLE_EQ(e.indenter.pad_b, 190.0);  // the scenes' fingerpad algorithm's
+  EXPECT_DOUBLE_EQ(e.indenter.pad_m, 1500.0);
+
+  std::string error = error_of(with("[indenter]\nshape = \"sphere\"\nradius = 0.008\nyoung_modulus = 2e5\n"));
+  EXPECT_NE(error.find("indenter.young_modulus"), std::string::npos) << error;
+  EXPECT_NE(error.find("a finger's"), std::string::npos) << error;
+  error = error_of(with("[indenter]\nshape = \"finger\"\nradius = 0.008\nb = 100\n"));
+  EXPECT_NE(error.find("indenter.b"), std::string::npos) << error;
+  error = error_of(with("[indenter]\nshape = \"finger\"\nradius = 0.008\npoisson_ratio = 0.7\n"));
+  EXPECT_NE(error.find("indenter.poisson_ratio"), std::string::npos) << error;
+  write("relax.csv", "time,force\n0.1,0.05\n0.5,0.04\n1.0,0.035\n");
+  const std::string relaxation = with("[indenter]\nshape = \"fingerpad\"\nradius = 0.008\n");
+  error = error_of(relaxation.substr(0, relaxation.find("[material]")) +
+                   "[material]\nmodel = \"linear\"\npoisson_ratio = 0.45\n[material.viscoelastic]\nmodel = "
+                   "\"prony\"\nterms = [{ g = 0.3, tau = 1.0 }]\n[fit]\nfree = [\"young_modulus\"]\n[data]\n"
+                   "file = \"relax.csv\"\ndepth = 0.001\nramp_time = 0.1\n");
+  EXPECT_NE(error.find("a finger presses loading curves"), std::string::npos) << error;
+}
+
 TEST_F(ExperimentFile, MooneyRivlinAndPronyParameters) {
   write("relax.csv", "time,force\n0,0\n0.1,1\n0.5,0.8\n2,0.6\n");
   const Experiment e = parse_experiment(

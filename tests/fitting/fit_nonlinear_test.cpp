@@ -23,6 +23,28 @@ TEST(FitRecovers, CorotationalYoungModulusUnderASphere) {
 }
 
 
+TEST(FitRecovers, TissueYoungModulusUnderASoftFinger) {
+  // A finger as soft as the tissue takes half the approach: the fit must see through it.
+  Experiment e = block(IndenterShape::finger, 0.008, FemLaw::corotational, 0.012, {8, 8, 3});
+  e.indenter.finger_young_modulus = 1e4;
+  add(e, "young_modulus", std::nullopt, true);
+  add(e, "poisson_ratio", 0.4, false);
+  e.x = steps(2e-3, 12);
+  const std::vector<double> truth{5e3, 0.4};
+  const FitResult r = recover(e, truth);
+  expect_recovered(e, r, truth, 5.0);
+}
+
+TEST(FitRecovers, TissueYoungModulusUnderAFingerpad) {
+  Experiment e = block(IndenterShape::fingerpad, 0.008, FemLaw::corotational, 0.012, {8, 8, 3});
+  add(e, "young_modulus", std::nullopt, true);
+  add(e, "poisson_ratio", 0.4, false);
+  e.x = steps(3e-3, 12);
+  const std::vector<double> truth{5e3, 0.4};
+  const FitResult r = recover(e, truth);
+  expect_recovered(e, r, truth, 5.0);
+}
+
 TEST(FitRecovers, CorotationalYoungModulusAndPoissonRatioOfAThinLayer) {
   // A punch on a thin bonded layer at 15 % compression: ν sets how hard the layer resists
   // (Hayes et al. 1972), the corotational law's geometric stiffening separates it from E.
