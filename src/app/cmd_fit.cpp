@@ -28,9 +28,9 @@ void write_fit_plot(const fitting::Experiment& e, const fitting::ExperimentFit& 
   fitting::CurvePlot p;
   const bool loading = e.kind == fitting::CurveKind::depth_force;
   const bool creep = e.kind == fitting::CurveKind::time_depth;
-  p.title = creep ? fmt::format("{} fit: RMS {:.3g} mm ({:.2f} %)", physics::to_string(e.law), 1e3 * x.rms,
+  p.title = creep ? fmt::format("{} fit: RMS {:.3g} mm ({:.2f} %)", e.model_name(), 1e3 * x.rms,
                                 100.0 * x.relative_rms)
-                  : fmt::format("{} fit: RMS {:.3g} N ({:.2f} %)", physics::to_string(e.law), x.rms, 100.0 * x.relative_rms);
+                  : fmt::format("{} fit: RMS {:.3g} N ({:.2f} %)", e.model_name(), x.rms, 100.0 * x.relative_rms);
   p.x_label = loading ? "depth [mm]" : "time [s]";
   p.x_scale = loading ? 1e3 : 1.0;
   p.y_label = creep ? "depth [mm]" : "force [N]";
@@ -38,7 +38,7 @@ void write_fit_plot(const fitting::Experiment& e, const fitting::ExperimentFit& 
   p.x = e.x;
   p.data = e.y;
   p.fit = x.model;
-  p.fit_label = fmt::format("{} (engine)", physics::to_string(e.law));
+  p.fit_label = fmt::format("{} (engine)", e.model_name());
   fitting::write_plot(path, p);
   std::fprintf(stderr, "plot written to %s\n", path.string().c_str());
 }

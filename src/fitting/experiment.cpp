@@ -20,8 +20,11 @@ using scene::detail::Range;
 using scene::detail::Reader;
 
 /// The elastic parameters a law is fitted by, in order.
-std::vector<std::string> elastic_keys(physics::FemLaw law, bool mu_kappa) {
+std::vector<std::string> elastic_keys(const Experiment& e, bool mu_kappa) {
   using physics::FemLaw;
+  const FemLaw law = e.law;
+  // A spring network has no Poisson ratio of its own (1/4 at best: Cauchy's relation).
+  if (e.mass_spring) return {"young_modulus"};
   if (law == FemLaw::mooney_rivlin) return {"c10", "c01", "kappa"};
   if (law == FemLaw::neo_hookean && mu_kappa) return {"mu", "kappa"};
   return {"young_modulus", "poisson_ratio"};
@@ -87,13 +90,17 @@ void read_specimen(Reader r, Experiment& e) {
 }
 
 void read_material(Reader r, Experiment& e, const std::vector<std::string>& free) {
-  e.law = r.choice<physics::FemLaw>("model",
-                                    {{"linear", physics::FemLaw::linear},
-                                     {"corotational", physics::FemLaw::corotational},
-                                     {"stvk", physics::FemLaw::stvk},
-                                     {"neo_hookean", physics::FemLaw::neo_hookean},
-                                     {"mooney_rivlin", physics::FemLaw::mooney_rivlin}},
-                                    physics::FemLaw::corotational);
+  // A FemLaw, or none for a spring network.
+  const auto model = r.choice<std::optional<physics::FemLaw>>("model",
+                                                              {{"linear", physics::FemLaw::linear},
+                                                               {"corotational", physics::FemLaw::corotational},
+                                                               {"stvk", physics::FemLaw::stvk},
+                                                               {"neo_hookean", physics::FemLaw::neo_hookean},
+                                                               {"mooney_rivlin", physics::FemLaw::mooney_rivlin},
+                                                               {"mass_spring", std::nullopt}},
+                                                              physics::FemLaw::corotational);
+  e.mass_spring = !model;
+  if (model) e.law = *model;
   e.density = r.number("density", 1000.0, Range::positive());
   std::set<std::string> given;
   const std::vector<std::string> all = {"young_modulus", "poisson_ratio", "mu", "kappa", "c10", "c01"};
@@ -104,11 +111,12 @@ void read_material(Reader r, Experiment& e, const std::vector<std::string>& free
   }
   const bool mu_kappa = given.count("mu") || std::count(free.begin(), free.end(), "mu") ||
                         (e.law == physics::FemLaw::neo_hookean && given.count("kappa"));
-  const auto keys = elastic_keys(e.law, mu_kappa);
+  const auto keys = elastic_keys(e, mu_kappa);
   for (std::size_t i = 0; i < all.size(); ++i)
     if (given.count(all[i]) && std::find(keys.begin(), keys.end(), all[i]) == keys.end())
-      r.fail(all[i], fmt::format("a {} material is fitted by {}; '{}' does not belong with them",
-                                 physics::to_string(e.law), fmt::join(keys, ", "), all[i]));
+      r.fail(all[i], fmt::format("a {} material is fitted by {}; '{}' does not belong with them{}", e.model_name(),
+                                 fmt::join(keys, ", "), all[i],
+                                 e.mass_spring ? " (a spring network's Poisson ratio is 1/4 at best)" : ""));
   for (const auto& k : keys) {
     Parameter p;
     p.name = k;
@@ -287,6 +295,8 @@ Experiment read_experiment(const std::filesystem::path& toml_file) {
   return parse_experiment(read_input_file(toml_file), toml_file.string(), toml_file.parent_path());
 }
 
+std::string Experiment::model_name() const { return mass_spring ? "mass_spring" : std::string(physics::to_string(law)); }
+
 physics::FemMaterial make_material(const Experiment& e, const std::vector<double>& values) {
   physics::FemMaterial m;
   m.law = e.law;
@@ -296,7 +306,10 @@ physics::FemMaterial make_material(const Experiment& e, const std::vector<double
       if (e.parameters[i].name == name) return values[i];
     return std::numeric_limits<double>::quiet_NaN();
   };
-  if (e.find("young_modulus")) {
+  if (e.mass_spring) {
+    m.young_modulus = value("young_modulus");
+    m.poisson_ratio = 0.25;  // the network's, at best (Cauchy's relation): what a finger's share takes
+  } else if (e.find("young_modulus")) {
     m.young_modulus = value("young_modulus");
     m.poisson_ratio = value("poisson_ratio");
   } else {

@@ -72,6 +72,9 @@ struct Experiment {
   Indenter indenter;
   Specimen specimen;
   physics::FemLaw law = physics::FemLaw::corotational;
+  /// The specimen is a tetrahedral spring network (a scene's `tet_mass_spring` body, its
+  /// material `model = "mass_spring"`) instead of FEM: young_modulus only, `law` unused.
+  bool mass_spring = false;
   double density = 1000.0;
   std::vector<Parameter> parameters;  ///< elastic ones, then g_i, tau_i per Prony term
   std::size_t prony_terms = 0;
@@ -82,6 +85,8 @@ struct Experiment {
   int max_iterations = 100;  ///< Levenberg–Marquardt iterations
 
   [[nodiscard]] const Parameter* find(const std::string& name) const;
+  /// The material's `model` as a scene names it.
+  [[nodiscard]] std::string model_name() const;
 };
 
 /// Reads the experiment and its data. Throws InputError naming the file (and line) and the

@@ -188,7 +188,9 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
   // alone on a sliding one (κ is computed for a bonded base only). On a specimen mesh, the
   // half-space laws. A relaxation uses its peak force at the held depth, a creep the held
   // force at its first depth after the ramp.
-  const double nu = e.find("poisson_ratio") && e.find("poisson_ratio")->value ? *e.find("poisson_ratio")->value : 0.45;
+  const double nu = e.mass_spring ? 0.25  // a spring network's, at best (Cauchy's relation)
+                   : e.find("poisson_ratio") && e.find("poisson_ratio")->value ? *e.find("poisson_ratio")->value
+                                                                                : 0.45;
   const double r = e.indenter.radius;
   const bool sphere = e.indenter.round();
   const bool bonded = e.specimen.bottom == Support::fixed;
@@ -303,9 +305,9 @@ FitResult fit(std::span<const Experiment* const> experiments, std::span<const In
   // One material for every experiment: the same law, parameters and free set.
   for (const Experiment* x : experiments.subspan(1)) {
     const SourceLocation where{x->file.string(), {}, {}, {}};
-    if (x->law != e.law)
+    if (x->model_name() != e.model_name())
       throw InputError(where, fmt::format("a joint fit needs one law: this experiment's is {}, {}'s is {}",
-                                          physics::to_string(x->law), e.file.string(), physics::to_string(e.law)));
+                                          x->model_name(), e.file.string(), e.model_name()));
     bool same = x->parameters.size() == e.parameters.size();
     for (std::size_t i = 0; same && i < e.parameters.size(); ++i)
       same = x->parameters[i].name == e.parameters[i].name && x->parameters[i].free == e.parameters[i].free &&
@@ -401,7 +403,7 @@ FitResult fit(std::span<const Experiment* const> experiments, std::span<const In
 }
 
 std::string material_toml(const Experiment& e, const FitResult& r, const std::string& name) {
-  std::string s = fmt::format("[materials.{}]\nmodel = \"{}\"\n", name, physics::to_string(e.law));
+  std::string s = fmt::format("[materials.{}]\nmodel = \"{}\"\n", name, e.model_name());
   auto line = [&](std::size_t i) {
     s += fmt::format("{} = {:.6g}", r.names[i], r.values[i]);
     if (r.free[i]) s += fmt::format("  # fitted, ± {:.3g} (1σ)", r.sigma[i]);

@@ -12,6 +12,7 @@
 #include "mesh/io/mesh_io.hpp"
 #include "physics/body.hpp"
 #include "physics/fem/tet_fem.hpp"
+#include "physics/mass_spring/tet_builder.hpp"
 
 namespace tactus::fitting {
 namespace {
@@ -52,7 +53,16 @@ class Press {
       : e_(e), top_centre_(top_centre), top_(top) {
     physics::FemMaterial elastic = material;
     elastic.prony.clear();  // relaxation is the hereditary integral's, not the body's
-    body_.model = std::make_shared<physics::TetFem>(model.mesh(), elastic);
+    if (e.mass_spring) {
+      // The scene's tet_mass_spring body at its instantaneous stiffness: every spring
+      // k = E Σ V_t / l² (physics/mass_spring/tet_builder.hpp).
+      physics::TetSpringParams springs;
+      springs.youngs_modulus = elastic.young_modulus;
+      springs.density = elastic.density;
+      body_.model = physics::tet_mass_spring(model.mesh(), springs);
+    } else {
+      body_.model = std::make_shared<physics::TetFem>(model.mesh(), elastic);
+    }
     body_.settings.solver = physics::LinearSolver::cholesky;
     const std::size_t n = model.mesh().vertices.size();
     body_.fixed_dofs.assign(3 * n, 0);
@@ -104,7 +114,7 @@ class Press {
         state_.x = equilibrium_;
       } else {
         throw std::runtime_error(fmt::format("the static solve at depth {:.4g} m does not converge ({}, {})", target,
-                                             physics::to_string(e_.law), why_));
+                                             e_.model_name(), why_));
       }
     }
     return indenter_force();

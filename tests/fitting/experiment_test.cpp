@@ -61,6 +61,17 @@ TEST_F(ExperimentFile, ReadsTheIndenterSpecimenMaterialAndCurve) {
   EXPECT_FALSE(e.find("poisson_ratio")->free);
 }
 
+TEST_F(ExperimentFile, ASpringNetworkTakesItsYoungModulusAlone) {
+  const Experiment e = parse_experiment(experiment("model = \"mass_spring\"\n"), "exp.toml", dir_);
+  EXPECT_TRUE(e.mass_spring);
+  EXPECT_EQ(e.model_name(), "mass_spring");
+  ASSERT_EQ(e.parameters.size(), 1U);
+  EXPECT_EQ(e.parameters[0].name, "young_modulus");
+  const std::string error = error_of(experiment("model = \"mass_spring\"\npoisson_ratio = 0.45\n"));
+  EXPECT_NE(error.find("material.poisson_ratio"), std::string::npos) << error;
+  EXPECT_NE(error.find("a spring network's Poisson ratio is 1/4 at best"), std::string::npos) << error;
+}
+
 TEST_F(ExperimentFile, AFingerTakesItsElasticityAndAFingerpadItsLaw) {
   auto with = [](const std::string& indenter) {
     std::string text = experiment();

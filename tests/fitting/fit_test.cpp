@@ -27,6 +27,20 @@ TEST(FitRecovers, LinearYoungModulusUnderAFlatPunch) {
   expect_recovered(e, r, truth, 5.0);
 }
 
+TEST(FitRecovers, SpringNetworksYoungModulusUnderAFlatPunch) {
+  // A tet_mass_spring tissue: the springs' E (k = E Σ V / l² per edge) from a loading curve.
+  Experiment e = block(IndenterShape::flat_punch, 0.006, FemLaw::linear, 0.01, {8, 8, 3});
+  e.mass_spring = true;
+  add(e, "young_modulus", std::nullopt, true);
+  e.x = steps(1e-3, 12);
+  const std::vector<double> truth{8e3};
+  const FitResult r = recover(e, truth);
+  expect_recovered(e, r, truth, 5.0);
+  const std::string block = material_toml(e, r, "skin");
+  EXPECT_NE(block.find("model = \"mass_spring\""), std::string::npos) << block;
+  EXPECT_EQ(block.find("poisson_ratio"), std::string::npos) << block;
+}
+
 TEST(InitialGuess, ASphereOnAThinLayerTakesTheLayersStiffening) {
   // A sphere 0.6 mm into a 4 mm bonded layer (χ up to 0.55): Hertz's half-space guess
   // takes the layer's stiffening for modulus (about 1.8× at the deepest point); with
@@ -124,6 +138,20 @@ TEST(FitRecovers, PronyRelaxationWeightAndTime) {
   ASSERT_EQ(m.viscoelastic.prony.size(), 1U);
   EXPECT_NEAR(m.viscoelastic.prony[0].g, r.values[2], 1e-5);
   EXPECT_NEAR(m.viscoelastic.prony[0].tau, r.values[3], 1e-5 * r.values[3]);
+}
+
+TEST(FitRecovers, SpringNetworksArmFromARelaxation) {
+  // The same relaxation on a tet_mass_spring tissue: the springs' E and one Maxwell arm on
+  // every spring (a scene's Prony term: the arm's spring g·k/g∞ over the long-term k, its
+  // dashpot that times τ).
+  Experiment e = one_prony_term(CurveKind::time_force, 0.5e-3);
+  e.mass_spring = true;
+  e.parameters.erase(e.parameters.begin() + 1);  // no Poisson ratio
+  const std::vector<double> truth{1e4, 0.4, 1.0};
+  const FitResult r = recover(e, truth);
+  expect_recovered(e, r, truth, 15.0);
+  EXPECT_LE(std::abs(r.values[0] - truth[0]), 0.05 * truth[0]);
+  EXPECT_LE(std::abs(r.values[1] - truth[1]), 0.05 * truth[1]);
 }
 
 TEST(FitRecovers, PronyCreepWeightAndTime) {
