@@ -42,6 +42,7 @@ struct MeshOptions {
   std::string labels;
   std::optional<double> cell_size;
   std::vector<std::string> cell_size_label;
+  std::vector<std::string> facet_distance_label;
   std::optional<double> facet_distance;
   double smooth = 0.0;
   std::vector<double> spacing;
@@ -49,10 +50,10 @@ struct MeshOptions {
   double sliver_bound = 5.0;
 };
 
-/// "L=SIZE" of --cell-size-label.
-std::pair<std::int32_t, double> label_size(const std::string& text) {
+/// "L=SIZE" of --cell-size-label and --facet-distance-label.
+std::pair<std::int32_t, double> label_size(const std::string& option, const std::string& text) {
   const auto eq = text.find('=');
-  const std::string bad = "--cell-size-label '" + text + "': expected LABEL=SIZE, e.g. 3=0.002";
+  const std::string bad = option + " '" + text + "': expected LABEL=SIZE, e.g. 3=0.002";
   if (eq == std::string::npos) throw InputError(bad);
   try {
     std::size_t used = 0;
@@ -82,8 +83,12 @@ int mesh_labels(const MeshOptions& o) {
   imaging::LabelMeshOptions mo;
   mo.cell_size = *o.cell_size;
   for (const auto& text : o.cell_size_label) {
-    const auto entry = label_size(text);
+    const auto entry = label_size("--cell-size-label", text);
     mo.cell_size_by_label[entry.first] = entry.second;
+  }
+  for (const auto& text : o.facet_distance_label) {
+    const auto entry = label_size("--facet-distance-label", text);
+    mo.facet_distance_by_label[entry.first] = entry.second;
   }
   mo.facet_distance = o.facet_distance;
   mo.smooth_sigma = o.smooth;
@@ -206,6 +211,8 @@ Action add_mesh(CLI::App& app) {
   app.add_option("--cell-size", o->cell_size, "--labels: largest tetrahedron circumradius [m]")
       ->check(CLI::PositiveNumber);
   app.add_option("--cell-size-label", o->cell_size_label, "--labels: LABEL=SIZE, that label's cell size [m]; repeat");
+  app.add_option("--facet-distance-label", o->facet_distance_label,
+                 "--labels: LABEL=DISTANCE, that label's facet distance [m]; repeat");
   app.add_option("--facet-distance", o->facet_distance,
                  "--labels: largest distance from a boundary facet to the label boundary [m] (default: half the "
                  "smallest voxel spacing)")

@@ -123,12 +123,14 @@ mesh::TetMesh mesh_label_image(const LabelImage& image, const LabelMeshOptions& 
     if (c.voxels < options.min_voxels)
       throw InputError(at, fmt::format("label {} has {} voxel{}; at least {} are needed to mesh it", c.label,
                                        c.voxels, c.voxels == 1 ? "" : "s", options.min_voxels));
-  for (const auto& entry : options.cell_size_by_label) {
-    if (!(entry.second > 0.0 && std::isfinite(entry.second)))
-      throw InputError(fmt::format("--cell-size-label {}: the size must be positive", entry.first));
-    if (std::none_of(counts.begin(), counts.end(), [&](const LabelVoxels& c) { return c.label == entry.first; }))
-      throw InputError(at, fmt::format("--cell-size-label names label {}, which the image does not hold", entry.first));
-  }
+  for (const auto& [option, by_label] : {std::pair{"--cell-size-label", &options.cell_size_by_label},
+                                         std::pair{"--facet-distance-label", &options.facet_distance_by_label}})
+    for (const auto& entry : *by_label) {
+      if (!(entry.second > 0.0 && std::isfinite(entry.second)))
+        throw InputError(fmt::format("{} {}: the size must be positive", option, entry.first));
+      if (std::none_of(counts.begin(), counts.end(), [&](const LabelVoxels& c) { return c.label == entry.first; }))
+        throw InputError(at, fmt::format("{} names label {}, which the image does not hold", option, entry.first));
+    }
 
   // Mesh units: the smallest spacing is 1, so CGAL's tolerances (relative to the image)
   // and its one-unit margin around the image are in voxels, not in metres.
@@ -182,7 +184,11 @@ mesh::TetMesh mesh_label_image(const LabelImage& image, const LabelMeshOptions& 
   for (const auto& entry : options.cell_size_by_label) sizes.size[compact_of.at(entry.first)] = entry.second / unit;
   const double distance = options.facet_distance.value_or(0.5 * unit) / unit;
   if (!(distance > 0.0 && std::isfinite(distance))) throw InputError("--facet-distance must be positive");
-  const FacetCriteria facets(options.facet_angle_deg, sizes, distance);
+  LabelSizes distances;
+  distances.size.assign(static_cast<std::size_t>(label_count), distance);
+  for (const auto& entry : options.facet_distance_by_label)
+    distances.size[compact_of.at(entry.first)] = entry.second / unit;
+  const FacetCriteria facets(options.facet_angle_deg, sizes, distances);
   const CellCriteria cells(options.radius_edge_ratio, sizes);
   const Criteria criteria(facets, cells);
 

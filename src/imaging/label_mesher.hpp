@@ -18,8 +18,10 @@ struct LabelMeshOptions {
   /// ...and of the labels named here; an interface takes the finer size of its two sides.
   std::map<std::int32_t, double> cell_size_by_label;
   /// Largest distance between a facet and the label boundary [m]; default: half the
-  /// smallest voxel spacing.
+  /// smallest voxel spacing...
   std::optional<double> facet_distance;
+  /// ...and of the labels named here; an interface takes the finer distance of its two sides.
+  std::map<std::int32_t, double> facet_distance_by_label;
   double facet_angle_deg = 25.0;  ///< smallest facet angle (CGAL keeps it below 30°)
   double radius_edge_ratio = 3.0;
   /// Gaussian smoothing of the label boundaries, standard deviation in units of the

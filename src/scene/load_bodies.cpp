@@ -230,18 +230,20 @@ LoadedMesh mesh_labels(Reader& m) {
   if (png_spacing && !(png_spacing->array() > 0.0).all()) m.fail("spacing", "every spacing must be positive");
   imaging::LabelMeshOptions o;
   o.cell_size = m.required_number("cell_size", Range::positive());
-  if (auto sizes = m.table("cell_size_label")) {
-    std::vector<std::string> keys;
-    for (auto&& [key, node] : sizes->table()) keys.emplace_back(key.str());
-    for (const std::string& key : keys) {
-      int label = 0;
-      const auto [end, error] = std::from_chars(key.data(), key.data() + key.size(), label);
-      if (error != std::errc() || end != key.data() + key.size() || label == 0)
-        sizes->fail(key, "a label is named by its nonzero integer value in the image, not '" + key + "'");
-      o.cell_size_by_label[label] = sizes->required_number(key, Range::positive());
+  for (const auto& [key, by_label] : {std::pair{"cell_size_label", &o.cell_size_by_label},
+                                      std::pair{"facet_distance_label", &o.facet_distance_by_label}})
+    if (auto sizes = m.table(key)) {
+      std::vector<std::string> labels;
+      for (auto&& [label_key, node] : sizes->table()) labels.emplace_back(label_key.str());
+      for (const std::string& text : labels) {
+        int label = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), label);
+        if (error != std::errc() || end != text.data() + text.size() || label == 0)
+          sizes->fail(text, "a label is named by its nonzero integer value in the image, not '" + text + "'");
+        (*by_label)[label] = sizes->required_number(text, Range::positive());
+      }
+      sizes->finish();
     }
-    sizes->finish();
-  }
   o.facet_distance = m.number("facet_distance", Range::positive());
   o.smooth_sigma = m.number("smooth", 0.0, Range::closed(0.0, 10.0));
   o.sliver_bound_deg = m.number("sliver_bound", o.sliver_bound_deg, Range::closed(0.0, 15.0));

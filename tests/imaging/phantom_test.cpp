@@ -125,6 +125,31 @@ TEST(LabelMesherPhantom, VesselInSlabFromNrrd) {
   EXPECT_GT(m.quality.min_dihedral_deg.min, kMinDihedralDeg);
 }
 
+TEST(LabelMesherPhantom, AFacetDistancePerLabelRefinesThatLabelsBoundariesOnly) {
+  // Facets 2 voxels off the boundary everywhere but on the inner sphere (0.2 voxels): the
+  // inner sphere's facets follow it as closely as when every boundary is fine (its
+  // polyhedral area misses as little of the sphere's), the outer sphere's do not.
+  const double r_outer = 10e-3, r_inner = 6e-3;
+  const LabelImage image = test::nested_spheres(96, kVoxel, r_outer, r_inner);
+  LabelMeshOptions o = phantom_options();
+  o.cell_size = 4e-3;
+  o.facet_distance = 0.2 * kVoxel;
+  const Measured everywhere = mesh_and_measure(image, o);
+  o.facet_distance = 2.0 * kVoxel;
+  o.facet_distance_by_label[2] = 0.2 * kVoxel;
+  const Measured inner_only = mesh_and_measure(image, o);
+  const double a_inner = 4.0 * pi * r_inner * r_inner, a_outer = 4.0 * pi * r_outer * r_outer;
+  const double inner = relative(inner_only.area.at({1, 2}), a_inner), outer = relative(inner_only.area.at({0, 1}), a_outer);
+  const double inner_all = relative(everywhere.area.at({1, 2}), a_inner);
+  const double outer_all = relative(everywhere.area.at({0, 1}), a_outer);
+  std::printf("areas, fine everywhere: inner %+.3f%%, outer %+.3f%% (%zu tets); fine on the inner sphere only: "
+              "inner %+.3f%%, outer %+.3f%% (%zu tets)\n",
+              100 * inner_all, 100 * outer_all, everywhere.tets, 100 * inner, 100 * outer, inner_only.tets);
+  EXPECT_LT(std::abs(inner), 1.5 * std::abs(inner_all) + 1e-3);
+  EXPECT_GT(std::abs(outer), 3.0 * std::abs(outer_all));
+  EXPECT_LT(inner_only.tets, everywhere.tets);
+}
+
 TEST(LabelMesherPhantom, PlacementMovesTheMeshRigidly) {
   // The same spheres rotated and mirrored in the world: the volumes stay, every tet stays
   // positively oriented, and the mesh lies where the placement puts the image.
