@@ -110,11 +110,16 @@ MultiSurfaceOutput MultiSurfaceForce::evaluate(const Vec3& goal, const Vec3& goa
 MultiSurfaceOutput MultiSurfaceForce::update(const Vec3& goal, const Vec3& goal_velocity, double t) {
   const MultiSurfaceOutput out = evaluate(goal, goal_velocity, t);
   if (!goal.allFinite()) return out;
-  // The next ray: from the proxy towards the device while pressing (along the plane's inward
-  // normal), else along the tool's motion, so the surfaces ahead are found before contact.
+  // The next ray: from the proxy along the plane's inward normal while pressing (towards the
+  // sphere's contact point, whatever friction holds the proxy off the device's line: a ray
+  // tilted by the friction's pull would find another facet, whose tilted plane moves the
+  // pull, and the ray, back the next time), else along the tool's motion, so the surfaces
+  // ahead are found before contact.
   const Vec3 pressing = goal - out.proxy;
   const double speed = goal_velocity.allFinite() ? goal_velocity.norm() : 0.0;
-  if (pressing.norm() > 1e-9) {
+  if (out.touching) {
+    direction_ = -shown(planes_[static_cast<std::size_t>(out.layer)], t).normal;
+  } else if (pressing.norm() > 1e-9) {
     direction_ = pressing.normalized();
   } else if (speed > 1e-3) {
     direction_ = goal_velocity / speed;

@@ -146,6 +146,9 @@ TEST(MultiSurface, FrictionSticksBelowTheStaticLimitAndSlidesAtTheKineticOne) {
     EXPECT_NEAR(o.proxy.x(), 0.0, 1e-12);
     EXPECT_NEAR(o.force.x(), -kStiffness * x, 1e-9);
     EXPECT_NEAR(o.force.z(), kStiffness * depth, 1e-9);
+    // The next ray goes along the plane's inward normal from the held proxy, not towards the
+    // device beside it: tilted by the pull, it would find another facet of a coarse skin.
+    EXPECT_NEAR(ms.ray_direction().dot(Vec3(0, 0, -1)), 1.0, 1e-12) << x;
   }
   // Past the static limit it slides: the drag drops to μk·Fn and the proxy trails behind.
   const MultiSurfaceOutput slip = ms.update(Vec3(0.0026, 0, -depth), Vec3(0.1, 0, 0), 0.1);
@@ -233,7 +236,7 @@ TEST(MultiSurface, PlaneUpdatesAreBlendedWithoutAForceStep) {
   EXPECT_NEAR(before - sharp.update(goal, Vec3::Zero(), 0.010).force.z(), kStiffness * 0.001, 1e-9);
 }
 
-TEST(MultiSurface, TheRayPointsTowardsTheDeviceWhilePressingElseAlongTheMotion) {
+TEST(MultiSurface, TheRayPointsAlongThePlanesNormalWhilePressingElseAlongTheMotion) {
   MultiSurfaceForce ms = make(1);
   EXPECT_EQ(ms.ray_direction(), Vec3(0, 0, -1));
   ms.update(Vec3(0, 0, 0.01), Vec3(0.2, 0, 0), 0.0);
