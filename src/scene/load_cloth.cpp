@@ -33,9 +33,10 @@ physics::KesDirection read_kes_direction(Reader& d, double tensile_max_load) {
   k.b = d.required_number("B", Range::positive());
   k.g = d.required_number("G", Range::positive());
   k.hg = d.number("2HG", 0.0, Range::non_negative());
-  // Recorded for the reader of the database; the model does not use them (one shear loop
-  // width, 2HG; no tensile recovery or bending hysteresis).
-  for (const char* key : {"RT", "2HB", "2HG5"}) (void)d.number(key, Range::non_negative());
+  k.hg5 = d.number("2HG5", 0.0, Range::non_negative());
+  // Recorded for the reader of the database; the model does not use them (no tensile
+  // recovery or bending hysteresis).
+  for (const char* key : {"RT", "2HB"}) (void)d.number(key, Range::non_negative());
   const double mismatch = physics::kes_tensile_energy_mismatch(k, tensile_max_load);
   if (mismatch > 0.05)
     d.fail("WT", fmt::format("WT = {} disagrees by {:.0f} % with LT·½·F_m·EMT/100 = {} (the definition of LT); "
@@ -130,6 +131,9 @@ physics::ClothMaterial read_curves(Reader& c) {
   m.bend_warp = read_curve(c, "bend_warp", "curvature", "moment", Below::mirror);
   m.bend_weft = read_curve(c, "bend_weft", "curvature", "moment", Below::mirror);
   m.shear_friction = c.number("shear_friction", 0.0, Range::non_negative());
+  m.shear_friction_5 = c.number("shear_friction_5", 0.0, Range::non_negative());
+  if (m.shear_friction_5 > 0.0 && !(m.shear_friction > 0.0))
+    c.fail("shear_friction_5", "the friction at 5° needs `shear_friction` (at 0.5°) too");
   c.finish();
   return m;
 }
@@ -177,7 +181,7 @@ void read_cloth(Reader& r, Body& b) {
   }
   // The shear loop (KES 2HG) only where the scene asks for it.
   if (!r.boolean("shear_hysteresis", false))
-    material.shear_friction = 0.0;
+    material.shear_friction = material.shear_friction_5 = 0.0;
   else if (!(material.shear_friction > 0.0))
     r.fail("shear_hysteresis", named ? "fabric '" + c.fabric + "' has no 2HG (the shear loop's width) in the database"
                                      : "the scene's own curves give no `shear_friction`");

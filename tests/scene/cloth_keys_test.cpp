@@ -91,6 +91,8 @@ TEST(ClothScene, ShearHysteresisTakesTheFabrics2HGOnlyWhenAsked) {
   const Model m = parse_scene(kCloth + "shear_hysteresis = true\n", where);
   // Denim's 2HG is 3.575 gf/cm in warp and weft (data/fabrics.toml): H = 2HG/2 in N/m.
   EXPECT_NEAR(m.bodies[0].cloth->model->material().shear_friction, 0.5 * 3.575 * 0.980665, 1e-12);
+  // ... and 2HG5 (5.938 gf/cm) at 5°.
+  EXPECT_NEAR(m.bodies[0].cloth->model->material().shear_friction_5, 0.5 * 5.938 * 0.980665, 1e-12);
   EXPECT_EQ(m.bodies[0].cloth->model->internal_size(), m.bodies[0].cloth->model->triangles().size());
 
   // The scene's own curves give it, or the key is an error naming the missing value.
@@ -106,8 +108,13 @@ TEST(ClothScene, ShearHysteresisTakesTheFabrics2HGOnlyWhenAsked) {
   EXPECT_NE(missing.find(":5:20: bodies.fabric.shear_hysteresis: the scene's own curves give no `shear_friction`"),
             std::string::npos)
       << missing;
-  const Model given = parse_scene(own + "shear_friction = 1.5\n", "x.toml");
+  const Model given = parse_scene(own + "shear_friction = 1.5\nshear_friction_5 = 2.5\n", "x.toml");
   EXPECT_DOUBLE_EQ(given.bodies[0].cloth->model->material().shear_friction, 1.5);
+  EXPECT_DOUBLE_EQ(given.bodies[0].cloth->model->material().shear_friction_5, 2.5);
+  const std::string alone = error_of(own + "shear_friction_5 = 2.5\n");
+  EXPECT_NE(alone.find("bodies.fabric.curves.shear_friction_5: the friction at 5° needs `shear_friction`"),
+            std::string::npos)
+      << alone;
 }
 
 TEST(ClothScene, BadFabricsAreLocated) {

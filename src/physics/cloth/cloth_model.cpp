@@ -1,6 +1,7 @@
 #include "physics/cloth/cloth_model.hpp"
 
 #include <algorithm>
+#include <numbers>
 #include <cmath>
 #include <string>
 
@@ -78,7 +79,8 @@ ClothModel::ClothModel(const ClothMesh& cloth, ClothMaterial material) : materia
     throw InputError("cloth: the areal density must be positive and finite");
   for (double beta : {material_.stretch_damping, material_.shear_damping, material_.bend_damping})
     if (!(beta >= 0.0 && std::isfinite(beta))) throw InputError("cloth: damping time constants must be finite and >= 0");
-  if (!(material_.shear_friction >= 0.0 && std::isfinite(material_.shear_friction)))
+  if (!(material_.shear_friction >= 0.0 && std::isfinite(material_.shear_friction)) ||
+      !(material_.shear_friction_5 >= 0.0 && std::isfinite(material_.shear_friction_5)))
     throw InputError("cloth: the shear friction must be finite and >= 0");
   if (!(material_.shear_stick_angle > 0.0 && material_.shear_stick_angle < 0.1))
     throw InputError("cloth: the shear stick angle must be in (0, 0.1) rad");
@@ -260,7 +262,8 @@ void ClothModel::evaluate(const VecX& x, const VecX& v, const VecX& q, VecX* f, 
     if (mat.shear_friction > 0.0) {
       const double slip = gamma - stick_angle(q, t);
       friction = shear_friction_force(gamma, stick_angle(q, t));
-      if (std::abs(slip) < mat.shear_stick_angle) friction_stiffness = mat.shear_friction / mat.shear_stick_angle;
+      if (std::abs(slip) < mat.shear_stick_angle)
+        friction_stiffness = shear_friction_limit(stick_angle(q, t)) / mat.shear_stick_angle;
     }
     // The tensions, looked up once for the force and the linearization alike.
     const double tu = mat.warp.value(eu), tv = mat.weft.value(ev);
@@ -542,8 +545,16 @@ bool ClothModel::add_matrix_values(double a, double b, double mass, std::span<co
   return true;
 }
 
+double ClothModel::shear_friction_limit(double stick) const {
+  const double at_half = material_.shear_friction;
+  if (!(material_.shear_friction_5 > 0.0)) return at_half;
+  constexpr double deg = std::numbers::pi / 180.0;
+  const double slope = (material_.shear_friction_5 - at_half) / (4.5 * deg);
+  return std::max(0.0, at_half + slope * (std::abs(stick) - 0.5 * deg));
+}
+
 double ClothModel::shear_friction_force(double gamma, double stick) const {
-  const double limit = material_.shear_friction;
+  const double limit = shear_friction_limit(stick);
   return std::clamp(limit / material_.shear_stick_angle * (gamma - stick), -limit, limit);
 }
 
@@ -559,11 +570,12 @@ void ClothModel::update_internal(const VecX& x, double, VecX& q, Scratch&) const
 
 double ClothModel::elastic_energy(const VecX& x, const VecX& q) const {
   double energy = 0.0;
-  const double limit = material_.shear_friction, reach = material_.shear_stick_angle;
+  const double reach = material_.shear_stick_angle;
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     const Vec3 e = triangle_strain(x, t);
     double friction = 0.0;
-    if (limit > 0.0) {
+    if (material_.shear_friction > 0.0) {
+      const double limit = shear_friction_limit(stick_angle(q, t));
       const double slip = std::abs(e[2] - stick_angle(q, t));
       friction = slip <= reach ? 0.5 * limit / reach * slip * slip : limit * (slip - 0.5 * reach);
     }

@@ -25,11 +25,12 @@
 //   right triangles: there a cantilever strip bends 25–40 % too far and refining does not
 //   cure it (docs/validation-fabric.md). Along the yarns K holds no twist, its Hessian is
 //   exact and constant in direction, and the strip converges to the elastica.
-// - Shear hysteresis (optional, KES 2HG): a friction element beside the shear curve, per
-//   triangle a stick angle γ_s (the internal variable) and the force per unit width
+// - Shear hysteresis (optional, KES 2HG and 2HG5): a friction element beside the shear curve,
+//   per triangle a stick angle γ_s (the internal variable) and the force per unit width
 //   clamp(k_h·(γ − γ_s), ±H); where it saturates, γ_s follows γ at the end of each step. Once
-//   slipped, shearing forward and back runs ±H off the curve: a loop 2H wide at every angle,
-//   KES's 2HG (the model has one width: 2HG5, at 5°, is not matched).
+//   slipped, shearing forward and back runs ±H off the curve: a loop 2H wide. H grows with
+//   the shear, linearly in |γ_s| through KES's widths at 0.5° (2HG) and 5° (2HG5), as the
+//   yarns' crossings press harder; k_h = H/γ_y keeps the stick reach γ_y fixed.
 // - Damping per term along the term's own direction (§III-B2d): force −β·k·g(g·v), g the
 //   term's gradient and k its tangent stiffness, with one time constant β per kind.
 // - Lumped masses: areal density × area / 3 per vertex.
@@ -51,8 +52,12 @@ struct ClothMaterial {
   /// Damping time constants [s] of stretch, shear and bending (damping = β × tangent stiffness
   /// of the curves; the shear friction is not damped).
   double stretch_damping = 0.0, shear_damping = 0.0, bend_damping = 0.0;
-  /// Shear friction H [N/m], half the width of the shear loop (KES 2HG / 2); 0: none.
+  /// Shear friction H [N/m] at 0.5°, half the width of the shear loop there (KES 2HG / 2);
+  /// 0: none.
   double shear_friction = 0.0;
+  /// H at 5° (KES 2HG5 / 2); 0: the same as at 0.5°. H is linear in the shear between the
+  /// two, and beyond (never below 0).
+  double shear_friction_5 = 0.0;
   /// The shear change [rad] over which the friction goes from sticking to slipping (its
   /// stiffness is H over it): small against the ±8° of the KES test and the 0.5° where it
   /// reads 2HG, large enough for the implicit step's tangent.
@@ -134,6 +139,8 @@ class ClothModel final : public ForceModel {
   [[nodiscard]] double elastic_energy(const VecX& x, const VecX& q) const override;
   /// The shear friction's force per unit width [N/m] at shear angle γ with stick angle γ_s.
   [[nodiscard]] double shear_friction_force(double gamma, double stick) const;
+  /// Its strength H [N/m] at stick angle γ_s.
+  [[nodiscard]] double shear_friction_limit(double stick) const;
 
   /// A triangle's constant part: W_u = Σ a_n x_n, W_v = Σ b_n x_n.
   struct TriangleRest {

@@ -29,8 +29,8 @@ MeasuredCurve kes_tensile_curve(const KesDirection& d, double tensile_max_load, 
 ClothMaterial kes_material(const KesFabric& fabric, const std::string& what) {
   for (double v : {fabric.warp.b, fabric.weft.b, fabric.warp.g, fabric.weft.g})
     if (!(v > 0.0 && std::isfinite(v))) throw InputError(what + ": B and G must be positive");
-  for (double v : {fabric.warp.hg, fabric.weft.hg})
-    if (!(v >= 0.0 && std::isfinite(v))) throw InputError(what + ": 2HG must be finite and >= 0");
+  for (double v : {fabric.warp.hg, fabric.weft.hg, fabric.warp.hg5, fabric.weft.hg5})
+    if (!(v >= 0.0 && std::isfinite(v))) throw InputError(what + ": 2HG and 2HG5 must be finite and >= 0");
   if (!(fabric.w > 0.0 && std::isfinite(fabric.w))) throw InputError(what + ": the weight W must be positive");
   ClothMaterial m;
   m.warp = kes_tensile_curve(fabric.warp, fabric.tensile_max_load, what + " (warp)");
@@ -38,6 +38,8 @@ ClothMaterial kes_material(const KesFabric& fabric, const std::string& what) {
   const double g = 0.5 * (fabric.warp.g + fabric.weft.g) * kGfPerCm * 180.0 / std::numbers::pi;
   m.shear = MeasuredCurve::line(g, what + " (shear)");
   m.shear_friction = 0.25 * (fabric.warp.hg + fabric.weft.hg) * kGfPerCm;
+  // 2HG5 only where both directions give it (else the one width, 2HG).
+  if (fabric.warp.hg5 > 0.0 && fabric.weft.hg5 > 0.0) m.shear_friction_5 = 0.25 * (fabric.warp.hg5 + fabric.weft.hg5) * kGfPerCm;
   constexpr double kGfCm2PerCm = kGramForce * 1e-4 / 1e-2;  // 1 gf·cm²/cm in N·m
   m.bend_warp = MeasuredCurve::line(fabric.warp.b * kGfCm2PerCm, what + " (warp bending)");
   m.bend_weft = MeasuredCurve::line(fabric.weft.b * kGfCm2PerCm, what + " (weft bending)");

@@ -13,6 +13,7 @@ struct KesDirection {
   double b = 0.0;    ///< B: bending rigidity [gf·cm²/cm]
   double g = 0.0;    ///< G: shear stiffness [gf/(cm·degree)]
   double hg = 0.0;   ///< 2HG: the shear loop's width at 0.5° [gf/cm]; 0: not measured
+  double hg5 = 0.0;  ///< 2HG5: the shear loop's width at 5° [gf/cm]; 0: not measured
 };
 
 struct KesFabric {

@@ -82,10 +82,14 @@ TEST(ClothModel, ForcesAreMinusTheEnergyGradient) {
 TEST(ClothModel, ShearFrictionForceIsMinusItsEnergyGradientAtFixedStickAngles) {
   // With the stick angles held, the friction is the gradient of a convex potential
   // (quadratic while it sticks, of slope ±H beyond): the force must be −∇E there, with some
-  // triangles sticking and some slipping either way.
+  // triangles sticking and some slipping either way; with one width, and with a strength
+  // that grows with the stick angle (2HG5 above 2HG), held with it.
+  for (const double at_5 : {0.0, 5.0}) {
+  SCOPED_TRACE(at_5);
   const auto sheet = rectangular_sheet(0.03, 0.02, 0.01);
   ClothMaterial m = test_material();
   m.shear_friction = 2.0;
+  m.shear_friction_5 = at_5;
   m.shear_stick_angle = 0.01;
   const ClothModel model(sheet.cloth, m);
   ASSERT_EQ(model.internal_size(), model.triangles().size());
@@ -121,6 +125,7 @@ TEST(ClothModel, ShearFrictionForceIsMinusItsEnergyGradientAtFixedStickAngles) {
       EXPECT_EQ(after[i], q[i]) << "triangle " << t;
     else
       EXPECT_NEAR(std::abs(slip), m.shear_stick_angle, 1e-15) << "triangle " << t;
+  }
   }
 }
 
@@ -191,6 +196,7 @@ TEST(ClothModel, StiffnessIsExactWhereTheDroppedTermsVanish) {
   if (friction > 0.0) {
     ClothMaterial m = test_material();
     m.shear_friction = friction;
+    m.shear_friction_5 = 2.0 * friction;
     m.shear_stick_angle = 0.01;
     f.model = std::make_shared<ClothModel>(
         rectangular_sheet(0.03, 0.02, 0.01, Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), bending).cloth, m);

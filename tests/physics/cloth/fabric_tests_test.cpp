@@ -108,6 +108,34 @@ TEST(FabricPictureFrame, ShearLoopIsAsWideAs2HGAndItsMeanFollowsG) {
   EXPECT_NEAR((up_large - down_large) / (side * side), width, 1e-6 * width);
 }
 
+TEST(FabricPictureFrame, ShearLoopIsAsWideAs2HGAt05DegreesAnd2HG5At5) {
+  // With 2HG5 given too, the friction's strength grows linearly with the shear between the
+  // two: the loop of the same ±8° cycle is 2HG wide at 0.5° and 2HG5 wide at 5°. The
+  // strength is the held stick angle's: reading a branch at θ, arrived from θ ± s in steps
+  // of s, its stick angle is θ ± (s + 0.1°). The two branches' strengths average to H(θ) where
+  // both stick angles have the sign of θ (H is linear in |γ_s|): steps of 0.25° keep them
+  // there at 0.5° (0.5° steps put one at −0.1°); then 1e-6 as above.
+  KesFabric kes = test_fabric();
+  kes.warp.hg = 2.2;
+  kes.weft.hg = 1.8;
+  kes.warp.hg5 = 4.4;
+  kes.weft.hg5 = 3.8;
+  const ClothMaterial m = kes_material(kes, "test fabric");
+  const double gf_per_cm = kGramForce / 1e-2, deg = std::numbers::pi / 180.0, side = 0.1;
+  const double width = 0.5 * (2.2 + 1.8) * gf_per_cm, width_5 = 0.5 * (4.4 + 3.8) * gf_per_cm;
+  const double g = 0.5 * (kes.warp.g + kes.weft.g) * gf_per_cm / deg;
+  bool converged = false;
+  const auto [down_small, up_small] = picture_frame_loop(m, side, 8 * deg, 0.25 * deg, 0.5 * deg, converged);
+  EXPECT_TRUE(converged);
+  EXPECT_NEAR((up_small - down_small) / (side * side), width, 1e-6 * width);
+  const auto [down_large, up_large] = picture_frame_loop(m, side, 8 * deg, 0.25 * deg, 5 * deg, converged);
+  EXPECT_TRUE(converged);
+  EXPECT_NEAR((up_large - down_large) / (side * side), width_5, 1e-6 * width_5);
+  // The loop's mean still rises at G: both branches' friction shifts it by the same amount.
+  const double slope = (0.5 * (down_large + up_large) - 0.5 * (down_small + up_small)) / (4.5 * deg) / (side * side);
+  EXPECT_NEAR(slope, g, 1e-6 * g);
+}
+
 TEST(FabricEnergy, ReleasedUndampedFabricGainsNoEnergy) {
   // A sheet clamped at its top edge, released swung out of its plane under gravity, without
   // damping: it swings and flexes, and implicit Euler may only lose energy.
