@@ -123,13 +123,13 @@ mesh::TetMesh mesh_label_image(const LabelImage& image, const LabelMeshOptions& 
     if (c.voxels < options.min_voxels)
       throw InputError(at, fmt::format("label {} has {} voxel{}; at least {} are needed to mesh it", c.label,
                                        c.voxels, c.voxels == 1 ? "" : "s", options.min_voxels));
-  for (const auto& [option, by_label] : {std::pair{"--cell-size-label", &options.cell_size_by_label},
-                                         std::pair{"--facet-distance-label", &options.facet_distance_by_label}})
+  for (const auto& [what, by_label] : {std::pair{"cell size", &options.cell_size_by_label},
+                                       std::pair{"facet distance", &options.facet_distance_by_label}})
     for (const auto& entry : *by_label) {
       if (!(entry.second > 0.0 && std::isfinite(entry.second)))
-        throw InputError(fmt::format("{} {}: the size must be positive", option, entry.first));
+        throw InputError(fmt::format("the {} of label {} must be positive", what, entry.first));
       if (std::none_of(counts.begin(), counts.end(), [&](const LabelVoxels& c) { return c.label == entry.first; }))
-        throw InputError(at, fmt::format("{} names label {}, which the image does not hold", option, entry.first));
+        throw InputError(at, fmt::format("a {} is given for label {}, which the image does not hold", what, entry.first));
     }
 
   // Mesh units: the smallest spacing is 1, so CGAL's tolerances (relative to the image)

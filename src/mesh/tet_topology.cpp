@@ -107,22 +107,29 @@ std::vector<Index> TetTopology::boundary_faces() const {
 
 BoundarySurface extract_boundary(const TetMesh& mesh) { return extract_boundary(mesh, TetTopology(mesh)); }
 
+namespace {
+
+/// Appends the tet-mesh face `tri` (tet-mesh vertex numbers) bounding tet `tet`, numbering
+/// its vertices in the surface's order of first use.
+void append_face(BoundarySurface& out, const TetMesh& mesh, Triangle tri, Index tet) {
+  for (Index& v : tri) {
+    if (out.volume_to_surface[v] < 0) {
+      out.volume_to_surface[v] = static_cast<Index>(out.surface_to_volume.size());
+      out.surface_to_volume.push_back(v);
+      out.surface.vertices.push_back(mesh.vertices[v]);
+    }
+    v = out.volume_to_surface[v];
+  }
+  out.surface.triangles.push_back(tri);
+  out.face_tet.push_back(tet);
+}
+
+}  // namespace
+
 BoundarySurface extract_boundary(const TetMesh& mesh, const TetTopology& topology) {
   BoundarySurface out;
   out.volume_to_surface.assign(mesh.vertices.size(), -1);
-  for (Index f : topology.boundary_faces()) {
-    Triangle tri = topology.faces[f];
-    for (Index& v : tri) {
-      if (out.volume_to_surface[v] < 0) {
-        out.volume_to_surface[v] = static_cast<Index>(out.surface_to_volume.size());
-        out.surface_to_volume.push_back(v);
-        out.surface.vertices.push_back(mesh.vertices[v]);
-      }
-      v = out.volume_to_surface[v];
-    }
-    out.surface.triangles.push_back(tri);
-    out.face_tet.push_back(topology.face_tets[f][0]);
-  }
+  for (Index f : topology.boundary_faces()) append_face(out, mesh, topology.faces[f], topology.face_tets[f][0]);
   return out;
 }
 
@@ -137,24 +144,12 @@ BoundarySurface extract_region_surface(const TetMesh& mesh, const TetTopology& t
   for (std::size_t f = 0; f < topology.faces.size(); ++f) {
     const auto [first, second] = topology.face_tets[f];
     Triangle tri = topology.faces[f];  // seen from outside `first`
-    Index owner = first;
     if (in(inside, region(first)) && in(facing, region(second))) {
+      append_face(out, mesh, tri, first);
     } else if (second >= 0 && in(inside, region(second)) && in(facing, region(first))) {
       std::swap(tri[1], tri[2]);
-      owner = second;
-    } else {
-      continue;
+      append_face(out, mesh, tri, second);
     }
-    for (Index& v : tri) {
-      if (out.volume_to_surface[v] < 0) {
-        out.volume_to_surface[v] = static_cast<Index>(out.surface_to_volume.size());
-        out.surface_to_volume.push_back(v);
-        out.surface.vertices.push_back(mesh.vertices[v]);
-      }
-      v = out.volume_to_surface[v];
-    }
-    out.surface.triangles.push_back(tri);
-    out.face_tet.push_back(owner);
   }
   return out;
 }

@@ -130,7 +130,11 @@ TEST_F(LabelCli, BadInputsAreOneLocatedLine) {
   expect_refused("mesh --labels '" + (dir_ / "whole.nii.gz").string() + "' -o '" + (dir_ / "x.vtu").string() + "'",
                  "--labels needs --cell-size");
   expect_refused("mesh --labels '" + (dir_ / "whole.nii.gz").string() + "'" + out + " --cell-size-label 9=1e-3",
-                 "--cell-size-label names label 9, which the image does not hold");
+                 "a cell size is given for label 9, which the image does not hold");
+  expect_refused("mesh --labels '" + (dir_ / "whole.nii.gz").string() + "'" + out + " --facet-distance-label 9=1e-4",
+                 "a facet distance is given for label 9, which the image does not hold");
+  expect_refused("mesh --labels '" + (dir_ / "whole.nii.gz").string() + "'" + out + " --facet-distance-label 1",
+                 "--facet-distance-label '1': expected LABEL=SIZE");
   expect_refused("mesh --labels '" + (dir_ / "whole.nii.gz").string() + "'" + out + " --cell-size-label x",
                  "--cell-size-label 'x': expected LABEL=SIZE");
   expect_refused("mesh --labels '" + (dir_ / "whole.nii.gz").string() + "' -o '" + (dir_ / "x.stl").string() +

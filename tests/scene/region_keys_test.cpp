@@ -212,42 +212,21 @@ mesh = { region = 2 }
   std::string e = s.error(scene + "[bodies.apart]\nkind = \"embedded\"\nhost = \"bar\"\n"
                                   "mesh = { region = 1, facing = 3 }\n");
   EXPECT_TRUE(has(e, "bodies.apart.mesh.region") && has(e, "region 1 facing 3: the regions do not meet")) << e;
-  e = s.error(R"([materials.muscle]
-young_modulus = 1e4
-density = 1060
-[bodies.bar]
-kind = "fem"
-material = "muscle"
-mesh = { labels = "bar.nii.gz", cell_size = 1e-6 }
-)");
+  // One body of `kind` whose mesh table is `mesh`.
+  const auto body = [](const std::string& kind, const std::string& mesh) {
+    return "[materials.muscle]\nyoung_modulus = 1e4\ndensity = 1060\n[bodies.bar]\nkind = \"" + kind +
+           "\"\nmaterial = \"muscle\"\nmesh = " + mesh + "\n";
+  };
+  e = s.error(body("fem", "{ labels = \"bar.nii.gz\", cell_size = 1e-6 }"));
   EXPECT_TRUE(has(e, "bodies.bar.mesh.cell_size") && has(e, "the limit is")) << e;
-  e = s.error(R"([materials.muscle]
-young_modulus = 1e4
-density = 1060
-[bodies.bar]
-kind = "fem"
-material = "muscle"
-mesh = { labels = "bar.nii.gz", cell_size = 0.002, cell_size_label = { 9 = 0.001, skin = 0.001 } }
-)");
+  e = s.error(body("fem", "{ labels = \"bar.nii.gz\", cell_size = 0.002, cell_size_label = { 9 = 0.001, skin = 0.001 } }"));
   EXPECT_TRUE(has(e, "bodies.bar.mesh.cell_size_label.skin") && has(e, "nonzero integer")) << e;
-  e = s.error(R"([materials.muscle]
-young_modulus = 1e4
-density = 1060
-[bodies.bar]
-kind = "fem"
-material = "muscle"
-mesh = { labels = "missing.nii.gz", cell_size = 0.002 }
-)");
+  e = s.error(body("fem", "{ labels = \"bar.nii.gz\", cell_size = 0.002, facet_distance_label = { 7 = 0.001 } }"));
+  EXPECT_TRUE(has(e, "bodies.bar.mesh.labels") && has(e, "a facet distance is given for label 7")) << e;
+  e = s.error(body("fem", "{ labels = \"missing.nii.gz\", cell_size = 0.002 }"));
   EXPECT_TRUE(has(e, "bodies.bar.mesh.labels") && has(e, "missing.nii.gz")) << e;
-  e = s.error(R"([materials.muscle]
-young_modulus = 1e4
-density = 1060
-[bodies.sheet]
-kind = "surface_mass_spring"
-material = "muscle"
-mesh = { labels = "bar.nii.gz", cell_size = 0.002 }
-)");
-  EXPECT_TRUE(has(e, "bodies.sheet.mesh.labels") && has(e, "for 'fem' and 'tet_mass_spring' bodies")) << e;
+  e = s.error(body("surface_mass_spring", "{ labels = \"bar.nii.gz\", cell_size = 0.002 }"));
+  EXPECT_TRUE(has(e, "bodies.bar.mesh.labels") && has(e, "for 'fem' and 'tet_mass_spring' bodies")) << e;
 }
 
 }  // namespace
