@@ -81,6 +81,7 @@ struct PrecomputeArgs {
   std::size_t stop_after = 0;
   double reissue_floor = 60.0;
   double reissue_factor = 10.0;
+  unsigned in_flight = 1;
   bool online_speed = false;
   double online_first = 4.0;  ///< [mm/s]
   double online_dwell = 0.5;  ///< [s]
@@ -253,6 +254,7 @@ int run_precompute(const PrecomputeArgs& a) {
   options.stop_after = a.stop_after;
   options.reissue_floor = a.reissue_floor;
   options.reissue_factor = a.reissue_factor;
+  options.in_flight = a.in_flight;
   options.on_result = [&](const pc::PointResult& r) {
     journal->append(r);
     estimate.record(r);
@@ -316,6 +318,9 @@ Action add_precompute(CLI::App& app) {
       ->check(CLI::Range(0.01, 1000.0));
   app.add_option("--online-dwell", a->online_dwell, "Seconds at the start point before the tool moves")
       ->check(CLI::Range(0.0, 60.0));
+  app.add_option("--in-flight", a->in_flight,
+                 "MPI: transitions a solver rank may owe at once (2 hides a far rank's latency; default 1)")
+      ->check(CLI::Range(1u, 8u));
   // After how many seconds at least an unanswered transition goes to another rank (MPI).
   app.add_option("--reissue-floor", a->reissue_floor, "")->group("")->check(CLI::Range(0.01, 1e6));
   // The timeout's multiple of the median solve time; 0 makes the floor the whole timeout

@@ -25,6 +25,10 @@ struct BuildOptions {
   /// running median solve time) [s] is handed to another rank; the first answer counts.
   double reissue_factor = 10.0;
   double reissue_floor = 60.0;
+  /// MPI only: transitions a rank may owe at once. 1: each rank gets its next one when it
+  /// answers (a far rank waits a round trip per point); 2: the next one waits in its queue
+  /// while it solves, which hides the task's travel.
+  unsigned in_flight = 1;
   /// Points resolved so far (resumed ones included) and the total.
   std::function<void(std::size_t resolved, std::size_t total)> on_progress;
 };

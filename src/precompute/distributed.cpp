@@ -13,9 +13,12 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <deque>
+#include <iterator>
+#include <list>
 #include <optional>
 #include <random>
 #include <thread>
@@ -68,9 +71,15 @@ Session::~Session() {
 
 namespace {
 
-/// The rest of a result whose head (point, status, source, iterations, reason length) came
-/// from `from`: its parts follow from the same rank in order.
-PointResult receive_result(const std::int64_t (&head)[5], int from, int dofs, std::vector<char>& reason) {
+/// A task's head: point, source, and when the scheduler sent it (now_ns(); the latency
+/// emulation's clock). A result's head: point, status, source, iterations, reason length,
+/// and when the scheduler may see it (0: at once; the latency emulation's far ranks).
+constexpr int kTaskHead = 3;
+constexpr int kResultHead = 6;
+
+/// The rest of a result whose head came from `from`: its parts follow from the same rank in
+/// order.
+PointResult receive_result(const std::int64_t (&head)[kResultHead], int from, int dofs, std::vector<char>& reason) {
   double values[14];
   MPI_Recv(values, 14, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   PointResult r;
@@ -99,12 +108,12 @@ PointResult receive_result(const std::int64_t (&head)[5], int from, int dofs, st
 }
 
 /// The next result's head from any rank, or nothing when none is waiting.
-std::optional<int> probe_result(std::int64_t (&head)[5]) {
+std::optional<int> probe_result(std::int64_t (&head)[kResultHead]) {
   int flag = 0;
   MPI_Status st;
   MPI_Iprobe(MPI_ANY_SOURCE, kResultTag, MPI_COMM_WORLD, &flag, &st);
   if (!flag) return std::nullopt;
-  MPI_Recv(head, 5, MPI_INT64_T, st.MPI_SOURCE, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  MPI_Recv(head, kResultHead, MPI_INT64_T, st.MPI_SOURCE, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   return st.MPI_SOURCE;
 }
 
@@ -122,10 +131,12 @@ Stall stall_from_environment() {
   return s;
 }
 
-/// TACTUS_PRECOMPUTE_LATENCY="MS:JITTER_MS": the even solver ranks (2, 4, …) hold every task
-/// they receive and every result they send MS ± JITTER_MS milliseconds (uniform), as a
-/// network of that one-way latency between them and the scheduler would (half the ranks far
-/// away, as seed 001's two clusters 300 km apart). For the latency study of
+/// TACTUS_PRECOMPUTE_LATENCY="MS:JITTER_MS": the even solver ranks (2, 4, …) see every task
+/// MS ± JITTER_MS milliseconds (uniform) after the scheduler sent it, and the scheduler sees
+/// their results that long after they were sent, as a network of that one-way latency
+/// between them would (half the ranks far away, as seed 001's two clusters 300 km apart).
+/// The delays are delivery times: a task queued behind another one is not delayed again,
+/// and a solver is not held while its result travels. For the latency study of
 /// docs/precompute.md; unset, nothing.
 class Latency {
  public:
@@ -136,11 +147,11 @@ class Latency {
     mean_ = 1e-3 * ms;
     jitter_ = 1e-3 * std::min(jitter, ms);
   }
-  /// One message's delay.
-  void hold() {
-    if (mean_ <= 0.0) return;
+  /// One message's delay [ns]; 0 on a near rank.
+  Nanos delay() {
+    if (mean_ <= 0.0) return 0;
     std::uniform_real_distribution<double> u(-jitter_, jitter_);
-    std::this_thread::sleep_for(std::chrono::duration<double>(mean_ + u(rng_)));
+    return static_cast<Nanos>((mean_ + u(rng_)) * static_cast<double>(kNanosPerSecond));
   }
 
  private:
@@ -163,16 +174,17 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
   };
   for (auto p : wave.take_unreachable()) record(unreachable_result(p));
 
-  // Per rank: the task it owes an answer for (point -1: none), when it was sent, and whether
-  // it has been given up on (the task reissued, the rank kept out of the pool until it
-  // answers).
+  // Per rank: the tasks it owes answers for, in the order sent (a rank answers in that
+  // order); the first one's clock runs from when it could start (sent, or the answer
+  // before it seen), and a rank whose first task is overdue has been given up on (its tasks
+  // reissued, the rank kept out of the pool until it answers).
   struct Owed {
     Task task;
-    std::int64_t point = -1;
-    clock::time_point sent;
+    clock::time_point since;
     bool overdue = false;
   };
-  std::vector<Owed> owed(static_cast<std::size_t>(session.size()));
+  const std::size_t in_flight = std::max<std::size_t>(options.in_flight, 1);
+  std::vector<std::deque<Owed>> owed(static_cast<std::size_t>(session.size()));
   std::deque<Task> reissue;
   std::vector<double> solve_times;
   auto timeout = [&] {
@@ -184,66 +196,38 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
     }
     return std::max(options.reissue_floor, options.reissue_factor * median);
   };
-  // Whether point p is already owed by a rank not overdue, or waiting to be reissued.
-  auto covered = [&](std::int64_t p) {
-    for (const auto& o : owed)
-      if (o.point == p && !o.overdue) return true;
+  // Whether point p is already owed by a rank not given up on, or waiting to be reissued.
+  auto covered = [&](std::size_t p) {
+    for (const auto& q : owed)
+      for (const auto& o : q)
+        if (o.task.point == p && !o.overdue) return true;
     for (const auto& t : reissue)
-      if (static_cast<std::int64_t>(t.point) == p) return true;
+      if (t.point == p) return true;
     return false;
   };
+  auto owing = [&] {
+    std::size_t n = 0;
+    for (const auto& q : owed) n += q.size();
+    return n;
+  };
+  // Results of far ranks waiting for their delivery time (the latency emulation).
+  struct Delayed {
+    Nanos deliver = 0;
+    int from = 0;
+    PointResult result;
+  };
+  std::vector<Delayed> delayed;
 
-  std::vector<int> idle;
-  for (int r = session.size() - 1; r >= 1; --r) idle.push_back(r);
   bool stop = false;
-  std::vector<char> reason;
-  while (!wave.finished()) {
-    // Hand every ready transition, reissued ones first, to an idle rank.
-    while (!stop && !idle.empty()) {
-      std::optional<Task> task;
-      while (!task && !reissue.empty()) {
-        const Task t = reissue.front();
-        reissue.pop_front();
-        if (wave.status()[t.point] == PointStatus::pending) task = t;  // not answered meanwhile
-      }
-      if (!task) task = wave.next();
-      if (!task) break;
-      const int rank = idle.back();
-      idle.pop_back();
-      const std::int64_t head[2] = {static_cast<std::int64_t>(task->point), task->source};
-      MPI_Send(head, 2, MPI_INT64_T, rank, kTaskTag, MPI_COMM_WORLD);
-      if (task->source >= 0)
-        MPI_Send(space.displacement.col(static_cast<Eigen::Index>(task->source)).data(), dofs, MPI_DOUBLE, rank,
-                 kTaskTag, MPI_COMM_WORLD);
-      owed[static_cast<std::size_t>(rank)] = {*task, static_cast<std::int64_t>(task->point), clock::now(), false};
-    }
-    if (wave.in_flight() == 0) break;  // stopped, or nothing can run any more
-    std::int64_t head[5];
-    const std::optional<int> from = probe_result(head);
-    if (!from) {
-      // Nothing arrived: give up on transitions owed for longer than the timeout.
-      const auto now = clock::now();
-      const double limit = timeout();
-      for (std::size_t rank = 1; rank < owed.size(); ++rank) {
-        Owed& o = owed[rank];
-        if (o.point < 0 || o.overdue || std::chrono::duration<double>(now - o.sent).count() <= limit) continue;
-        o.overdue = true;
-        if (wave.status()[o.task.point] != PointStatus::pending || covered(o.point)) continue;
-        reissue.push_back(o.task);
-        ++stats.reissued;
-        log::warn("rank {} has not answered point {} in {:.1f} s (timeout {:.1f} s): handed to another rank", rank,
-                  o.point, std::chrono::duration<double>(now - o.sent).count(), limit);
-      }
-      std::this_thread::sleep_for(std::chrono::microseconds(200));
-      continue;
-    }
-    PointResult r = receive_result(head, *from, dofs, reason);
-    owed[static_cast<std::size_t>(*from)].point = -1;
-    idle.push_back(*from);
+  // The rank seen answering `r`: its first owed task is done, the next one starts.
+  auto accept = [&](int from, PointResult&& r) {
+    auto& q = owed[static_cast<std::size_t>(from)];
+    if (!q.empty()) q.pop_front();
+    if (!q.empty()) q.front().since = clock::now();
     if (wave.status()[r.point] != PointStatus::pending) {
       // Another rank answered first: this answer is late and is not recorded again.
       ++stats.late;
-      continue;
+      return;
     }
     solve_times.push_back(r.seconds);
     wave.complete(r.point, r.status);
@@ -259,29 +243,120 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
       stats.stopped = true;
     }
     if (options.on_progress) options.on_progress(wave.resolved(), space.status.size());
+  };
+  // An answer after the build: the rank owes one less, nothing is recorded.
+  auto drop = [&](int from) {
+    auto& q = owed[static_cast<std::size_t>(from)];
+    if (!q.empty()) q.pop_front();
+    ++stats.late;
+  };
+  // The next result: a delayed one whose time has come, else one from the wire (held back
+  // if it carries a later delivery time). False when none is ready.
+  std::vector<char> reason;
+  auto next_result = [&](bool count_as_late) {
+    const Nanos now = now_ns();
+    for (std::size_t k = 0; k < delayed.size(); ++k)
+      if (delayed[k].deliver <= now) {
+        Delayed d = std::move(delayed[k]);
+        delayed.erase(delayed.begin() + static_cast<std::ptrdiff_t>(k));
+        if (count_as_late) drop(d.from);
+        else accept(d.from, std::move(d.result));
+        return true;
+      }
+    std::int64_t head[kResultHead];
+    const std::optional<int> from = probe_result(head);
+    if (!from) return false;
+    PointResult r = receive_result(head, *from, dofs, reason);
+    if (head[5] > now) {
+      delayed.push_back({head[5], *from, std::move(r)});
+      return true;
+    }
+    if (count_as_late) drop(*from);
+    else accept(*from, std::move(r));
+    return true;
+  };
+
+  // Tasks on their way: each send's buffers and requests until it completes.
+  struct Sending {
+    int rank = 0;
+    std::array<std::int64_t, kTaskHead> head{};
+    std::array<MPI_Request, 2> requests{MPI_REQUEST_NULL, MPI_REQUEST_NULL};
+  };
+  std::list<Sending> sending;
+  auto reap = [&] {
+    for (auto it = sending.begin(); it != sending.end();) {
+      int done = 0;
+      MPI_Testall(2, it->requests.data(), &done, MPI_STATUSES_IGNORE);
+      it = done ? sending.erase(it) : std::next(it);
+    }
+  };
+
+  while (!wave.finished()) {
+    reap();
+    // Hand the ready transitions, reissued ones first, to the ranks with the fewest owed,
+    // up to `in_flight` each; a rank given up on takes none.
+    for (std::size_t load = 0; load < in_flight && !stop; ++load)
+      for (int rank = 1; rank < session.size() && !stop; ++rank) {
+        auto& q = owed[static_cast<std::size_t>(rank)];
+        if (q.size() != load || (!q.empty() && q.front().overdue)) continue;
+        std::optional<Task> task;
+        while (!task && !reissue.empty()) {
+          const Task t = reissue.front();
+          reissue.pop_front();
+          if (wave.status()[t.point] == PointStatus::pending) task = t;  // not answered meanwhile
+        }
+        if (!task) task = wave.next();
+        if (!task) break;
+        // Sent without waiting: a rank still solving the task before this one takes it only
+        // when it asks, and meanwhile its answer must be received (a blocking send of the
+        // source's displacements, too large to be buffered, would wait for the rank while
+        // the rank waits for us to take its answer).
+        Sending& out = sending.emplace_back();
+        out.rank = rank;
+        out.head = {static_cast<std::int64_t>(task->point), task->source, now_ns()};
+        MPI_Isend(out.head.data(), kTaskHead, MPI_INT64_T, rank, kTaskTag, MPI_COMM_WORLD, &out.requests[0]);
+        if (task->source >= 0)  // a solved point's column: it is not written again
+          MPI_Isend(space.displacement.col(static_cast<Eigen::Index>(task->source)).data(), dofs, MPI_DOUBLE, rank,
+                    kTaskTag, MPI_COMM_WORLD, &out.requests[1]);
+        q.push_back({*task, clock::now(), false});
+      }
+    if (wave.in_flight() == 0) break;  // stopped, or nothing can run any more
+    if (next_result(false)) continue;
+    // Nothing arrived: give up on ranks whose first task is owed for longer than the timeout,
+    // and hand all they owe to others.
+    const auto now = clock::now();
+    const double limit = timeout();
+    for (std::size_t rank = 1; rank < owed.size(); ++rank) {
+      auto& q = owed[rank];
+      if (q.empty() || q.front().overdue || std::chrono::duration<double>(now - q.front().since).count() <= limit)
+        continue;
+      log::warn("rank {} has not answered point {} in {:.1f} s (timeout {:.1f} s): {} handed to another rank", rank,
+                q.front().task.point, std::chrono::duration<double>(now - q.front().since).count(), limit,
+                q.size() == 1 ? "it is" : "its tasks are");
+      for (auto& o : q) {
+        o.overdue = true;
+        if (wave.status()[o.task.point] != PointStatus::pending || covered(o.task.point)) continue;
+        reissue.push_back(o.task);
+        ++stats.reissued;
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
-  // Ranks that still owe an answer (overdue ones) get a last chance to send it, so that
-  // every rank is back in its receive and takes the stop; a rank silent beyond that is hung.
+  // Ranks that still owe answers (overdue ones, or tasks sent before a stop) get a last
+  // chance to send them, so that every rank is back in its receive and takes the stop; a rank
+  // silent beyond that is hung.
   const auto drain_start = clock::now();
   const double drain = std::max(timeout(), 10.0);
-  for (;;) {
-    bool owing = false;
-    for (std::size_t rank = 1; rank < owed.size(); ++rank) owing = owing || owed[rank].point >= 0;
-    if (!owing || std::chrono::duration<double>(clock::now() - drain_start).count() > drain) break;
-    std::int64_t head[5];
-    if (const std::optional<int> from = probe_result(head)) {
-      receive_result(head, *from, dofs, reason);
-      owed[static_cast<std::size_t>(*from)].point = -1;
-      ++stats.late;
-    } else {
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-  }
+  while (owing() > 0 && std::chrono::duration<double>(clock::now() - drain_start).count() <= drain)
+    if (!next_result(true)) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   for (int rank = 1; rank < session.size(); ++rank) {
-    if (owed[static_cast<std::size_t>(rank)].point >= 0) {
+    if (!owed[static_cast<std::size_t>(rank)].empty()) {
       ++stats.unresponsive;
       continue;  // a hung rank takes no message
     }
+    // Every task sent to it was taken (it answered them all) before the stop.
+    for (auto& out : sending)
+      if (out.rank == rank) MPI_Waitall(2, out.requests.data(), MPI_STATUSES_IGNORE);
     MPI_Send(nullptr, 0, MPI_INT64_T, rank, kStopTag, MPI_COMM_WORLD);
     double cpu = 0.0;
     MPI_Recv(&cpu, 1, MPI_DOUBLE, rank, kCpuTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
@@ -298,25 +373,26 @@ void serve(ConfigurationSolver& solver, const Space& space, const Session& sessi
   long tasks = 0;
   VecX source(dofs);
   for (;;) {
-    std::int64_t head[2];
+    std::int64_t head[kTaskHead];
     MPI_Status st;
-    MPI_Recv(head, 2, MPI_INT64_T, 0, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
+    MPI_Recv(head, kTaskHead, MPI_INT64_T, 0, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
     if (st.MPI_TAG == kStopTag) {
       const double cpu = process_cpu_seconds();
       MPI_Send(&cpu, 1, MPI_DOUBLE, 0, kCpuTag, MPI_COMM_WORLD);
       return;
     }
     if (head[1] >= 0) MPI_Recv(source.data(), dofs, MPI_DOUBLE, 0, kTaskTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    latency.hold();
+    if (const Nanos d = latency.delay(); d > 0) sleep_until(head[2] + d);  // the task's arrival
     if (++tasks == stall.task && session.rank() == stall.rank)
       std::this_thread::sleep_for(std::chrono::duration<double>(stall.seconds));
     const PointResult r = run_task(solver, space, static_cast<std::size_t>(head[0]), head[1], source);
-    const std::int64_t out[5] = {static_cast<std::int64_t>(r.point), static_cast<std::int64_t>(r.status), r.source,
-                                 r.iterations, static_cast<std::int64_t>(r.reason.size())};
-    latency.hold();
+    const Nanos travel = latency.delay();
+    const std::int64_t out[kResultHead] = {static_cast<std::int64_t>(r.point), static_cast<std::int64_t>(r.status),
+                                           r.source, r.iterations, static_cast<std::int64_t>(r.reason.size()),
+                                           travel > 0 ? now_ns() + travel : 0};
     double values[14] = {r.residual, r.seconds, r.force.x(), r.force.y(), r.force.z()};
     Eigen::Map<Mat3>(values + 5) = r.force_gradient;
-    MPI_Send(out, 5, MPI_INT64_T, 0, kResultTag, MPI_COMM_WORLD);
+    MPI_Send(out, kResultHead, MPI_INT64_T, 0, kResultTag, MPI_COMM_WORLD);
     MPI_Send(values, 14, MPI_DOUBLE, 0, kResultTag, MPI_COMM_WORLD);
     if (!r.reason.empty())
       MPI_Send(r.reason.data(), static_cast<int>(r.reason.size()), MPI_CHAR, 0, kResultTag, MPI_COMM_WORLD);

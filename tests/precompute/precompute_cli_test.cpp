@@ -151,16 +151,37 @@ TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameSpaceAsOneProcess) {
   // ranks only. Our own code's leaks are checked by the single-process runs of this command.
   const std::string launcher = std::string("ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '") + TACTUS_MPIEXEC +
                                "' -np 3 --oversubscribe" + (::geteuid() == 0 ? " --allow-run-as-root" : "");
-  ASSERT_EQ(precompute("mpi.h5", "", launcher), 0) << log();
-  EXPECT_NE(log().find("MPI"), std::string::npos) << log();
-  // CPU time is the ranks' own (getrusage), summed, and efficiency comes from it, not from
-  // the solves' wall time, which counts the waits of three ranks on fewer cores.
-  const std::string text = log();
-  const auto cpu = text.find("CPU-seconds per point (getrusage, summed over every rank)");
-  ASSERT_NE(cpu, std::string::npos) << text;
-  const auto per = text.rfind(", ", cpu);
-  ASSERT_NE(per, std::string::npos);
-  EXPECT_GT(std::stod(text.substr(per + 2)), 0.0) << text;
+  // One transition owed per rank at a time, and two (the next one queued while it solves).
+  for (const std::string in_flight : {"1", "2"}) {
+    SCOPED_TRACE("--in-flight " + in_flight);
+    const std::string file = "mpi" + in_flight + ".h5";
+    ASSERT_EQ(precompute(file, "--in-flight " + in_flight, launcher), 0) << log();
+    EXPECT_NE(log().find("MPI"), std::string::npos) << log();
+    // CPU time is the ranks' own (getrusage), summed, and efficiency comes from it, not from
+    // the solves' wall time, which counts the waits of three ranks on fewer cores.
+    const std::string text = log();
+    const auto cpu = text.find("CPU-seconds per point (getrusage, summed over every rank)");
+    ASSERT_NE(cpu, std::string::npos) << text;
+    const auto per = text.rfind(", ", cpu);
+    ASSERT_NE(per, std::string::npos);
+    EXPECT_GT(std::stod(text.substr(per + 2)), 0.0) << text;
+    expect_same(read_space(dir_ / "single.h5"), read_space(dir_ / file));
+  }
+}
+
+TEST_F(PrecomputeCli, TwoTasksInFlightPerRankDoNotWaitOnEachOther) {
+  // A finer block (405 nodes): its displacements (9.7 kB a task) are too large for MPI to
+  // buffer, so a task sent to a rank still solving the one before is taken only when the rank
+  // asks for it. A scheduler that waited there would never take the rank's answer while the
+  // rank waited for it to be taken.
+  std::string scene = kScene;
+  scene.replace(scene.find("cells = [4, 4, 2]"), 17, "cells = [8, 8, 4]");
+  std::ofstream(dir_ / "block.toml") << scene;
+  ASSERT_EQ(precompute("single.h5", "--threads 1"), 0) << log();
+  const std::string launcher = std::string("timeout 120 env ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '") +
+                               TACTUS_MPIEXEC + "' -np 3 --oversubscribe" +
+                               (::geteuid() == 0 ? " --allow-run-as-root" : "");
+  ASSERT_EQ(precompute("mpi.h5", "--in-flight 2", launcher), 0) << log();
   expect_same(read_space(dir_ / "single.h5"), read_space(dir_ / "mpi.h5"));
 }
 
@@ -173,7 +194,11 @@ TEST_F(PrecomputeCli, AStalledRanksTaskIsReissuedAndItsLateAnswerIgnored) {
                                "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '" + TACTUS_MPIEXEC +
                                "' -np 3 --oversubscribe" +
                                (::geteuid() == 0 ? " --allow-run-as-root" : "");
-  ASSERT_EQ(precompute("mpi.h5", "--reissue-floor 2 --reissue-factor 0", launcher), 0) << log();
+  // With two transitions owed per rank, the task queued behind the stalled one goes too.
+  for (const std::string in_flight : {"1", "2"}) {
+  SCOPED_TRACE("--in-flight " + in_flight);
+  const std::string file = "mpi" + in_flight + ".h5";
+  ASSERT_EQ(precompute(file, "--reissue-floor 2 --reissue-factor 0 --in-flight " + in_flight, launcher), 0) << log();
   // At least the stalled task was reissued and its answer ignored (a load spike on the
   // machine may add another), and no rank was left hung.
   // The summary line: "reissued R transitions after a timeout; ignored L late answers; U
@@ -192,7 +217,8 @@ TEST_F(PrecomputeCli, AStalledRanksTaskIsReissuedAndItsLateAnswerIgnored) {
   EXPECT_GE(ignored, 1);
   EXPECT_EQ(unresponsive, 0);
   // Every point once in the journal and the file: the same space as one process builds.
-  expect_same(read_space(dir_ / "single.h5"), read_space(dir_ / "mpi.h5"));
+  expect_same(read_space(dir_ / "single.h5"), read_space(dir_ / file));
+  }
 }
 #endif
 
