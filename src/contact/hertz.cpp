@@ -39,10 +39,12 @@ void validate(const ElasticMaterial& material, const char* who) {
     throw InputError(fmt::format("{}: Poisson's ratio must be in (-1, 0.5], got {}", who, material.poisson_ratio));
 }
 
+double contact_compliance(const ElasticMaterial& material) noexcept {
+  return (1.0 - material.poisson_ratio * material.poisson_ratio) / material.youngs_modulus;
+}
+
 double effective_modulus(const ElasticMaterial& a, const ElasticMaterial& b) noexcept {
-  const double compliance = (1.0 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
-                            (1.0 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus;
-  return 1.0 / compliance;
+  return 1.0 / (contact_compliance(a) + contact_compliance(b));
 }
 
 double layer_stiffening(double nu, double chi, bool bonded) noexcept {
@@ -248,6 +250,14 @@ double FingerpadLaw::force(double depth) const noexcept {
   const double b = parameters_.b, m = parameters_.m, d_max = parameters_.max_exponential_depth;
   if (depth <= d_max) return b / m * std::expm1(m * depth);  // expm1: exact near d = 0
   return b / m * std::expm1(m * d_max) + b * std::exp(m * d_max) * (depth - d_max);
+}
+
+double FingerpadLaw::depth(double force) const noexcept {
+  if (!(force > 0.0) || !std::isfinite(force)) return 0.0;
+  const double b = parameters_.b, m = parameters_.m, d_max = parameters_.max_exponential_depth;
+  const double f_max = b / m * std::expm1(m * d_max);
+  if (force <= f_max) return std::log1p(m * force / b) / m;
+  return d_max + (force - f_max) / (b * std::exp(m * d_max));
 }
 
 double FingerpadLaw::stiffness(double depth) const noexcept {

@@ -24,6 +24,9 @@ struct ElasticMaterial {
 /// Throws InputError naming `who` unless E is positive and finite and ν in (−1, 0.5].
 void validate(const ElasticMaterial& material, const char* who);
 
+/// (1 − ν²)/E [1/Pa]: one body's share of a Hertz contact's compliance.
+[[nodiscard]] double contact_compliance(const ElasticMaterial& material) noexcept;
+
 /// E* = 1 / ((1 − ν_a²)/E_a + (1 − ν_b²)/E_b), Pa (seed 000 eq. 2: 1/(l1 + l2)).
 [[nodiscard]] double effective_modulus(const ElasticMaterial& a, const ElasticMaterial& b) noexcept;
 
@@ -166,6 +169,9 @@ class FingerpadLaw {
   [[nodiscard]] double force(double depth) const noexcept;
   /// dF_e/dd = b·e^{m·d}, N/m; zero for d < 0.
   [[nodiscard]] double stiffness(double depth) const noexcept;
+  /// The depth d with F_e(d) = force (the inverse of force()), m; zero for force ≤ 0 or
+  /// non-finite.
+  [[nodiscard]] double depth(double force) const noexcept;
 
  private:
   FingerpadParameters parameters_;

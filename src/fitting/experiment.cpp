@@ -51,12 +51,17 @@ void read_indenter(Reader r, Experiment& e) {
   for (const char* key : {"b", "m"})
     if (!pad && r.has(key)) r.fail(key, fmt::format("'{}' is a fingerpad's (shape = \"fingerpad\")", key));
   if (finger) {
-    i.finger_young_modulus = r.number("young_modulus", i.finger_young_modulus, Range::positive());
-    i.finger_poisson_ratio = r.number("poisson_ratio", i.finger_poisson_ratio, Range::open_closed(-1.0, 0.5));
+    i.finger.youngs_modulus = r.number("young_modulus", i.finger.youngs_modulus, Range::positive());
+    i.finger.poisson_ratio = r.number("poisson_ratio", i.finger.poisson_ratio, Range::open_closed(-1.0, 0.5));
   }
   if (pad) {
-    i.pad_b = r.number("b", i.pad_b, Range::positive());
-    i.pad_m = r.number("m", i.pad_m, Range::positive());
+    i.pad.b = r.number("b", i.pad.b, Range::positive());
+    i.pad.m = r.number("m", i.pad.m, Range::positive());
+    try {
+      (void)contact::FingerpadLaw(i.pad);  // its own checks (e^{m·d} finite)
+    } catch (const InputError& err) {
+      r.fail("m", err.what());
+    }
   }
   r.finish();
 }

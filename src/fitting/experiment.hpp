@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "contact/hertz.hpp"
 #include "core/math.hpp"
+#include "scene/model.hpp"
 #include "physics/fem/material.hpp"
 
 namespace tactus::fitting {
@@ -27,12 +29,10 @@ enum class CurveKind { depth_force, time_force, time_depth };
 struct Indenter {
   IndenterShape shape = IndenterShape::sphere;
   double radius = 0.0;  ///< sphere (or fingertip) radius R, or flat punch radius a [m]
-  /// finger: the fingertip's E [Pa] and ν (the scenes' `sphere` tool's defaults).
-  double finger_young_modulus = 1e6;
-  double finger_poisson_ratio = 0.48;
-  /// fingerpad: F = (b/m)(e^{m·d} − 1) for the pad's compression d (the scenes' defaults).
-  double pad_b = 190.0;   ///< [N/m]
-  double pad_m = 2100.0;  ///< [1/m]
+  /// finger: the fingertip's E and ν (the scenes' `sphere` tool's defaults).
+  contact::ElasticMaterial finger{scene::FingerProperties{}.young_modulus, scene::FingerProperties{}.poisson_ratio};
+  /// fingerpad: the engine's law of the pad's compression (the scenes' `fingerpad` defaults).
+  contact::FingerpadParameters pad{};
 
   /// Everything but the punch presses the specimen as a rigid sphere of `radius`.
   [[nodiscard]] bool round() const { return shape != IndenterShape::flat_punch; }

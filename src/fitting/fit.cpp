@@ -208,9 +208,10 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
   // measured force); a finger's compliance is taken off the fitted one after (Hertz's two
   // bodies add compliances).
   const Indenter& finger = e.indenter;
+  const contact::FingerpadLaw pad(finger.pad);
   auto tissue_depth = [&](std::size_t i) {
     if (finger.shape != IndenterShape::fingerpad) return e.x[i];
-    return std::max(e.x[i] - std::log1p(finger.pad_m * e.y[i] / finger.pad_b) / finger.pad_m, 1e-3 * e.x[i]);
+    return std::max(e.x[i] - pad.depth(e.y[i]), 1e-3 * e.x[i]);
   };
   double e_star = 0.0;
   if (e.kind == CurveKind::depth_force) {
@@ -221,7 +222,7 @@ std::vector<double> initial_guess(const Experiment& e, std::string& method) {
     }
     e_star = num / den;
     if (finger.shape == IndenterShape::finger) {
-      const double c_finger = (1.0 - finger.finger_poisson_ratio * finger.finger_poisson_ratio) / finger.finger_young_modulus;
+      const double c_finger = contact::contact_compliance(finger.finger);
       // A curve stiffer than the finger itself leaves nothing for the tissue: keep the
       // rigid-sphere guess and let the optimizer walk.
       if (1.0 / e_star > c_finger) e_star = 1.0 / (1.0 / e_star - c_finger);

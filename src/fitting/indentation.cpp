@@ -323,20 +323,19 @@ std::vector<double> IndentationModel::finger_forces(const physics::FemMaterial& 
   // approach the force is the rigid sphere's times c_tissue / (c_tissue + c_finger). Exact
   // on a half-space with the tissue's small-strain E and ν; on a layer or at large strain,
   // the finger's share is taken the same way.
-  const Indenter& i = experiment_->indenter;
-  const double tissue = (1.0 - material.poisson_ratio * material.poisson_ratio) / material.young_modulus;
-  const double finger = (1.0 - i.finger_poisson_ratio * i.finger_poisson_ratio) / i.finger_young_modulus;
+  const double tissue = contact::contact_compliance({material.young_modulus, material.poisson_ratio});
+  const double finger = contact::contact_compliance(experiment_->indenter.finger);
   std::vector<double> out = forces(material, experiment_->x);
   for (double& f : out) f *= tissue / (tissue + finger);
   return out;
 }
 
 std::vector<double> IndentationModel::fingerpad_forces(const physics::FemMaterial& material) const {
-  // The pad in series with the tissue: the finger's depth D = d + ln(1 + m·F/b)/m with
-  // F = F_tissue(d). F_tissue is pressed at the curve's depths, between them and below the
+  // The pad in series with the tissue: the finger's depth D = d + the pad's compression at
+  // F = F_tissue(d) (contact::FingerpadLaw::depth). F_tissue is pressed at the curve's depths, between them and below the
   // first (d < D always), and interpolated as a power law between those; D(d) increases,
   // so each depth's d is found by bisection.
-  const Indenter& pad = experiment_->indenter;
+  const contact::FingerpadLaw pad(experiment_->indenter.pad);
   const std::vector<double>& depths = experiment_->x;
   std::vector<double> pressed{depths.front() / 8.0, depths.front() / 4.0, depths.front() / 2.0};
   for (std::size_t k = 0; k < depths.size(); ++k) {
@@ -346,7 +345,7 @@ std::vector<double> IndentationModel::fingerpad_forces(const physics::FemMateria
   const std::vector<double> tissue = forces(material, pressed);
   if (!(tissue.front() > 0.0)) throw std::runtime_error("the specimen bears no force at an eighth of the first depth");
   auto force_at = [&](double d) { return power_law_between(pressed, tissue, d); };
-  auto finger_depth = [&](double d) { return d + std::log1p(pad.pad_m * force_at(d) / pad.pad_b) / pad.pad_m; };
+  auto finger_depth = [&](double d) { return d + pad.depth(force_at(d)); };
   std::vector<double> out;
   for (const double depth : depths) {
     double lo = 0.0, hi = depth;

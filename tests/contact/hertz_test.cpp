@@ -93,6 +93,16 @@ TEST(Hertz, LayerStiffeningMatchesDimitriadisPrintedSeries) {
   EXPECT_GT(layer_stiffening(0.3, 0.4, false), layer_stiffening(0.3, 0.2, false));
 }
 
+TEST(Fingerpad, DepthIsTheInverseOfTheForceOnBothBranches) {
+  // The exponential below max_exponential_depth (3 mm), its tangent beyond.
+  const FingerpadLaw law;
+  for (const double d : {1e-5, 1e-4, 1e-3, 2.9e-3, 3e-3, 4e-3, 1e-2})
+    EXPECT_NEAR(law.depth(law.force(d)), d, 1e-12 * d) << d;
+  EXPECT_EQ(law.depth(0.0), 0.0);
+  EXPECT_EQ(law.depth(-1.0), 0.0);
+  EXPECT_EQ(law.depth(std::numeric_limits<double>::quiet_NaN()), 0.0);
+}
+
 TEST(Hertz, PunchOnALayerMeetsItsLimits) {
   // A half-space: Sneddon's law, κ = 1.
   EXPECT_DOUBLE_EQ(punch_layer_factor(0.3, 0.0), 1.0);

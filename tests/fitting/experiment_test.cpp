@@ -82,12 +82,12 @@ TEST_F(ExperimentFile, AFingerTakesItsElasticityAndAFingerpadItsLaw) {
                                   "exp.toml", dir_);
   EXPECT_EQ(e.indenter.shape, IndenterShape::finger);
   EXPECT_TRUE(e.indenter.round());
-  EXPECT_DOUBLE_EQ(e.indenter.finger_young_modulus, 2e5);
-  EXPECT_DOUBLE_EQ(e.indenter.finger_poisson_ratio, 0.48);  // the scenes' sphere tool's
+  EXPECT_DOUBLE_EQ(e.indenter.finger.youngs_modulus, 2e5);
+  EXPECT_DOUBLE_EQ(e.indenter.finger.poisson_ratio, 0.48);  // the scenes' sphere tool's
   e = parse_experiment(with("[indenter]\nshape = \"fingerpad\"\nradius = 0.008\nm = 1500\n"), "exp.toml", dir_);
   EXPECT_EQ(e.indenter.shape, IndenterShape::fingerpad);
-  EXPECT_DOUBLE_EQ(e.indenter.pad_b, 190.0);  // the scenes' fingerpad algorithm's
-  EXPECT_DOUBLE_EQ(e.indenter.pad_m, 1500.0);
+  EXPECT_DOUBLE_EQ(e.indenter.pad.b, 190.0);  // the scenes' fingerpad algorithm's
+  EXPECT_DOUBLE_EQ(e.indenter.pad.m, 1500.0);
 
   std::string error = error_of(with("[indenter]\nshape = \"sphere\"\nradius = 0.008\nyoung_modulus = 2e5\n"));
   EXPECT_NE(error.find("indenter.young_modulus"), std::string::npos) << error;

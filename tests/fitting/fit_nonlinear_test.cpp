@@ -26,7 +26,7 @@ TEST(FitRecovers, CorotationalYoungModulusUnderASphere) {
 TEST(FitRecovers, TissueYoungModulusUnderASoftFinger) {
   // A finger as soft as the tissue takes half the approach: the fit must see through it.
   Experiment e = block(IndenterShape::finger, 0.008, FemLaw::corotational, 0.012, {8, 8, 3});
-  e.indenter.finger_young_modulus = 1e4;
+  e.indenter.finger.youngs_modulus = 1e4;
   add(e, "young_modulus", std::nullopt, true);
   add(e, "poisson_ratio", 0.4, false);
   e.x = steps(2e-3, 12);

@@ -280,10 +280,9 @@ TEST(ForwardModel, AFingerSharesTheApproachAsHertzsTwoBodies) {
   const physics::FemMaterial tissue = make_material(e, {8e3, 0.45});
   const std::vector<double> rigid = IndentationModel(e).curve(tissue);
   e.indenter.shape = IndenterShape::finger;
-  e.indenter.finger_young_modulus = 2e4;
-  e.indenter.finger_poisson_ratio = 0.48;
+  e.indenter.finger = {2e4, 0.48};
   const std::vector<double> soft = IndentationModel(e).curve(tissue);
-  e.indenter.finger_young_modulus = 1e12;
+  e.indenter.finger.youngs_modulus = 1e12;
   const std::vector<double> hard = IndentationModel(e).curve(tissue);
   const double c_tissue = (1 - 0.45 * 0.45) / 8e3, c_finger = (1 - 0.48 * 0.48) / 2e4;
   for (std::size_t i = 0; i < rigid.size(); ++i) {
@@ -308,7 +307,7 @@ TEST(ForwardModel, AFingerpadInSeriesTakesItsCompressionAtTheForce) {
   e.indenter.shape = IndenterShape::fingerpad;
   std::vector<double> finger_depths;
   for (std::size_t i = 0; i < alone.size(); ++i)
-    finger_depths.push_back(e.x[i] + std::log1p(e.indenter.pad_m * alone[i] / e.indenter.pad_b) / e.indenter.pad_m);
+    finger_depths.push_back(e.x[i] + std::log1p(e.indenter.pad.m * alone[i] / e.indenter.pad.b) / e.indenter.pad.m);
   e.x = finger_depths;
   const std::vector<double> padded = IndentationModel(e).curve(tissue);
   for (std::size_t i = 0; i < alone.size(); ++i) {
