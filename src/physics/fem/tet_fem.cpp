@@ -24,7 +24,15 @@ struct TetFem::Cache final : Scratch {
   std::vector<Eigen::Matrix<double, 3, 4>> rotated_grad;
   VecX rotation_x;
   bool rotations_valid = false;
-  std::vector<Mat9> tangent;  ///< hyperelastic: dP/dF per element (projected if asked)
+  /// Hyperelastic: dP/dF per element (projected if asked). Mutable: StVK's exact tangent
+  /// is kept as `stvk_fs` and expanded here only where a matrix is assembled.
+  mutable std::vector<Mat9> tangent;
+  /// StVK's exact tangent without its 9×9 blocks: F and S = λ tr(E) I + 2μ E per element, so
+  /// that dP = dF·S + F·dS (about 100 flops a product, where the blocks cost 81 per product
+  /// and 400 per element to build). Newton's directions mostly need products alone (the
+  /// factor in hand preconditions them), so the blocks are built only for a factorization.
+  std::vector<std::array<Mat3, 2>> stvk_fs;
+  mutable bool tangent_deferred = false;  ///< `tangent` is stale; `stvk_fs` holds the tangent
   /// Each element's contribution to its four nodes (12 values per element), written by the
   /// element pass and summed per node by gather(); scratch space of const products.
   mutable std::vector<Vec3> columns;
@@ -485,10 +493,25 @@ bool TetFem::linearize_exact(const VecX& x, const VecX& v, const VecX& q, Scratc
 
 void TetFem::linearize_tangent(const VecX& x, const VecX&, const VecX& q, Scratch& s, bool project) const {
   Cache& c = cache(s);
+  c.tangent_deferred = false;
   if (law().law == FemLaw::linear) return;
   if (law().law == FemLaw::corotational || material().rayleigh_stiffness > 0.0) ensure_rotations(x, c);
   if (law().law == FemLaw::corotational) return;
   const bool viscous = q_stride_ > 0 && static_cast<std::size_t>(q.size()) == internal_size();
+  if (law().law == FemLaw::stvk && !viscous && !project) {
+    c.stvk_fs.resize(elements_.size());
+    parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e) {
+        const LawParams& law = law_of(elements_[e]);
+        const Mat3 F = gradient_of(x, elements_[e]);
+        Mat3 S = law.mu * (F.transpose() * F - Mat3::Identity());
+        S.diagonal().array() += 0.5 * law.lambda * (F.squaredNorm() - 3.0);
+        c.stvk_fs[e] = {F, S};
+      }
+    }, kElementGrain);
+    c.tangent_deferred = true;
+    return;
+  }
   c.tangent.resize(elements_.size());
   parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
     Mat3 P;
@@ -534,7 +557,16 @@ void TetFem::tangent_columns(const VecX& dx, double c_tangent, double b_rest, st
   for (std::size_t e = begin; e < end; ++e) {
     const TetElement& el = elements_[e];
     Mat3 S = Mat3::Zero();
-    if (c_tangent != 0.0) {
+    if (c_tangent != 0.0 && c.tangent_deferred) {
+      // StVK: dP = dF·S + F·dS, dS = λ tr(dE) I + 2μ dE, dE = sym(Fᵀ dF).
+      const auto& [F, S_e] = c.stvk_fs[e];
+      const LawParams& law = law_of(el);
+      const Mat3 dF = gradient_of(dx, el);
+      const Mat3 FtdF = F.transpose().lazyProduct(dF);
+      Mat3 dS = law.mu * (FtdF + FtdF.transpose());
+      dS.diagonal().array() += law.lambda * FtdF.trace();
+      S = (c_tangent * el.volume) * (dF.lazyProduct(S_e) + F.lazyProduct(dS));
+    } else if (c_tangent != 0.0) {
       // Unrolled: a 9×9 product is too small for Eigen's GEMV kernel.
       const Vec9 dP = c.tangent[e].lazyProduct(vec9(gradient_of(dx, el)));
       S = (c_tangent * el.volume) * Eigen::Map<const Mat3>(dP.data());
@@ -630,8 +662,20 @@ void TetFem::add_damping_product(const VecX& dv, VecX& out, const Scratch& s) co
   add_system_product(0.0, 1.0, 0.0, dv, out, s);
 }
 
+void TetFem::expand_deferred_tangent(const Cache& c) const {
+  if (!c.tangent_deferred) return;
+  c.tangent.resize(elements_.size());
+  parallel_for(0, elements_.size(), [&](std::size_t begin, std::size_t end) {
+    Mat3 P;
+    for (std::size_t e = begin; e < end; ++e)
+      hyperelastic_stress_tangent(law_of(elements_[e]), c.stvk_fs[e][0], P, &c.tangent[e]);
+  }, kElementGrain);
+  c.tangent_deferred = false;
+}
+
 void TetFem::add_diagonal(double a, double b, VecX& out, const Scratch& s) const {
   const Cache& c = cache(s);
+  expand_deferred_tangent(c);
   const bool hyper = law().law != FemLaw::linear && law().law != FemLaw::corotational;
   const double beta = material().rayleigh_stiffness;
   // Rotated rest stiffness: diag(R K0_aa R^T)_i = V (mu |g_a|^2 + (lambda + mu) (R g_a)_i^2).
@@ -822,12 +866,14 @@ std::size_t TetFem::triplet_count(double b) const {
 
 void TetFem::add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& s) const {
   out.reserve(out.size() + triplet_count(b));
+  expand_deferred_tangent(cache(s));
   emit_triplets(a, b, cache(s), [&](Eigen::Index row, Eigen::Index col, double v) { out.emplace_back(row, col, v); });
 }
 
 bool TetFem::add_matrix_values(double a, double b, double mass, std::span<const std::int32_t> slots, double* values,
                                const Scratch& s) const {
   if (slots.size() != triplet_count(b) + (mass != 0.0 ? mass_triplet_count() : 0)) return false;
+  expand_deferred_tangent(cache(s));
   std::size_t k = 0;
   auto add = [&](Eigen::Index, Eigen::Index, double v) {
     if (slots[k] >= 0) values[slots[k]] += v;

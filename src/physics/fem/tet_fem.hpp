@@ -114,6 +114,9 @@ class TetFem final : public ForceModel {
   /// Adds every element's nodal columns (Cache::columns) to out, node by node in element
   /// order, plus mass_scale·M·in.
   void gather(const Cache& c, double mass_scale, const VecX& in, VecX& out) const;
+  /// Builds the 9×9 tangents a deferred StVK linearization left as F and S (Cache::stvk_fs);
+  /// the matrices' assembly reads them. One caller at a time per scratch, as every use of it.
+  void expand_deferred_tangent(const Cache& c) const;
   void element_matrix(std::size_t e, double a, double b, const Cache& c, Eigen::Matrix<double, 12, 12>& k) const;
   /// emit(row, col, value) for each triplet of add_triplets(a, b), in its order.
   template <class Emit>
