@@ -135,6 +135,10 @@ std::string format_report(const SessionReport& r) {
                        d.name, d.kind, d.max_force_sent, d.contact_frames, s.clamped, s.non_finite, s.ramp_in, s.ramp_out,
                        s.watchdog_trips, s.device_stalls, s.emergency_stops, d.dropped_frames, d.passivity_frames,
                        1e3 * d.passivity_energy);
+    if (d.has_patch)
+      out += fmt::format("    local patches: the tool strayed at most {:.2f} of the radius from a patch's centre, {} frames "
+                         "beyond the radius\n",
+                         d.patch_reach.max_fraction, d.patch_reach.frames_outside);
   }
   if (!r.events.empty()) {
     out += "events:";
@@ -177,10 +181,14 @@ std::string report_json(const SessionReport& r) {
     out += fmt::format("    {{\"name\": {}, \"kind\": {}, \"max_force_sent_n\": {}, \"contact_frames\": {}, "
                        "\"clamped\": {}, \"non_finite\": {}, \"ramp_in\": {}, \"ramp_out\": {}, \"watchdog_trips\": {}, "
                        "\"device_stalls\": {}, \"emergency_stops\": {}, \"dropped_frames\": {}, \"passivity_frames\": {}, "
-                       "\"passivity_energy_j\": {}}}{}\n",
+                       "\"passivity_energy_j\": {}{}}}{}\n",
                        text::json_quoted(d.name), text::json_quoted(d.kind), d.max_force_sent, d.contact_frames, s.clamped, s.non_finite,
                        s.ramp_in, s.ramp_out, s.watchdog_trips, s.device_stalls, s.emergency_stops, d.dropped_frames,
-                       d.passivity_frames, d.passivity_energy, i + 1 < r.devices.size() ? "," : "");
+                       d.passivity_frames, d.passivity_energy,
+                       d.has_patch ? fmt::format(", \"patch_reach_max\": {}, \"frames_outside_patch\": {}",
+                                                 d.patch_reach.max_fraction, d.patch_reach.frames_outside)
+                                   : "",
+                       i + 1 < r.devices.size() ? "," : "");
   }
   out += "  ],\n  \"events\": {";
   bool first = true;

@@ -34,6 +34,12 @@ struct PatchRequest {
   std::vector<std::size_t> bodies;  ///< bodies the device's algorithm touches
 };
 
+/// How far a tool strayed from the centre of the patches it was rendered on.
+struct PatchReach {
+  double max_fraction = 0.0;     ///< largest |tool − centre| / radius over the frames with a patch
+  std::uint64_t frames_outside = 0;  ///< frames with the tool beyond its patch's radius
+};
+
 /// Deformed surfaces of every body, published after each simulation step.
 struct SurfaceSnapshot {
   double t = 0.0;

@@ -93,6 +93,11 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   channels_.tool.publish();
   channels_.finger.write_buffer() = out_.finger;
   channels_.finger.publish();
+  if (channels_.patch && in.patch->valid && in.patch->radius > 0.0) {
+    const double fraction = (out_.position - in.patch->center).norm() / in.patch->radius;
+    patch_reach_.max_fraction = std::max(patch_reach_.max_fraction, fraction);
+    if (fraction > 1.0) ++patch_reach_.frames_outside;
+  }
   if (follows_tool_) {
     ToolState& to_simulation = channels_.tool_to_simulation.write_buffer();
     to_simulation.position = out_.position;

@@ -83,6 +83,10 @@ class HapticLoop {
   /// The contact's passivity controller (read after the loop has stopped).
   [[nodiscard]] const haptics::PassivityControl& passivity() const { return state_.passivity; }
   [[nodiscard]] std::uint64_t dropped_frames() const { return dropped_frames_; }
+  /// How far the tool strayed from the centre of the patch it was rendered on: the largest
+  /// distance as a fraction of the patch's radius, and the frames beyond the radius (0 and 0
+  /// without patches).
+  [[nodiscard]] const PatchReach& patch_reach() const { return patch_reach_; }
   [[nodiscard]] const haptics::Device& device() const { return *device_; }
   /// The needle's insertion state (ruptures, deviation); null for other tools.
   [[nodiscard]] const haptics::NeedleInsertion* needle() const;
@@ -108,6 +112,7 @@ class HapticLoop {
   std::uint64_t dropped_frames_ = 0;
   std::atomic<bool> emergency_stop_{false};
   bool follows_tool_ = false;  ///< the simulation needs the tool's position
+  PatchReach patch_reach_{};
   const LiveParameters* live_ = nullptr;
   haptics::SurfaceEdit edit_;
   TripleBuffer<haptics::PeerFinger>* peer_ = nullptr;

@@ -64,6 +64,8 @@ void complete_report(const scene::Model& model, const Loops& loops, SessionRepor
     report.devices[i].dropped_frames = loops.haptic[i]->dropped_frames();
     report.devices[i].passivity_frames = loops.haptic[i]->passivity().frames_acted();
     report.devices[i].passivity_energy = loops.haptic[i]->passivity().removed();
+    report.devices[i].has_patch = loops.channels[i]->patch != nullptr;
+    report.devices[i].patch_reach = loops.haptic[i]->patch_reach();
     if (const haptics::NeedleInsertion* needle = loops.haptic[i]->needle())
       report.needles.push_back(needle_report(model, model.devices[i].name, *needle));
   }

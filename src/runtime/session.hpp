@@ -112,6 +112,8 @@ struct DeviceReport {
   /// from the hand [J] (haptics/passivity_control.hpp).
   std::uint64_t passivity_frames = 0;
   double passivity_energy = 0.0;
+  bool has_patch = false;  ///< rendered on local patches the simulation cut (patch_reach applies)
+  PatchReach patch_reach{};
 };
 
 /// A two-finger contact state as one finger's loop classified it (seed 002 Table I).

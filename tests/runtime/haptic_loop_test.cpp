@@ -115,12 +115,12 @@ TEST(HapticLoop, RendersAPatchModelWithoutAllocating) {
   request.radius = 0.012;
   channels.request_patches(request);
   contact::PatchBuilder builder(plate.vertices.size(), plate.triangles, request.capacity);
-  auto publish_patch = [&](double t) {
+  auto publish_patch = [&](double t, const Vec3& center = Vec3(0.001, 0.002, 0.008)) {
     contact::PatchBuilder::Inputs in;
     in.kind = request.kind;
     in.body = 0;
     in.time = t;
-    in.center = Vec3(0.001, 0.002, 0.008);
+    in.center = center;
     in.radius = request.radius;
     in.surface = plate.vertices;
     builder.build(in, channels.patch->write_buffer());
@@ -163,6 +163,14 @@ TEST(HapticLoop, RendersAPatchModelWithoutAllocating) {
   }
   EXPECT_EQ(counter.count() - publishing, 0u);
   EXPECT_NEAR(f.force.z(), 1000.0 * 0.002, 1e-9);
+  // The tool sat at every patch's centre; a patch cut 18 mm away (1.5 radii) leaves it outside.
+  EXPECT_LT(loop.patch_reach().max_fraction, 1e-12);
+  EXPECT_EQ(loop.patch_reach().frames_outside, 0u);
+  publish_patch(2.001, Vec3(0.001, 0.020, 0.008));
+  loop.step(2.001, 0, now_ns(), false);
+  loop.step(2.002, 0, now_ns(), false);
+  EXPECT_NEAR(loop.patch_reach().max_fraction, 1.5, 1e-9);
+  EXPECT_EQ(loop.patch_reach().frames_outside, 2u);
 }
 
 TEST(HapticLoop, AStalledSimulationFadesTheForceOut) {
