@@ -1058,8 +1058,10 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
     // positive definite (or projected) tangent it always descends, so slender bodies take full
     // steps where the residual norm would reject them. A step that lowers the residual norm is
     // accepted too, for models whose energy omits part of the force (viscous branches).
+    // The energies are evaluated only where the residual alone does not accept a step (most
+    // Newton steps near the answer lower it at α = 1): the same steps, fewer element passes.
     const double slope = -w.force.dot(w.delta);  // dΠ/dα at α = 0 (force = −∇Π on free dofs)
-    const double energy = std::isnan(energy_known) ? static_potential(body, s, f_ext) : energy_known;
+    double energy = energy_known;  // at s.x; NaN until needed
     energy_known = std::numeric_limits<double>::quiet_NaN();
     double alpha = 1.0;
     bool decreased = false;
@@ -1070,7 +1072,9 @@ StaticResult solve_static(const Body& body, BodyState& s, const VecX& f_ext, con
       if (!std::isfinite(trial_residual)) continue;
       const bool residual_down = trial_residual < r;
       bool energy_down = false;
-      if (slope < 0.0) {
+      energy_known = std::numeric_limits<double>::quiet_NaN();
+      if (!residual_down && slope < 0.0) {
+        if (std::isnan(energy)) energy = static_potential(body, s, f_ext);
         std::swap(s.x, w.x_trial);
         const double e_trial = static_potential(body, s, f_ext);
         std::swap(s.x, w.x_trial);
