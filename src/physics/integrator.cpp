@@ -422,9 +422,9 @@ constexpr double kLaggedForcing = 1e-3;
 constexpr int kMaxLaggedIterations = 10;
 /// A factor whose last solve took this many iterations has aged (the tangents drifted from
 /// it over the load steps): the next solve factorizes afresh, and the ones after it take a
-/// few iterations again. Seven, not fewer: a factorization with its assembly costs well over
-/// ten iterations, and at 5 the StVK and neo-Hookean pushes of bench/static_vs_getfem
-/// factorized 4, 5 and 9 times where 7 leaves 2, 3 and 5 at the same Newton iterations.
+/// few iterations again. 7 rather than 5: on the 2,125-node organ of bench/static_vs_getfem
+/// the StVK and neo-Hookean pushes factorize 2, 3 and 5 times instead of 4, 5 and 9, at the
+/// same Newton iterations and 3–15 % less CPU (docs/BENCHMARKS.md).
 constexpr int kAgedFactorIterations = 7;
 
 /// Solves K·x = rhs on the free dofs, K the tangent the model last linearized, by conjugate
