@@ -53,7 +53,8 @@ void prepare(const BlockMatrix& A, Eigen::Index dofs, BlockCgScratch& w) {
   const std::size_t nodes = A.diagonal.size();
   w.diagonal.resize(nodes);
   w.inverse.resize(nodes);
-  const std::size_t ranges = w.ranges > 0 ? std::min(w.ranges, std::max<std::size_t>(nodes, 1)) : block_cg_ranges(nodes);
+  const std::size_t chosen = w.ranges > 0 ? w.ranges : A.sweep_ranges;
+  const std::size_t ranges = chosen > 0 ? std::min(chosen, std::max<std::size_t>(nodes, 1)) : block_cg_ranges(nodes);
   if (w.pattern == A.row_start.data() && w.pattern_blocks == A.column.size() && w.bound.size() == ranges + 1 &&
       static_cast<std::size_t>(w.bound.back()) == nodes)
     return;

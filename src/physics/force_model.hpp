@@ -29,6 +29,10 @@ struct BlockMatrix {
   std::vector<std::int32_t> row_start;  ///< row i's upper blocks: [row_start[i], row_start[i + 1])
   std::vector<std::int32_t> column;     ///< each upper block's column (above its row)
   std::vector<Mat3> upper;              ///< the upper blocks
+  /// Node ranges the block CG sweeps in (physics/block_cg.hpp), where the model knows better
+  /// than the size rule; 0: block_cg_ranges(nodes). A property of the system, never of the
+  /// threads, so the answer is the same bits on any number of them.
+  std::size_t sweep_ranges = 0;
 };
 
 class ForceModel {

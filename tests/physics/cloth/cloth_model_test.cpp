@@ -221,6 +221,19 @@ TEST(ClothModel, StiffnessIsExactWhereTheDroppedTermsVanish) {
   }
 }
 
+TEST(ClothModel, SheetsOfOneToTwoThousandNodesSweepTheirCgInTwoRanges) {
+  // The stiff stretch costs CG tens of iterations a step, so the cloth splits its sweeps from
+  // 1,024 nodes (the size rule: 2,048); below that, and from 2,048 on, the rule decides.
+  for (const auto& [spacing, ranges] : {std::pair{0.01, 0u}, std::pair{0.005, 2u}, std::pair{0.004, 0u}}) {
+    const ClothModel model(rectangular_sheet(0.2, 0.2, spacing).cloth, test_material());
+    auto s = model.make_scratch();
+    model.linearize(model.rest_positions(), VecX::Zero(model.rest_positions().size()), VecX(), *s);
+    const BlockMatrix* A = model.assemble_system(1.0, 0.0, 1e-4, *s);
+    ASSERT_NE(A, nullptr);
+    EXPECT_EQ(A->sweep_ranges, ranges) << model.node_count() << " nodes";
+  }
+}
+
 TEST(ClothModel, AssembledTripletDiagonalAndProductViewsAgreeAndArePositiveSemiDefinite) {
   for (auto bending : {SheetBending::hinges, SheetBending::yarns}) {
   SCOPED_TRACE(bending == SheetBending::hinges ? "hinges" : "yarns");

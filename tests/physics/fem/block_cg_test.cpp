@@ -115,6 +115,25 @@ TEST(BlockCg, SolvesToItsToleranceInAnyNumberOfRanges) {
   }
 }
 
+TEST(BlockCg, ASystemsOwnRangeCountOverridesTheSizeRule) {
+  // A model that knows its CG takes many iterations (the cloth) asks for ranges below the
+  // size rule's threshold; the scratch's own count (a test's) still comes first.
+  const System sys(14, 12, 10);
+  BlockMatrix A = *sys.A;
+  A.sweep_ranges = 4;
+  BlockCgScratch w;
+  VecX x = VecX::Zero(sys.rhs.size());
+  ASSERT_GT(solve_block_cg(A, sys.mask, 1e-8, 500, sys.rhs, x, w), 0);
+  EXPECT_EQ(w.bound.size(), 5u);
+  const VecX b = sys.rhs.cwiseProduct(sys.mask);
+  EXPECT_LE((b - sys.sparse() * x).norm(), 1e-8 * b.norm());
+  BlockCgScratch forced;
+  forced.ranges = 1;
+  x.setZero();
+  ASSERT_GT(solve_block_cg(A, sys.mask, 1e-8, 500, sys.rhs, x, forced), 0);
+  EXPECT_EQ(forced.bound.size(), 2u);
+}
+
 TEST(BlockCg, TheSeparatorCutsEveryBlockBetweenTwoInteriors) {
   const System sys(14, 12, 10);
   BlockCgScratch w;
