@@ -447,7 +447,8 @@ bool solve_lagged(const Body& body, BodyState& s, const VecX& rhs, double target
   x.setZero(rhs.size());
   w.residual = rhs.cwiseProduct(w.free_mask);
   if (w.residual.norm() <= target) return true;
-  w.z = w.cholesky.solve(w.residual).cwiseProduct(w.free_mask);
+  w.cholesky.solve_into(w.residual, w.z);
+  w.z.array() *= w.free_mask.array();
   w.p = w.z;
   double rz = w.residual.dot(w.z);
   w.lagged_iterations = kMaxLaggedIterations;  // what a failure below leaves
@@ -462,7 +463,8 @@ bool solve_lagged(const Body& body, BodyState& s, const VecX& rhs, double target
       w.lagged_iterations = it + 1;
       return x.allFinite();
     }
-    w.z = w.cholesky.solve(w.residual).cwiseProduct(w.free_mask);
+    w.cholesky.solve_into(w.residual, w.z);
+  w.z.array() *= w.free_mask.array();
     const double rz_next = w.residual.dot(w.z);
     w.p = w.z + (rz_next / rz) * w.p;
     rz = rz_next;

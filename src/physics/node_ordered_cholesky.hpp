@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/CholmodSupport>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -49,7 +50,32 @@ class NodeOrderedCholesky : public Eigen::CholmodSupernodalLLT<SparseMatrix> {
     m_factorizationIsOk = false;
   }
 
+  NodeOrderedCholesky() = default;
+  NodeOrderedCholesky(const NodeOrderedCholesky&) = delete;
+  NodeOrderedCholesky& operator=(const NodeOrderedCholesky&) = delete;
+  ~NodeOrderedCholesky() {
+    for (cholmod_dense** d : {&x_, &y_, &e_})
+      if (*d) cholmod_free_dense(d, &cholmod());
+  }
+
+  /// x = A⁻¹ b with the factor in hand, as solve(b), but into x with CHOLMOD's workspace kept
+  /// from one call to the next: an inexact Newton solve substitutes dozens of times, and
+  /// solve() allocates its result and CHOLMOD's work vectors at each. Throws
+  /// std::runtime_error where CHOLMOD fails.
+  void solve_into(const VecX& b, VecX& x) {
+    cholmod_dense B{};
+    B.nrow = B.nzmax = B.d = static_cast<std::size_t>(b.size());
+    B.ncol = 1;
+    B.x = const_cast<double*>(b.data());  // read only: CHOLMOD takes B as input
+    B.xtype = CHOLMOD_REAL;
+    B.dtype = CHOLMOD_DOUBLE;
+    if (!m_cholmodFactor || !cholmod_solve2(CHOLMOD_A, m_cholmodFactor, &B, nullptr, &x_, nullptr, &y_, &e_, &cholmod()))
+      throw std::runtime_error("CHOLMOD: substitution failed");
+    x = Eigen::Map<const VecX>(static_cast<const double*>(x_->x), b.size());
+  }
+
  private:
+  cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;  ///< solve_into's workspace
   std::vector<Triplet> graph_;
   std::vector<int> node_order_, order_;
 };
