@@ -176,12 +176,6 @@ void cholmod_without_openmp_teams() {
   done = true;
 }
 
-/// Sums w.triplets into w.matrix (n × n). The first assembly, or one whose triplets fall on
-/// other entries, sorts them (setFromTriplets) and records where each one landed; the next
-/// ones, whose models emit the same entries in the same order, add each value at its recorded
-/// place. setFromTriplets sums an entry's duplicates in the order given, as this does, so the
-/// matrix has the same bits either way, without the sort that took a fifth of a static
-/// Newton iteration.
 /// w.matrix (n × n, compressed, rows sorted in each column) with the pattern of w.triplets,
 /// their values summed in triplet order, and w.scatter (each triplet's place in the values).
 /// Linear in the triplets: they are bucketed by column, each column's distinct rows found with
@@ -230,6 +224,12 @@ void build_pattern(SolverScratch& w, Eigen::Index n) {
   for (std::size_t k = 0; k < count; ++k) values[w.scatter[k]] += w.triplets[k].value();
 }
 
+/// Sums w.triplets into w.matrix (n × n). The first assembly, or one whose triplets fall on
+/// other entries, builds the pattern (build_pattern) and records where each one landed; the
+/// next ones, whose models emit the same entries in the same order, add each value at its
+/// recorded place. Both sum an entry's duplicates in triplet order, so the matrix has the
+/// same bits either way, without rebuilding the pattern, which took a fifth of a static
+/// Newton iteration.
 void assemble_matrix(SolverScratch& w, Eigen::Index n) {
   const std::size_t count = w.triplets.size();
   if (w.scatter.size() == count && w.matrix.rows() == n && w.matrix.isCompressed()) {
@@ -464,7 +464,7 @@ bool solve_lagged(const Body& body, BodyState& s, const VecX& rhs, double target
       return x.allFinite();
     }
     w.cholesky.solve_into(w.residual, w.z);
-  w.z.array() *= w.free_mask.array();
+    w.z.array() *= w.free_mask.array();
     const double rz_next = w.residual.dot(w.z);
     w.p = w.z + (rz_next / rz) * w.p;
     rz = rz_next;
