@@ -83,6 +83,28 @@ TEST(FabricPictureFrame, FrameForceFollowsTheShearCurve) {
   }
 }
 
+/// The KES shear cycle (±8°) on a 10 cm picture frame, read at 0.5° and at 5° with steps of
+/// `step` [rad]: the loop's widths there and the rise of its mean per radian, per unit area
+/// (N/m, N/m per rad).
+struct ShearLoops {
+  double width_small = 0.0, width_large = 0.0, mean_slope = 0.0;
+};
+
+ShearLoops shear_loops(const ClothMaterial& m, double step) {
+  const double deg = std::numbers::pi / 180.0, area = 0.1 * 0.1;
+  bool converged = false;
+  const auto [down_small, up_small] = picture_frame_loop(m, 0.1, 8 * deg, step, 0.5 * deg, converged);
+  EXPECT_TRUE(converged);
+  const auto [down_large, up_large] = picture_frame_loop(m, 0.1, 8 * deg, step, 5 * deg, converged);
+  EXPECT_TRUE(converged);
+  return {(up_small - down_small) / area, (up_large - down_large) / area,
+          (0.5 * (down_large + up_large) - 0.5 * (down_small + up_small)) / (4.5 * deg) / area};
+}
+
+/// KES's gf/cm in N/m and G (gf/(cm·°)) in N/m per radian.
+constexpr double kGfPerCm = kGramForce / 1e-2;
+double shear_slope(const KesFabric& kes) { return 0.5 * (kes.warp.g + kes.weft.g) * kGfPerCm * 180.0 / std::numbers::pi; }
+
 TEST(FabricPictureFrame, ShearLoopIsAsWideAs2HGAndItsMeanFollowsG) {
   // The KES shear test (±8°): with 2HG given, the loop's width at 0.5° is 2HG and its mean
   // rises with the slope G between 0.5° and 5° (KES reads G there). The sheet shears
@@ -92,20 +114,12 @@ TEST(FabricPictureFrame, ShearLoopIsAsWideAs2HGAndItsMeanFollowsG) {
   KesFabric kes = test_fabric();
   kes.warp.hg = 2.2;
   kes.weft.hg = 1.8;
-  const ClothMaterial m = kes_material(kes, "test fabric");
-  const double gf_per_cm = kGramForce / 1e-2, deg = std::numbers::pi / 180.0, side = 0.1;
-  const double width = 0.5 * (2.2 + 1.8) * gf_per_cm;                      // 2HG [N/m]
-  const double g = 0.5 * (kes.warp.g + kes.weft.g) * gf_per_cm / deg;      // G [N/m per rad]
-  bool converged = false;
-  const auto [down_small, up_small] = picture_frame_loop(m, side, 8 * deg, 0.5 * deg, 0.5 * deg, converged);
-  EXPECT_TRUE(converged);
-  EXPECT_NEAR((up_small - down_small) / (side * side), width, 1e-6 * width);
-  const auto [down_large, up_large] = picture_frame_loop(m, side, 8 * deg, 0.5 * deg, 5 * deg, converged);
-  EXPECT_TRUE(converged);
-  const double slope = (0.5 * (down_large + up_large) - 0.5 * (down_small + up_small)) / (4.5 * deg) / (side * side);
-  EXPECT_NEAR(slope, g, 1e-6 * g);
+  const double width = 0.5 * (2.2 + 1.8) * kGfPerCm, g = shear_slope(kes);  // 2HG [N/m], G
+  const ShearLoops loops = shear_loops(kes_material(kes, "test fabric"), 0.5 * std::numbers::pi / 180.0);
+  EXPECT_NEAR(loops.width_small, width, 1e-6 * width);
+  EXPECT_NEAR(loops.mean_slope, g, 1e-6 * g);
   // The one width the model has: at 5° the loop is 2HG wide too (KES's 2HG5 is not matched).
-  EXPECT_NEAR((up_large - down_large) / (side * side), width, 1e-6 * width);
+  EXPECT_NEAR(loops.width_large, width, 1e-6 * width);
 }
 
 TEST(FabricPictureFrame, ShearLoopIsAsWideAs2HGAt05DegreesAnd2HG5At5) {
@@ -120,20 +134,12 @@ TEST(FabricPictureFrame, ShearLoopIsAsWideAs2HGAt05DegreesAnd2HG5At5) {
   kes.weft.hg = 1.8;
   kes.warp.hg5 = 4.4;
   kes.weft.hg5 = 3.8;
-  const ClothMaterial m = kes_material(kes, "test fabric");
-  const double gf_per_cm = kGramForce / 1e-2, deg = std::numbers::pi / 180.0, side = 0.1;
-  const double width = 0.5 * (2.2 + 1.8) * gf_per_cm, width_5 = 0.5 * (4.4 + 3.8) * gf_per_cm;
-  const double g = 0.5 * (kes.warp.g + kes.weft.g) * gf_per_cm / deg;
-  bool converged = false;
-  const auto [down_small, up_small] = picture_frame_loop(m, side, 8 * deg, 0.25 * deg, 0.5 * deg, converged);
-  EXPECT_TRUE(converged);
-  EXPECT_NEAR((up_small - down_small) / (side * side), width, 1e-6 * width);
-  const auto [down_large, up_large] = picture_frame_loop(m, side, 8 * deg, 0.25 * deg, 5 * deg, converged);
-  EXPECT_TRUE(converged);
-  EXPECT_NEAR((up_large - down_large) / (side * side), width_5, 1e-6 * width_5);
+  const double width = 0.5 * (2.2 + 1.8) * kGfPerCm, width_5 = 0.5 * (4.4 + 3.8) * kGfPerCm, g = shear_slope(kes);
+  const ShearLoops loops = shear_loops(kes_material(kes, "test fabric"), 0.25 * std::numbers::pi / 180.0);
+  EXPECT_NEAR(loops.width_small, width, 1e-6 * width);
+  EXPECT_NEAR(loops.width_large, width_5, 1e-6 * width_5);
   // The loop's mean still rises at G: both branches' friction shifts it by the same amount.
-  const double slope = (0.5 * (down_large + up_large) - 0.5 * (down_small + up_small)) / (4.5 * deg) / (side * side);
-  EXPECT_NEAR(slope, g, 1e-6 * g);
+  EXPECT_NEAR(loops.mean_slope, g, 1e-6 * g);
 }
 
 TEST(FabricEnergy, ReleasedUndampedFabricGainsNoEnergy) {
