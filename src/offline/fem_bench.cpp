@@ -54,6 +54,7 @@ std::vector<FemBenchBody> bench_fem(const scene::Model& scene_model, const FemBe
     r.threads = thread_count();
     r.median_ms = 1e3 * times[times.size() / 2];
     r.p99_ms = 1e3 * times[std::min(times.size() - 1, times.size() * 99 / 100)];
+    r.mean_ms = 1e3 * total / o.steps;
     r.ns_per_tet = 1e9 * times[times.size() / 2] / static_cast<double>(std::max<std::size_t>(r.tets, 1));
     r.mean_linear_iterations = iterations / o.steps;
     if (total > 0.0) {
@@ -71,13 +72,13 @@ std::vector<FemBenchBody> bench_fem(const scene::Model& scene_model, const FemBe
 
 std::string format_fem_bench(const std::vector<FemBenchBody>& results) {
   std::string out =
-      "body          law            solver    nodes    tets  dt ms  threads  median ms  p99 ms  ns/tet  lin.its  "
+      "body          law            solver    nodes    tets  dt ms  threads  median ms  p99 ms  mean ms  ns/tet  lin.its  "
       "forces  assembly  solve  other\n";
   for (const auto& r : results)
-    out += fmt::format("{:<13} {:<14} {:<8} {:>6} {:>7} {:>6.2f} {:>8} {:>10.3f} {:>7.3f} {:>7.0f} {:>8.1f} {:>6.0f}% "
+    out += fmt::format("{:<13} {:<14} {:<8} {:>6} {:>7} {:>6.2f} {:>8} {:>10.3f} {:>7.3f} {:>8.3f} {:>7.0f} {:>8.1f} {:>6.0f}% "
                        "{:>8.0f}% {:>5.0f}% {:>5.0f}%\n",
                        r.body, r.law, r.solver, r.nodes, r.tets, 1e3 * r.time_step, r.threads, r.median_ms, r.p99_ms,
-                       r.ns_per_tet, r.mean_linear_iterations, 100 * r.share_forces, 100 * r.share_assembly,
+                       r.mean_ms, r.ns_per_tet, r.mean_linear_iterations, 100 * r.share_forces, 100 * r.share_assembly,
                        100 * r.share_solve, 100 * r.share_other);
   return out;
 }

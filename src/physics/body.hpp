@@ -126,6 +126,12 @@ void forget_solver_history(BodyState& state);
 /// with other rows held), and the first factorization analyses the new pattern.
 void fixed_dofs_changed(const Body& body, BodyState& state);
 
+/// For a body whose implicit steps factorize (Cholesky): takes one step of length dt from the
+/// state on a copy and keeps only what the solver learnt of the matrix's pattern (the ordering
+/// and symbolic analysis, the assembly's places), so that a real-time loop's first step costs
+/// what the others do. The state itself is unchanged. Does nothing for other bodies.
+void analyse_ahead(const Body& body, BodyState& state, double dt);
+
 /// Cholesky factorizations this state's solves have made so far (a statistic: static solves
 /// factorize only when the factor in hand has aged).
 long factorizations(const BodyState& state);

@@ -104,6 +104,10 @@ struct SolverScratch {
   /// Iterations the last solve_lagged took with this factor (0 after a factorization).
   int lagged_iterations = 0;
   long factorizations = 0;  ///< every Cholesky factorization so far
+  /// The step length whose implicit system M + hD + h²K cholesky holds (0: none, or another
+  /// system), and how many steps have used that factor since it was made.
+  double step_factor_h = 0.0;
+  int step_factor_uses = 0;
   VecX free_mask;  // 1 for free dofs, 0 for fixed
   // Contact springs: each one's push per newton on the dofs (u), the system's response to it
   // (W = A⁻¹u, kept as the next step's warm start) and the loads an explicit step applies.
@@ -342,6 +346,7 @@ int solve_linear(const Body& body, BodyState& s, double a, double b, double c, c
     }
     w.cholesky.factorize(w.matrix);
     ++w.factorizations;
+    w.step_factor_h = 0.0;
     w.matrix_free = false;
     w.path_known = true;
     w.stiffness_factor = a == 0.0 && b == 0.0 && c == 1.0 && w.cholesky.info() == Eigen::Success;
@@ -683,8 +688,32 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
   // steps): no per-element projection to pay for (scenes/liver.toml's step took half the time
   // then, docs/BENCHMARKS.md). Else, and for CG, the projected tangent.
   const bool try_exact = body.settings.solver == LinearSolver::cholesky;
+  // A frozen factor: with A = M + hD + h²K the matrix of the step that factorized, the
+  // linearized step A·Δv = h(f_n − hK·v_n) is A·v_{n+1} = M·v_n + h·(f_e(x_n) + f_ext), f_e
+  // the forces without damping (A − h²K = M + hD): the forces at x_n and one substitution.
+  // The tangent lags by up to factor_reuse_steps − 1 steps; the step stays first order.
+  const bool reuse = try_exact && body.settings.newton_iterations == 1 && w.step_factor_h == h &&
+                     w.step_factor_uses < body.settings.factor_reuse_steps;
   bool exact = false;
-  if (try_exact) {
+  if (reuse) {
+    {
+      const ProfileScope timed(s, &StepProfile::forces);
+      w.Ap.setZero();  // the velocity the forces see: no damping
+      model.forces(s.x, w.Ap, s.q, w.rhs, *s.model_scratch);
+    }
+    add_loads(body, f_ext, w.rhs);
+    w.rhs *= h;
+    model.add_mass_product(1.0, s.v, w.rhs);
+    w.rhs.array() *= w.free_mask.array();
+    {
+      const ProfileScope timed(s, &StepProfile::solve);
+      w.cholesky.solve_into(w.rhs, w.delta);
+    }
+    w.delta -= s.v;
+    w.delta.array() *= w.free_mask.array();
+    s.last_linear_iterations = 0;
+    ++w.step_factor_uses;
+  } else if (try_exact) {
     const ProfileScope timed(s, &StepProfile::forces);
     exact = model.linearize_exact(s.x, s.v, s.q, *s.model_scratch);
     if (exact) {
@@ -692,20 +721,23 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
       model.add_stiffness_product(w.z, w.rhs, *s.model_scratch);  // rhs = f − h K v
     }
   }
-  if (!exact) {
+  if (!exact && !reuse) {
     const ProfileScope timed(s, &StepProfile::forces);
     model.linearized_forces(s.x, s.v, s.q, w.z, w.rhs, *s.model_scratch);  // rhs = f − h K v
   }
-  add_loads(body, f_ext, w.rhs);
-  w.rhs *= h;
+  if (!reuse) {
+    add_loads(body, f_ext, w.rhs);
+    w.rhs *= h;
+  }
   // CG starts from the last three velocity changes extrapolated by a parabola: between 1 ms
   // steps the change drifts smoothly, and on the benchmark bodies this start needs about 2
   // iterations where the last change alone needs 4 to 5 (a straight line, 3).
-  if (w.warm_count >= 3)
+  if (reuse) {
+  } else if (w.warm_count >= 3)
     w.delta = 3.0 * w.warm - 3.0 * w.warm_previous + w.warm_older;
   else
     w.delta = w.warm;
-  const bool fold = !springs.empty() && w.path_known && w.matrix_free;
+  const bool fold = !reuse && !springs.empty() && w.path_known && w.matrix_free;
   if (fold) fold_springs(s, h, springs, s.v, w.rhs);
   bool solved = false;
   if (exact) {
@@ -719,7 +751,11 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
       w.rhs *= h;
     }
   }
-  if (!solved) s.last_linear_iterations = solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+  if (!solved && !reuse) s.last_linear_iterations = solve_linear(body, s, 1.0, h, h * h, w.rhs, w.delta);
+  if (try_exact && !reuse) {
+    w.step_factor_h = h;
+    w.step_factor_uses = 1;
+  }
   if (fold) s.last_linear_iterations += settle_folded(body, s, h, springs, s.v, w.rhs, w.delta);
   std::swap(w.warm_older, w.warm_previous);
   std::swap(w.warm_previous, w.warm);
@@ -779,6 +815,9 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
       std::swap(w.warm, w.warm_previous);
       std::swap(w.warm_previous, w.warm_older);
       w.warm_count = std::min(warm_count, 2);
+      // A frozen factor's step is taken again with a fresh one before it is halved.
+      w.step_factor_h = 0.0;
+      if (reuse) return implicit_step(body, s, h, f_ext, springs, may_refuse);
       return false;
     }
   }
@@ -904,6 +943,22 @@ void forget_solver_history(BodyState& s) {
   s.solver_scratch->warm.setZero();
   s.solver_scratch->warm_count = 0;
   for (VecX& response : s.solver_scratch->spring_response) response.setZero();
+}
+
+void analyse_ahead(const Body& body, BodyState& s, double dt) {
+  if (body.settings.integrator != Integrator::implicit_euler || body.settings.solver != LinearSolver::cholesky) return;
+  BodyState trial = make_state(body);
+  trial.x = s.x;
+  trial.v = s.v;
+  trial.q = s.q;
+  step(body, trial, dt);
+  // Only the analysis and the assembly's places are kept: the first step factorizes afresh
+  // from its own state, as it would have without this.
+  SolverScratch& w = *trial.solver_scratch;
+  w.step_factor_h = 0.0;
+  w.factorizations = 0;
+  s.solver_scratch = trial.solver_scratch;
+  forget_solver_history(s);
 }
 
 bool predict_static(const Body& body, BodyState& s, const VecX& previous, const VecX& f_ext) {

@@ -14,6 +14,11 @@ struct StepSettings {
   int cg_max_iterations = 200;
   int newton_iterations = 1;   ///< 1 = the linearized (Baraff–Witkin) step
   double newton_tolerance = 1e-8;  ///< relative force residual, when newton_iterations > 1
+  /// Cholesky implicit steps (linearized, newton_iterations 1): how many steps one numeric
+  /// factorization serves. 1 factorizes every step; more keep the system matrix of the step
+  /// that factorized (a frozen tangent) for the next ones, which then cost the forces and one
+  /// substitution.
+  int factor_reuse_steps = 1;
 };
 
 /// Newton's stopping rule and effort for static solves (physics::solve_static).

@@ -321,6 +321,7 @@ SimulationState make_simulation_state(const SimulationModel& model, const LivePa
         sb.edited->model = sb.live;
         sb.state.model_scratch = sb.live->make_scratch();  // the wrapper's, holding the scene model's
       }
+      physics::analyse_ahead(stepped(mb, sb), sb.state, model.period / mb.substeps);
     } else {
       sb.state.x = mb.rest;
     }

@@ -726,6 +726,12 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
   step.newton_iterations = r.integer("newton_iterations", defaults.newton_iterations, 1, 100);
   if (step.newton_iterations > 1 && step.integrator != physics::Integrator::implicit_euler)
     r.fail("newton_iterations", "only implicit_euler steps iterate Newton; remove the key or use implicit_euler");
+  step.factor_reuse_steps = r.integer("factor_reuse_steps", defaults.factor_reuse_steps, 1, 1000);
+  if (step.factor_reuse_steps > 1 &&
+      (step.integrator != physics::Integrator::implicit_euler || step.solver != physics::LinearSolver::cholesky ||
+       step.newton_iterations > 1))
+    r.fail("factor_reuse_steps", "a factorization is reused only by linearized implicit_euler steps solved by "
+                                 "cholesky (newton_iterations 1); remove the key or set those");
 
   if (b.kind == BodyKind::surface_mass_spring) {
     b.thickness = r.number("thickness", 0.001, Range::open_closed(0.0, 1.0));

@@ -110,6 +110,8 @@ std::string body_lines(const Model& model, const Body& b) {
                      to_string(b.stepping.integrator), g(b.time_step), to_string(b.stepping.solver),
                      b.stepping.cg_tolerance, b.stepping.cg_max_iterations, to_string(b.mass_matrix));
     if (b.stepping.newton_iterations > 1) s += fmt::format(", {} Newton iterations", b.stepping.newton_iterations);
+    if (b.stepping.factor_reuse_steps > 1)
+      s += fmt::format(", one factorization per {} steps", b.stepping.factor_reuse_steps);
     if (!b.springs.empty()) {
       s += ", springs";
       for (const SpringType t : b.springs) s += std::string(" ") + to_string(t);

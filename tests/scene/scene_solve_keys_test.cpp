@@ -163,6 +163,22 @@ TEST(SceneBodyKeys, NewtonIterationsAndConsistentMassErrors) {
   }
 }
 
+TEST(SceneBodyKeys, FactorReuseIsReadForLinearizedCholeskySteps) {
+  EXPECT_EQ(parse_scene(pad_with(""), "body.toml").bodies.at(0).stepping.factor_reuse_steps, 1);
+  const Model m = parse_scene(pad_with("solver = \"cholesky\"\nfactor_reuse_steps = 4\n"), "body.toml");
+  EXPECT_EQ(m.bodies.at(0).stepping.factor_reuse_steps, 4);
+  const std::string summary = summarize(m);
+  EXPECT_NE(summary.find("one factorization per 4 steps"), std::string::npos) << summary;
+  for (const char* bad : {"solver = \"cholesky\"\nfactor_reuse_steps = 0\n", "factor_reuse_steps = 2\n",
+                          "solver = \"cholesky\"\nnewton_iterations = 2\nfactor_reuse_steps = 2\n",
+                          "integrator = \"rk4\"\nsolver = \"cholesky\"\nfactor_reuse_steps = 2\n"}) {
+    const std::string e = body_error(bad);
+    EXPECT_NE(e.find("body.toml:"), std::string::npos) << e;
+    EXPECT_NE(e.find("factor_reuse_steps"), std::string::npos) << e;
+  }
+  EXPECT_NE(body_error("factor_reuse_steps = 2\n").find("solved by cholesky"), std::string::npos);
+}
+
 TEST(SceneBodyKeys, MappedSurfacesAreReadAndMappedIntoTheTetrahedra) {
   // The pad spans [-0.05, 0.05] x [-0.01, 0.01]^2: a finer box skin on its boundary, a vessel
   // through it along z and a fascia sheet across it.
