@@ -336,6 +336,9 @@ Action add_bench(CLI::App& app) {
       ->check(CLI::IsMember({"cg", "cholesky"}));
   app.add_option("--cg-tolerance", o->cg_tolerance, "--fem: replace CG's relative tolerance")
       ->check(CLI::Range(1e-16, 1.0));
+  app.add_option("--factor-reuse", o->factor_reuse_steps,
+                 "--fem: steps one Cholesky factorization serves (the bodies' factor_reuse_steps)")
+      ->check(CLI::Range(1, 1000));
   return [f, fem, o, law, solver] {
     if (!*fem) return run_with(*f, true);
     if (!law->empty()) o->law = physics::parse_fem_law(*law);

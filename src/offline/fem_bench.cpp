@@ -23,6 +23,13 @@ std::vector<FemBenchBody> bench_fem(const scene::Model& scene_model, const FemBe
     if (b.kind != scene::BodyKind::fem || !b.volume) continue;
     if (o.solver) b.stepping.solver = *o.solver;
     if (o.cg_tolerance) b.stepping.cg_tolerance = *o.cg_tolerance;
+    if (o.factor_reuse_steps) b.stepping.factor_reuse_steps = *o.factor_reuse_steps;
+    if (b.stepping.factor_reuse_steps > 1 &&
+        (b.stepping.solver != physics::LinearSolver::cholesky || b.stepping.newton_iterations > 1))
+      throw InputError(SourceLocation{model.source, {}, {}, {}},
+                       fmt::format("body '{}': a factorization is reused only by linearized steps solved by "
+                                   "cholesky (--solver cholesky, newton_iterations 1)",
+                                   b.name));
     const physics::Body body = compile::make_physics_body(model, i);
     physics::BodyState s = physics::make_state(body);
     const double dt = b.time_step;
@@ -48,6 +55,7 @@ std::vector<FemBenchBody> bench_fem(const scene::Model& scene_model, const FemBe
     const scene::Material* material = b.material ? &model.materials[*b.material] : nullptr;
     r.law = material && material->law ? std::string(physics::to_string(*material->law)) : "mass_spring";
     r.solver = b.stepping.solver == physics::LinearSolver::cholesky ? "cholesky" : "cg";
+    if (b.stepping.factor_reuse_steps > 1) r.solver += fmt::format("/{}", b.stepping.factor_reuse_steps);
     r.nodes = b.volume->vertices.size();
     r.tets = b.volume->tets.size();
     r.time_step = dt;

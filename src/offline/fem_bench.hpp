@@ -17,6 +17,7 @@ struct FemBenchOptions {
   std::optional<physics::FemLaw> law;            ///< overrides the bodies' materials
   std::optional<physics::LinearSolver> solver;   ///< overrides the bodies' solvers
   std::optional<double> cg_tolerance;            ///< overrides the bodies' CG tolerance
+  std::optional<int> factor_reuse_steps;         ///< overrides the bodies' factor_reuse_steps
 };
 
 struct FemBenchBody {

@@ -527,6 +527,16 @@ TEST_F(Cli, BenchFemTimesTheSceneFemBodies) {
   }
   EXPECT_NEAR(share_sum, 100.0, 2.5);  // four rounded shares of one total
 
+  // One factorization for four steps: the solver says so, and CG refuses it.
+  const auto reused = run("bench --fem " + std::string(TACTUS_SOURCE_DIR) + "/scenes/cantilever.toml --steps 8 "
+                          "--threads 1 --solver cholesky --factor-reuse 4");
+  ASSERT_EQ(reused.exit_code, 0) << reused.err;
+  EXPECT_NE(reused.out.find(" cholesky/4 "), std::string::npos) << reused.out;
+  const auto refused = run("bench --fem " + std::string(TACTUS_SOURCE_DIR) + "/scenes/cantilever.toml --steps 1 "
+                           "--solver cg --factor-reuse 4");
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.err.find("reused only by linearized steps solved by cholesky"), std::string::npos) << refused.err;
+
   const auto none = run("bench --fem " + std::string(TACTUS_SOURCE_DIR) + "/scenes/nodule.toml --steps 1");
   EXPECT_EQ(none.exit_code, 1);
   EXPECT_NE(none.err.find("no FEM body"), std::string::npos) << none.err;
