@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "physics/fem/nodal_pressure.hpp"
 #include "physics/fem/tet_fem.hpp"
 #include "physics/mass_spring/surface_builder.hpp"
 #include "physics/mass_spring/tet_builder.hpp"
@@ -26,6 +27,7 @@ physics::FemMaterial fem_material(const scene::Material& m) {
     fm.c10 = m.c10;
     fm.c01 = m.c01;
     fm.bulk_modulus = m.bulk_modulus;
+    fm.nodal_pressure = m.nodal_pressure;
   }
   fm.rayleigh_mass = m.damping.rayleigh_alpha;
   fm.rayleigh_stiffness = m.damping.rayleigh_beta;
@@ -69,9 +71,11 @@ std::shared_ptr<const physics::ForceModel> fem_model(const scene::Model& model, 
       element_material.push_back(it == of_tag.end() ? 0 : it->second);
     }
   }
-  return std::make_shared<physics::TetFem>(
+  auto fem = std::make_shared<physics::TetFem>(
       *b.volume, materials, element_material,
       b.mass_matrix == scene::MassMatrix::consistent ? physics::FemMass::consistent : physics::FemMass::lumped);
+  if (materials.front().nodal_pressure) return std::make_shared<physics::NodalPressureFem>(std::move(fem));
+  return fem;
 }
 
 /// Maxwell arms relative to the long-term stiffness from a scene's viscoelastic table (whose

@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-#include "physics/fem/tet_fem.hpp"
+#include "physics/fem/nodal_pressure.hpp"
 #include "precompute/model_identity.hpp"
 #include "precompute/wavefront.hpp"
 
@@ -22,7 +22,7 @@ Space make_space(const physics::Body& body, const SpaceSettings& settings, std::
   space.identity = identify(body, settings, space.grid);
   space.scene_text = std::move(scene_text);
   space.rest_positions = body.model->rest_positions();
-  if (const auto* fem = dynamic_cast<const physics::TetFem*>(body.model.get()))
+  if (const auto* fem = physics::tet_fem_of(body.model.get()))
     for (const auto& e : fem->elements()) space.elements.push_back(e.nodes);
   space.allocate(body.model->node_count());
   return space;

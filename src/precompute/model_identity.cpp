@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
-#include "physics/fem/tet_fem.hpp"
+#include "physics/fem/nodal_pressure.hpp"
 
 namespace tactus::precompute {
 
@@ -15,7 +15,7 @@ ModelIdentity identify(const physics::Body& body, const SpaceSettings& settings,
   id.node_count = body.model->node_count();
   Fnv1a mesh;
   mesh.add(rest.data(), static_cast<std::size_t>(rest.size()) * sizeof(double));
-  const auto* fem = dynamic_cast<const physics::TetFem*>(body.model.get());
+  const auto* fem = physics::tet_fem_of(body.model.get());
   if (fem) {
     id.element_count = fem->elements().size();
     for (const auto& e : fem->elements()) mesh.add(e.nodes.data(), sizeof e.nodes);
@@ -31,6 +31,7 @@ ModelIdentity identify(const physics::Body& body, const SpaceSettings& settings,
                      m.bulk_modulus.value_or(-1.0), m.inversion_threshold})
       model.add_value(v);
     model.add_value(m.project_tangent);
+    if (m.nodal_pressure) model.add_value(std::uint64_t{0x6e6f64616c});  // another energy (hashed only when set)
     // Regions (a single-region body hashes as before, so its files stay valid): each
     // region's constants and each element's region.
     if (fem->materials().size() > 1) {

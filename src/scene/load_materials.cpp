@@ -143,6 +143,13 @@ Material read_material(Reader& r, const std::string& name) {
   m.density = r.required_number("density", Range::positive());
   m.damping = read_damping(r);
   m.viscoelastic = read_viscoelastic(r);
+  m.nodal_pressure = r.choice<bool>("volumetric", {{"element", false}, {"nodal", true}}, false);
+  if (m.nodal_pressure && m.law != physics::FemLaw::mooney_rivlin)
+    r.fail("volumetric", "\"nodal\" averages the volume change of mooney_rivlin, whose energy splits into an "
+                         "isochoric and a volumetric part; use model = \"mooney_rivlin\" or remove the key");
+  if (m.nodal_pressure && m.viscoelastic.model != ViscoelasticModel::none &&
+      m.viscoelastic.model != ViscoelasticModel::kelvin_voigt)
+    r.fail("volumetric", "\"nodal\" keeps the bulk response elastic, and this material's viscoelasticity relaxes it");
   r.finish();
   return m;
 }

@@ -100,6 +100,9 @@ struct Material {
   double density = 0.0;  ///< [kg/m³]
   Damping damping;
   Viscoelasticity viscoelastic;
+  /// `volumetric = "nodal"` (Mooney–Rivlin): κ/2 (J̄ − 1)² with J̄ the volume change averaged
+  /// at the nodes, not per element (physics/fem/nodal_pressure.hpp).
+  bool nodal_pressure = false;
 };
 
 // ---------------------------------------------------------------------------------------

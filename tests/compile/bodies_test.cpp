@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "physics/fem/nodal_pressure.hpp"
 #include "physics/fem/tet_fem.hpp"
 #include "compile/bodies.hpp"
 #include "scene/scene.hpp"
@@ -100,6 +101,53 @@ TEST(RuntimeBodies, MappedSurfacesFollowAffineMotionAndCarryForcesBack) {
     EXPECT_NEAR(node_forces.dot(dx), work, 1e-12 * node_forces.norm() * dx.norm());
   }
   EXPECT_THROW(compile::add_mapped_surface_forces(b, 2, {}, x), std::out_of_range);
+}
+
+TEST(RuntimeBodies, NodalVolumetricMaterialsAverageTheVolumeChangeAtTheNodes) {
+  const std::string scene = R"(
+[materials.tissue]
+model = "mooney_rivlin"
+c10 = 700
+c01 = 300
+poisson_ratio = 0.49
+density = 1000
+volumetric = "nodal"
+[bodies.block]
+kind = "fem"
+material = "tissue"
+mesh = { generator = "box", size = [0.02, 0.02, 0.02], cells = 2 }
+solver = "cholesky"
+)";
+  const scene::Model model = scene::parse_scene(scene, "nodal.toml");
+  EXPECT_TRUE(model.materials.at(0).nodal_pressure);
+  const physics::Body body = compile::make_physics_body(model, 0);
+  const auto* nodal = dynamic_cast<const physics::NodalPressureFem*>(body.model.get());
+  ASSERT_NE(nodal, nullptr);
+  EXPECT_EQ(physics::tet_fem_of(body.model.get()), &nodal->isochoric());
+  EXPECT_TRUE(nodal->isochoric().material().nodal_pressure);
+  // Squeezed to 90 % of its volume, every node's pressure is κ (0.9 − 1).
+  const VecX x = [&] {
+    VecX y = body.model->rest_positions();
+    for (Eigen::Index i = 2; i < y.size(); i += 3) y[i] *= 0.9;
+    return y;
+  }();
+  const double kappa = model.materials.at(0).bulk_modulus;
+  EXPECT_LT((nodal->nodal_pressures(x).array() + 0.1 * kappa).abs().maxCoeff(), 1e-9 * kappa);
+
+  for (const auto& [keys, why] :
+       {std::pair{std::string("model = \"neo_hookean\"\nyoung_modulus = 3000\n"), "use model = \"mooney_rivlin\""},
+        std::pair{std::string("model = \"mooney_rivlin\"\nc10 = 700\nviscoelastic = { model = \"prony\", "
+                              "terms = [{ g = 0.3, tau = 0.1 }] }\n"),
+                  "keeps the bulk response elastic"}}) {
+    try {
+      scene::parse_scene("[materials.m]\n" + keys + "density = 1000\nvolumetric = \"nodal\"\n", "bad.toml");
+      ADD_FAILURE() << keys;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("bad.toml:"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("volumetric"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

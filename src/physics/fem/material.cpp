@@ -48,6 +48,9 @@ void FemMaterial::validate() const {
     const LawParams lp = LawParams::from(*this);
     if (!(lp.c10 + lp.c01 > 0.0 && lp.kappa > 0.0)) fail("Mooney-Rivlin needs C10 + C01 > 0 and a positive bulk modulus");
   }
+  if (nodal_pressure && law != FemLaw::mooney_rivlin)
+    fail("nodal_pressure is for mooney_rivlin, whose energy splits into an isochoric and a volumetric part");
+  if (nodal_pressure && prony_relaxes_bulk) fail("nodal_pressure keeps the bulk response elastic: relax the shear only");
   if (!(inversion_threshold > 0.0 && inversion_threshold < 1.0))
     fail("inversion_threshold must lie in (0, 1), got " + std::to_string(inversion_threshold));
   double sum = 0.0;

@@ -45,6 +45,10 @@ struct FemMaterial {
   /// Hyperelastic laws: project each element's tangent onto the positive semi-definite
   /// cone (Teran et al. 2005), so Newton and CG stay well-posed. Off = the exact tangent.
   bool project_tangent = true;
+  /// Mooney–Rivlin: the elements leave out the volumetric term kappa/2 (J − 1)², which a
+  /// NodalPressureFem over the body adds with the volume change averaged at the nodes
+  /// (physics/fem/nodal_pressure.hpp): no volumetric locking as nu → 0.5.
+  bool nodal_pressure = false;
 
   [[nodiscard]] double shear_modulus() const;  ///< mu = E / (2 (1 + nu))
   [[nodiscard]] double lame_lambda() const;    ///< lambda = E nu / ((1 + nu)(1 - 2 nu))

@@ -147,12 +147,14 @@ TetFem::TetFem(const mesh::TetMesh& mesh, std::span<const FemMaterial> materials
     const FemMaterial& first = materials.front();
     if (k > 0 && (m.law != first.law || m.rayleigh_mass != first.rayleigh_mass ||
                   m.rayleigh_stiffness != first.rayleigh_stiffness || m.prony != first.prony ||
-                  m.prony_relaxes_bulk != first.prony_relaxes_bulk || m.project_tangent != first.project_tangent))
+                  m.prony_relaxes_bulk != first.prony_relaxes_bulk || m.project_tangent != first.project_tangent ||
+                  m.nodal_pressure != first.nodal_pressure))
       throw InputError(fmt::format("material {} of a FEM body differs from the first in its law, damping or relaxation; "
                                    "the regions of one body share those and differ in elastic constants and density",
                                    k));
     materials_.push_back(m);
     laws_.push_back(LawParams::from(m));
+    if (m.nodal_pressure) laws_.back().kappa = 0.0;  // NodalPressureFem adds it at the nodes
     densities_.push_back(m.density);
   }
   const auto n = static_cast<Eigen::Index>(mesh.vertices.size());
