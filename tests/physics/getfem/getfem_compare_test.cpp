@@ -55,6 +55,27 @@ TEST(GetFemComparison, SqueezedNeoHookean60PercentInOneStep) { compare(squeezed_
 TEST(GetFemComparison, SqueezedMooneyRivlin60PercentInOneStep) {
   compare(squeezed_block(FemLaw::mooney_rivlin, 0.6, 1));
 }
+/// Mooney–Rivlin at ν = 0.49 with the pressure at the nodes (volumetric = "nodal"), against
+/// GetFEM's mixed P1–P1 displacement–pressure formulation with the pressure's mass lumped
+/// (getfem_reference.py, mooney_rivlin_nodal): one discrete problem, condensed in Tactus.
+Case nodal(Case c) {
+  c.name += "_nodal";
+  c.material.poisson_ratio = 0.49;
+  c.material.bulk_modulus.reset();  // κ from E and ν: 50 times the shear modulus
+  c.material.young_modulus = 2.0 * 2.0 * (*c.material.c10 + *c.material.c01) * (1.0 + 0.49);
+  c.material.nodal_pressure = true;
+  return c;
+}
+TEST(GetFemComparison, BlockMooneyRivlinNodalPressure) { compare(nodal(block(FemLaw::mooney_rivlin))); }
+TEST(GetFemComparison, SqueezedMooneyRivlinNodalPressure30PercentIn3Steps) {
+  compare(nodal(squeezed_block(FemLaw::mooney_rivlin, 0.3, 3)));
+}
+TEST(GetFemComparison, LiverMooneyRivlinNodalPressurePushed2cmIn4Steps) {
+  Case c = liver(FemLaw::mooney_rivlin, 0.02, 4);
+  c.material.c10 = 700.0;
+  c.material.c01 = 300.0;
+  compare(nodal(c));
+}
 TEST(GetFemComparison, LiverStvkPushed1cmInOneStep) { compare(liver(FemLaw::stvk, 0.01, 1)); }
 TEST(GetFemComparison, LiverStvkPushed1cmIn4Steps) { compare(liver(FemLaw::stvk, 0.01, 4)); }
 TEST(GetFemComparison, LiverNeoHookeanPushed2cmIn4Steps) { compare(liver(FemLaw::neo_hookean, 0.02, 4)); }

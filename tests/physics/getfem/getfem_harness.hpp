@@ -19,6 +19,7 @@
 #include "mesh/generators.hpp"
 #include "mesh/tetrahedralize.hpp"
 #include "physics/body.hpp"
+#include "physics/fem/nodal_pressure.hpp"
 #include "physics/fem/tet_fem.hpp"
 
 namespace tactus::physics::getfem {
@@ -179,7 +180,8 @@ struct Solution {
 inline Solution solve_tactus(const Case& c) {
   auto fem = std::make_shared<TetFem>(c.mesh, c.material);
   Body body;
-  body.model = fem;
+  if (c.material.nodal_pressure) body.model = std::make_shared<NodalPressureFem>(fem);
+  else body.model = fem;
   body.settings.solver = LinearSolver::cholesky;
   body.fixed_dofs.assign(3 * c.mesh.vertices.size(), 0);
   for (const auto& f : c.fixed) body.fixed_dofs[static_cast<std::size_t>(3 * f.node + f.component)] = 1;
@@ -238,7 +240,7 @@ inline GetFemSolution solve_getfem(const Case& c, const fs::path& dir) {
   {
     std::ofstream f(in);
     f.precision(17);
-    f << "law " << to_string(c.material.law) << "\nparams " << law_params(c) << "\nsteps " << c.steps << "\n";
+    f << "law " << to_string(c.material.law) << (c.material.nodal_pressure ? "_nodal" : "") << "\nparams " << law_params(c) << "\nsteps " << c.steps << "\n";
     if (c.force_tolerance > 0.0) f << "tolerance " << c.force_tolerance << "\n";
     f << "nodes " << c.mesh.vertices.size() << "\n";
     for (const auto& v : c.mesh.vertices) f << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';

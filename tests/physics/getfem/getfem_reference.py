@@ -5,9 +5,9 @@
 
 CASE is a whitespace-separated text file:
 
-    law stvk | neo_hookean | mooney_rivlin
+    law stvk | neo_hookean | mooney_rivlin | mooney_rivlin_nodal
     params lambda mu                 (stvk, neo_hookean)
-    params c10 c01 kappa             (mooney_rivlin)
+    params c10 c01 kappa             (mooney_rivlin, mooney_rivlin_nodal)
     steps S                          load steps (the loads grow linearly to their full value)
     tolerance T                      optional: Newton's max_res [N] (default: 1e-12 of the
                                      residual at rest)
@@ -21,6 +21,12 @@ OUT receives one line per node: the displacement ux uy uz. STATS, where given, r
 elements, a one-point rule (exact: F is constant per element), GetFEM's own finite-strain
 potentials and its Newton solver; fixed dofs are held by Lagrange multipliers and nodal
 forces enter as an explicit right-hand side, so both act on exactly the given dofs.
+
+mooney_rivlin_nodal is the mixed displacement-pressure form of Tactus's volumetric = "nodal":
+Pi(u, p) = int psi_iso + int p (J - 1) - int p^2 / (2 kappa), a P1 pressure beside the P1
+displacement, the last term integrated at the vertices (IM_NC(3,1): the pressure's mass
+lumped), the others by the one-point rule (exact: J is constant and p linear per element).
+GetFEM solves the saddle-point system in u and p; Tactus condenses p and solves in u alone.
 """
 import sys
 import time
@@ -51,6 +57,10 @@ LAWS = {
                       lambda p: [p[0], p[1], p[2] / 2.0],
                       "p(1) * (pow(J, -2/3) * I1 - 3) + p(2) * (pow(J, -4/3) * I2 - 3)"
                       " + p(3) * sqr(J - 1)"),
+    # The isochoric part; the volumetric one is the pressure's (solve()).
+    "mooney_rivlin_nodal": ("Incompressible_Mooney_Rivlin", "Incompressible_Mooney_Rivlin_potential",
+                            lambda p: [p[0], p[1]],
+                            "p(1) * (pow(J, -2/3) * I1 - 3) + p(2) * (pow(J, -4/3) * I2 - 3)"),
 }
 
 
@@ -69,7 +79,7 @@ def read_case(path):
         if key == "law":
             case["law"] = take()[0]
         elif key == "params":
-            n = 3 if case["law"] == "mooney_rivlin" else 2
+            n = 3 if case["law"].startswith("mooney_rivlin") else 2
             case["params"] = [float(t) for t in take(n)]
         elif key == "steps":
             case["steps"] = int(take()[0])
@@ -111,12 +121,22 @@ def solve(case):
         raise SystemExit("getfem_reference: mesh nodes do not map one-to-one onto GetFEM dofs")
     dof = 3 * idx
 
+    nodal = case["law"] == "mooney_rivlin_nodal"
     brick_law, potential, to_getfem, density = LAWS[case["law"]]
     params = to_getfem(case["params"])
     md = gf.Model("real")
     md.add_fem_variable("u", mf)
     md.add_initialized_data("p", params)
     md.add_finite_strain_elasticity_brick(mim, brick_law, "u", "p")
+    if nodal:
+        mf_p = gf.MeshFem(mesh, 1)
+        mf_p.set_classical_fem(1)
+        md.add_fem_variable("pressure", mf_p)
+        md.add_initialized_data("kappa", case["params"][2])
+        md.add_macro("F", MACROS["F"])
+        md.add_nonlinear_term(mim, "pressure * Det(F) * (Inv(F)'):Grad_Test_u + (Det(F) - 1) * Test_pressure")
+        vertices = gf.MeshIm(mesh, gf.Integ("IM_NC(3,1)"))
+        md.add_linear_term(vertices, "-pressure * Test_pressure / kappa")
 
     fixed = case["fixed"]
     values = np.array([v for _, _, v in fixed])
@@ -171,7 +191,8 @@ def solve(case):
     if (volumes(x) / volumes(nodes)).min() <= 0.0:
         return U[dof[:, None] + np.arange(3)], stats
     for name, expr in MACROS.items():
-        md.add_macro(name, expr)
+        if not (nodal and name == "F"):
+            md.add_macro(name, expr)
     e_getfem = gf.asm("generic", mim, 0, f"{potential}(Grad_u, p)", -1, md)
     e_written = gf.asm("generic", mim, 0, density, -1, md)
     if abs(e_getfem - e_written) > 1e-12 * abs(e_written):
