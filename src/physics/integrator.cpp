@@ -933,6 +933,7 @@ void fixed_dofs_changed(const Body& body, BodyState& s) {
   SolverScratch& w = *s.solver_scratch;
   read_free_mask(body, w, s.x.size());
   w.pattern_analyzed = false;  // the matrix drops other rows and columns now
+  w.step_factor_h = 0.0;        // and a factor kept for the next steps holds the old ones
   w.scatter.clear();
   w.slots.clear();
 }

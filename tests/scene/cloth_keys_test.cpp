@@ -127,6 +127,11 @@ TEST(ClothScene, BadFabricsAreLocated) {
   EXPECT_NE(error_of(with_line(kCloth, 5, "spacing = 0.2")).find("bodies.fabric.spacing"), std::string::npos);
   EXPECT_NE(error_of(with_line(kCloth, 2, "kind = \"cloth\"\nmaterial = \"skin\"")).find("takes its properties from"),
             std::string::npos);
+  // A factorization kept over steps lets the fabric slip through the fingers: refused.
+  const std::string reused =
+      error_of(with_line(kCloth, 9, "clamp = 2\nsolver = \"cholesky\"\nfactor_reuse_steps = 2"));
+  EXPECT_NE(reused.find(":11:22: bodies.fabric.factor_reuse_steps: a cloth body factorizes every step"),
+            std::string::npos) << reused;
 
   // A tensile curve that is not monotone, named by its point.
   const std::string own = "[bodies.fabric]\nkind = \"cloth\"\nsize = [0.2, 0.1]\nspacing = 0.01\n"
