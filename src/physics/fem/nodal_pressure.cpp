@@ -211,34 +211,34 @@ std::vector<std::pair<std::int32_t, Vec3>> NodalPressureFem::nodal_gradient(std:
   return g;
 }
 
+template <class Visit>
+void NodalPressureFem::for_each_node_term(double a, const State& s, Visit&& visit) const {
+  for (Eigen::Index n = 0; n < rest_volume_.size(); ++n)
+    if (rest_volume_[n] > 0.0) visit(a * kappa_[n] / rest_volume_[n], nodal_gradient(static_cast<std::int32_t>(n), s));
+}
+
 void NodalPressureFem::add_diagonal(double a, double b, VecX& out, const Scratch& scratch) const {
   const auto& w = static_cast<const Work&>(scratch);
   inner_->add_diagonal(a, b, out, *w.inner);
   if (a == 0.0) return;
   // The geometric part's diagonal blocks are zero (v_e is linear in each corner alone).
-  for (Eigen::Index n = 0; n < rest_volume_.size(); ++n) {
-    if (!(rest_volume_[n] > 0.0)) continue;
-    const double k = a * kappa_[n] / rest_volume_[n];
-    for (const auto& [j, g] : nodal_gradient(static_cast<std::int32_t>(n), w.linearized))
-      out.segment<3>(dof(j)) += k * g.cwiseAbs2();
-  }
+  for_each_node_term(a, w.linearized, [&](double k, const auto& g) {
+    for (const auto& [j, gj] : g) out.segment<3>(dof(j)) += k * gj.cwiseAbs2();
+  });
 }
 
 void NodalPressureFem::add_triplets(double a, double b, std::vector<Triplet>& out, const Scratch& scratch) const {
   const auto& w = static_cast<const Work&>(scratch);
   inner_->add_triplets(a, b, out, *w.inner);
   if (a == 0.0) return;
-  for (Eigen::Index n = 0; n < rest_volume_.size(); ++n) {
-    if (!(rest_volume_[n] > 0.0)) continue;
-    const double k = a * kappa_[n] / rest_volume_[n];
-    const auto g = nodal_gradient(static_cast<std::int32_t>(n), w.linearized);
+  for_each_node_term(a, w.linearized, [&](double k, const auto& g) {
     for (const auto& [i, gi] : g)
       for (const auto& [j, gj] : g) {
         const Mat3 block = k * gi * gj.transpose();
         for (int r = 0; r < 3; ++r)
           for (int c = 0; c < 3; ++c) out.emplace_back(dof(i) + r, dof(j) + c, block(r, c));
       }
-  }
+  });
   if (!w.exact) return;
   // Σ_e p̄_e ∂²v_e/∂x², column by column from the gradient's change along each corner's axes.
   const auto& elements = inner_->elements();

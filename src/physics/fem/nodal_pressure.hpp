@@ -66,6 +66,9 @@ class NodalPressureFem final : public ForceModel {
   void add_volumetric_product(const VecX& dx, VecX& out, const Work& w) const;
   /// The nonzero entries of g_a = ∂v_a/∂x, node by node.
   [[nodiscard]] std::vector<std::pair<std::int32_t, Vec3>> nodal_gradient(std::int32_t a, const State& s) const;
+  /// visit(a·κ_n/V_n, g_n) for each node n of positive rest volume: the terms a·κ/V g gᵀ.
+  template <class Visit>
+  void for_each_node_term(double a, const State& s, Visit&& visit) const;
 
   std::shared_ptr<const TetFem> inner_;
   VecX rest_volume_;  ///< V_a per node
