@@ -732,10 +732,9 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
   // CG starts from the last three velocity changes extrapolated by a parabola: between 1 ms
   // steps the change drifts smoothly, and on the benchmark bodies this start needs about 2
   // iterations where the last change alone needs 4 to 5 (a straight line, 3).
-  if (reuse) {
-  } else if (w.warm_count >= 3)
+  if (!reuse && w.warm_count >= 3)
     w.delta = 3.0 * w.warm - 3.0 * w.warm_previous + w.warm_older;
-  else
+  else if (!reuse)
     w.delta = w.warm;
   const bool fold = !reuse && !springs.empty() && w.path_known && w.matrix_free;
   if (fold) fold_springs(s, h, springs, s.v, w.rhs);

@@ -23,11 +23,12 @@ namespace tactus::scene::detail {
 namespace {
 
 /// Whether two materials behave alike but for their elastic constants and density: the same
-/// law, damping and viscoelasticity (what the regions of one FEM body share).
+/// law, damping, viscoelasticity and volumetric term (what the regions of one FEM body share).
 bool same_behaviour(const Material& a, const Material& b) {
   const auto& va = a.viscoelastic;
   const auto& vb = b.viscoelastic;
-  bool same = a.law == b.law && a.damping.rayleigh_alpha == b.damping.rayleigh_alpha &&
+  bool same = a.law == b.law && a.nodal_pressure == b.nodal_pressure &&
+              a.damping.rayleigh_alpha == b.damping.rayleigh_alpha &&
               a.damping.rayleigh_beta == b.damping.rayleigh_beta && va.model == vb.model && va.tau == vb.tau &&
               va.long_term_fraction == vb.long_term_fraction && va.prony.size() == vb.prony.size();
   for (std::size_t k = 0; same && k < va.prony.size(); ++k)
@@ -62,8 +63,8 @@ void read_region_materials(Reader& r, Body& b, const Model& model) {
       r.fail(key, "material '" + name + "' has model 'mass_spring'; a 'fem' body's region needs a continuum model");
     if (!same_behaviour(model.materials[m], model.materials[*b.material]))
       r.fail(key, "material '" + name + "' differs from the body's material '" + model.materials[*b.material].name +
-                      "' in its model, damping or viscoelasticity; the regions of one body share those and differ in "
-                      "elastic constants and density");
+                      "' in its model, damping, viscoelasticity or volumetric term; the regions of one body share those "
+                      "and differ in elastic constants and density");
     b.region_materials.emplace_back(tag, m);
   }
   r.finish();

@@ -30,6 +30,7 @@ std::string material_line(const Material& m) {
   std::string s = fmt::format("  {}: {}, E {} Pa, nu {}, density {} kg/m^3", m.name, model_name(m),
                               g(m.young_modulus), g(m.poisson_ratio), g(m.density));
   if (m.law == physics::FemLaw::mooney_rivlin) s += fmt::format(", C10 {} Pa, C01 {} Pa", g(m.c10), g(m.c01));
+  if (m.nodal_pressure) s += ", pressure at the nodes";
   const Damping& d = m.damping;
   if (d.rayleigh_alpha > 0 || d.rayleigh_beta > 0)
     s += fmt::format(", Rayleigh alpha {} 1/s beta {} s", g(d.rayleigh_alpha), g(d.rayleigh_beta));

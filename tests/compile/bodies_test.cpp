@@ -120,6 +120,7 @@ solver = "cholesky"
 )";
   const scene::Model model = scene::parse_scene(scene, "nodal.toml");
   EXPECT_TRUE(model.materials.at(0).nodal_pressure);
+  EXPECT_NE(scene::summarize(model).find("pressure at the nodes"), std::string::npos) << scene::summarize(model);
   const physics::Body body = compile::make_physics_body(model, 0);
   const auto* nodal = dynamic_cast<const physics::NodalPressureFem*>(body.model.get());
   ASSERT_NE(nodal, nullptr);

@@ -149,7 +149,8 @@ TetFem::TetFem(const mesh::TetMesh& mesh, std::span<const FemMaterial> materials
                   m.rayleigh_stiffness != first.rayleigh_stiffness || m.prony != first.prony ||
                   m.prony_relaxes_bulk != first.prony_relaxes_bulk || m.project_tangent != first.project_tangent ||
                   m.nodal_pressure != first.nodal_pressure))
-      throw InputError(fmt::format("material {} of a FEM body differs from the first in its law, damping or relaxation; "
+      throw InputError(fmt::format("material {} of a FEM body differs from the first in its law, damping, relaxation or "
+                                   "volumetric term; "
                                    "the regions of one body share those and differ in elastic constants and density",
                                    k));
     materials_.push_back(m);
