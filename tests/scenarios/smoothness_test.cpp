@@ -180,13 +180,13 @@ TEST(ScenarioSmoothness, LiverRunsPastTheStepThatTurnedItsElementsInsideOut) {
   const Smoothness s = measure(r, 0, m.devices[0].name);
   std::printf("liver / hand, first 2.5 s: %d short contacts or gaps, largest step %.3f N at %.3f s\n",
               s.short_segments, s.max_jump, s.jump_time);
-  // Not yet within kMaxJump, as the known defects above: the patch under the proxy rings at
-  // the haptic rate from t = 0.15 s on, in steps of 1.0-1.5 N sideways (1.467 N at 1.88 s;
-  // 1.248 N at 1.96 s while the simulation held the push constant over its step; 1.150 N at
-  // 1.89 s before one factorization served four steps, 1.376 N at 1.72 s since). The patch
-  // is capped at 48 of the 125 free nodes a 17 mm patch needs on this mesh. May not get worse.
+  // Within kMaxJump, as every scene. Until 2026-11-29 the force's direction flipped from frame
+  // to frame by up to 1.47 N from t = 0.15 s on: the finger's load went to the contact
+  // triangle's three corners, dug a pit in the 2 mm mesh, and the finger touched its rim here
+  // and there. Shared over the Hertz disc (load_spread = "contact_disc") the largest step is
+  // 0.544 N, at the hand's landing (0.099 s).
   EXPECT_LE(s.short_segments, 0);
-  EXPECT_LE(s.max_jump, 1.5) << "at t = " << s.jump_time;
+  EXPECT_LE(s.max_jump, kMaxJump) << "at t = " << s.jump_time;
 }
 
 // A scene added to scenes/ joins the list above (or says here why not).
