@@ -24,8 +24,7 @@ std::vector<FemBenchBody> bench_fem(const scene::Model& scene_model, const FemBe
     if (o.solver) b.stepping.solver = *o.solver;
     if (o.cg_tolerance) b.stepping.cg_tolerance = *o.cg_tolerance;
     if (o.factor_reuse_steps) b.stepping.factor_reuse_steps = *o.factor_reuse_steps;
-    if (b.stepping.factor_reuse_steps > 1 &&
-        (b.stepping.solver != physics::LinearSolver::cholesky || b.stepping.newton_iterations > 1))
+    if (b.stepping.factor_reuse_steps > 1 && !b.stepping.can_reuse_factor())
       throw InputError(SourceLocation{model.source, {}, {}, {}},
                        fmt::format("body '{}': a factorization is reused only by linearized steps solved by "
                                    "cholesky (--solver cholesky, newton_iterations 1)",

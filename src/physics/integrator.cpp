@@ -692,7 +692,7 @@ bool implicit_step(const Body& body, BodyState& s, double h, const VecX& f_ext, 
   // linearized step A·Δv = h(f_n − hK·v_n) is A·v_{n+1} = M·v_n + h·(f_e(x_n) + f_ext), f_e
   // the forces without damping (A − h²K = M + hD): the forces at x_n and one substitution.
   // The tangent lags by up to factor_reuse_steps − 1 steps; the step stays first order.
-  const bool reuse = try_exact && body.settings.newton_iterations == 1 && w.step_factor_h == h &&
+  const bool reuse = body.settings.can_reuse_factor() && w.step_factor_h == h &&
                      w.step_factor_uses < body.settings.factor_reuse_steps;
   bool exact = false;
   if (reuse) {

@@ -19,6 +19,12 @@ struct StepSettings {
   /// that factorized (a frozen tangent) for the next ones, which then cost the forces and one
   /// substitution.
   int factor_reuse_steps = 1;
+
+  /// Whether these steps can keep a factorization for the next ones: linearized implicit
+  /// Euler solved by Cholesky (factor_reuse_steps is ignored otherwise).
+  [[nodiscard]] bool can_reuse_factor() const {
+    return integrator == Integrator::implicit_euler && solver == LinearSolver::cholesky && newton_iterations == 1;
+  }
 };
 
 /// Newton's stopping rule and effort for static solves (physics::solve_static).

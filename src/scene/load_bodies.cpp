@@ -728,9 +728,7 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
   if (step.newton_iterations > 1 && step.integrator != physics::Integrator::implicit_euler)
     r.fail("newton_iterations", "only implicit_euler steps iterate Newton; remove the key or use implicit_euler");
   step.factor_reuse_steps = r.integer("factor_reuse_steps", defaults.factor_reuse_steps, 1, 1000);
-  if (step.factor_reuse_steps > 1 &&
-      (step.integrator != physics::Integrator::implicit_euler || step.solver != physics::LinearSolver::cholesky ||
-       step.newton_iterations > 1))
+  if (step.factor_reuse_steps > 1 && !step.can_reuse_factor())
     r.fail("factor_reuse_steps", "a factorization is reused only by linearized implicit_euler steps solved by "
                                  "cholesky (newton_iterations 1); remove the key or set those");
   // A fabric's tensile curve stiffens many times over within a step's stretch: a tangent from
