@@ -11,9 +11,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "app/commands.hpp"
 #include "core/input_file.hpp"
@@ -28,6 +30,7 @@
 #include "precompute/journal.hpp"
 #include "precompute/model_identity.hpp"
 #include "precompute/online.hpp"
+#include "precompute/probe.hpp"
 #include "precompute/refinement.hpp"
 #include "precompute/space_file.hpp"
 #include "precompute/time_left.hpp"
@@ -203,6 +206,22 @@ int run_online_speed(const PrecomputeArgs& a, const physics::Body& body, const p
   return 0;
 }
 
+/// One space built, and the journal that holds it until its file is written.
+struct BuiltSpace {
+  pc::Space space;
+  std::filesystem::path journal_path;
+  int unresponsive = 0;  ///< MPI ranks that never answered
+};
+
+/// Builds one space (a point space, or one level of a probe space) with its checkpoint
+/// journal, and refines it where the settings ask. Nothing when --stop-after cut it short.
+/// Solver ranks serve the scheduler and return their (empty) space.
+std::optional<BuiltSpace> build_space(const PrecomputeArgs& a, pc::distributed::Session& session,
+                                      const physics::Body& body, const pc::SpaceSettings& settings,
+                                      const std::string& scene_text, const std::filesystem::path& journal_path);
+int finish_output(const std::filesystem::path& output, pc::distributed::Session& session,
+                  const std::vector<std::filesystem::path>& journals, int unresponsive);
+
 int run_precompute(const PrecomputeArgs& a) {
   pc::distributed::Session session;
   const scene::Model model = scene::load_scene(a.scene);
@@ -219,20 +238,75 @@ int run_precompute(const PrecomputeArgs& a) {
     return run_online_speed(a, body, settings);
   }
   if (a.output.empty()) throw InputError("-o/--output is required (the configuration space file to write)");
-
-  pc::Space space = pc::make_space(body, settings, read_text(a.scene));
   // The inner element loops run on one thread: the parallelism is across configurations.
   set_thread_limit(1);
+  const std::filesystem::path output(a.output);
+  const std::string scene_text = read_text(a.scene);
+  if (!settings.probe.enabled()) {
+    const auto built = build_space(a, session, body, settings, scene_text, output.string() + ".journal");
+    if (!built) return 3;
+    if (session.rank() > 0) return 0;
+    pc::write_space(output, built->space);
+    return finish_output(output, session, {built->journal_path}, built->unresponsive);
+  }
+  // A probe space: its levels one after another, each with its own journal, so that a
+  // killed build resumes at the level it was in; the file is written once all are built.
+  std::vector<pc::Space> levels;
+  std::vector<std::filesystem::path> journals;
+  for (std::size_t k = 0; k < settings.probe.level_count(); ++k) {
+    const pc::SpaceSettings level = pc::level_settings(settings, k);
+    if (k > 0 && !session.decide(true)) return 0;  // rank 0 stopped: the solver ranks end too
+    if (session.rank() == 0)
+      std::printf("probe level %zu of %zu: leaning %.1f, %.1f degrees\n", k + 1, settings.probe.level_count(),
+                  level.tilt.x() * 180.0 / std::numbers::pi, level.tilt.y() * 180.0 / std::numbers::pi);
+    auto built = build_space(a, session, body, level, scene_text, fmt::format("{}.level-{}.journal", a.output, k));
+    if (!built) {
+      if (k + 1 < settings.probe.level_count()) (void)session.decide(false);
+      return 3;
+    }
+    if (built->unresponsive > 0) {
+      // A hung rank takes part in nothing more: the levels built are in their journals.
+      log::error("{} rank(s) never answered; ending the job after probe level {} (continue with --resume)",
+                 built->unresponsive, k + 1);
+      std::fflush(stdout);
+      session.abort_job(4);
+    }
+    levels.push_back(std::move(built->space));
+    journals.push_back(built->journal_path);
+  }
+  if (session.rank() > 0) return 0;
+  pc::write_probe_space(output, levels);
+  return finish_output(output, session, journals, 0);
+}
+
+/// After the file is written: removes its journals and says so. A hung rank would keep
+/// MPI_Finalize from returning: the file is complete, so the job ends.
+int finish_output(const std::filesystem::path& output, pc::distributed::Session& session,
+                  const std::vector<std::filesystem::path>& journals, int unresponsive) {
+  if (session.rank() > 0) return 0;
+  std::error_code ec;
+  for (const auto& j : journals) std::filesystem::remove(j, ec);
+  std::printf("wrote %s\n", output.string().c_str());
+  if (unresponsive > 0) {
+    log::error("{} rank(s) never answered; the space is complete, ending the job", unresponsive);
+    std::fflush(stdout);
+    session.abort_job(4);
+  }
+  return 0;
+}
+
+std::optional<BuiltSpace> build_space(const PrecomputeArgs& a, pc::distributed::Session& session,
+                                      const physics::Body& body, const pc::SpaceSettings& settings,
+                                      const std::string& scene_text, const std::filesystem::path& journal_path) {
+  pc::Space space = pc::make_space(body, settings, scene_text);
   auto make_solver = [&] { return std::make_unique<pc::ConfigurationSolver>(body, settings); };
 
   if (session.rank() > 0) {
     auto solver = make_solver();
     pc::distributed::serve(*solver, space, session);
-    return 0;
+    return BuiltSpace{std::move(space), journal_path, 0};
   }
 
-  const std::filesystem::path output(a.output);
-  const std::filesystem::path journal_path = output.string() + ".journal";
   std::error_code ec;
   std::optional<pc::Journal> journal;
   if (std::filesystem::exists(journal_path, ec)) {
@@ -279,7 +353,7 @@ int run_precompute(const PrecomputeArgs& a) {
                 stats.reissued, stats.late, stats.unresponsive);
   if (stats.stopped) {
     std::printf("stopped after %zu solves as asked; continue with --resume\n", stats.computed);
-    return 3;
+    return std::nullopt;
   }
   if (space.settings.refine_points > 0) {
     // Not journaled: a build killed while refining resumes from the full grid and refines again.
@@ -290,17 +364,9 @@ int run_precompute(const PrecomputeArgs& a) {
     std::printf("refined %zu cells: %zu points more (%zu not solved) in %.1f s\n", r.cells, r.points, r.failed,
                 r.wall_seconds);
   }
-  pc::write_space(output, space);
+  // The journal stays until the file holding this space is written (finish_output).
   journal->close();
-  std::filesystem::remove(journal_path, ec);
-  std::printf("wrote %s\n", output.string().c_str());
-  if (stats.unresponsive > 0) {
-    // A hung rank would keep MPI_Finalize from returning: the file is complete, end the job.
-    log::error("{} rank(s) never answered; the space is complete, ending the job", stats.unresponsive);
-    std::fflush(stdout);
-    session.abort_job(4);
-  }
-  return 0;
+  return BuiltSpace{std::move(space), journal_path, stats.unresponsive};
 }
 
 }  // namespace

@@ -34,22 +34,37 @@ std::shared_ptr<const CspaceBody> CspaceBody::load(const scene::Model& model, st
     return std::make_shared<CspaceBody>(index, std::move(online), std::move(rest));
   }
   const auto& file = b.cspace->file;
-  auto space = std::make_shared<precompute::Space>(precompute::read_space(file));
+  std::vector<std::shared_ptr<const precompute::Space>> levels;
+  for (auto& level : precompute::read_space_levels(file))
+    levels.push_back(std::make_shared<const precompute::Space>(std::move(level)));
   // The identity of this scene's body with the settings the space was built with: a space of
   // another mesh, material or fixed region, or a mesh edited since, is refused here.
   const physics::Body body = make_physics_body(model, index);
-  if (space->identity.node_count != body.model->node_count())
-    throw InputError(SourceLocation{file.string(), {}, {}, {}},
-                     fmt::format("the space was built for a mesh of {} nodes; body '{}' has {}",
-                                 space->identity.node_count, b.name, body.model->node_count()));
-  precompute::check_identity(space->identity, precompute::identify(body, space->settings, space->grid),
-                             file.string());
-  return std::make_shared<CspaceBody>(index, std::move(space), b.cspace->interpolation);
+  for (const auto& space : levels) {
+    if (space->identity.node_count != body.model->node_count())
+      throw InputError(SourceLocation{file.string(), {}, {}, {}},
+                       fmt::format("the space was built for a mesh of {} nodes; body '{}' has {}",
+                                   space->identity.node_count, b.name, body.model->node_count()));
+    precompute::check_identity(space->identity, precompute::identify(body, space->settings, space->grid),
+                               file.string());
+  }
+  if (levels.size() > 1) {
+    try {
+      return std::make_shared<CspaceBody>(index, std::move(levels), b.cspace->interpolation);
+    } catch (const InputError& e) {
+      throw InputError(SourceLocation{file.string(), {}, {}, {}}, e.reason());
+    }
+  }
+  return std::make_shared<CspaceBody>(index, std::move(levels.front()), b.cspace->interpolation);
 }
 
 CspaceBody::CspaceBody(std::size_t body, std::shared_ptr<const precompute::Space> space,
                        precompute::Interpolation method)
     : body_(body), interpolator_(std::in_place, std::move(space), method) {}
+
+CspaceBody::CspaceBody(std::size_t body, std::vector<std::shared_ptr<const precompute::Space>> levels,
+                       precompute::Interpolation method)
+    : body_(body), probe_(std::in_place, std::move(levels), method) {}
 
 CspaceBody::CspaceBody(std::size_t body, std::unique_ptr<precompute::OnlineBuilder> online, VecX rest)
     : body_(body), online_(std::move(online)), rest_(std::move(rest)) {}
@@ -58,9 +73,11 @@ CspaceBody::~CspaceBody() {
   if (online_) online_->stop();
 }
 
-CspaceForce CspaceBody::force(const Vec3& p, double t) const noexcept {
+CspaceForce CspaceBody::force(const Vec3& p, const Quat& orientation, double t) const noexcept {
   CspaceForce out;
-  const precompute::Grid& g = online_ ? online_->grid() : interpolator_->space().grid;
+  const precompute::Grid& g = online_ ? online_->grid()
+                              : probe_ ? probe_->level(0).space().grid
+                                       : interpolator_->space().grid;
   const Vec3 far = g.origin + g.spacing * Vec3(g.counts[0] - 1, g.counts[1] - 1, g.counts[2] - 1);
   const bool in_box = (p.array() >= g.origin.array()).all() && (p.array() <= far.array()).all();
   (in_box ? inside_ : outside_).fetch_add(1, std::memory_order_relaxed);
@@ -81,7 +98,7 @@ CspaceForce CspaceBody::force(const Vec3& p, double t) const noexcept {
     }
     return out;
   }
-  const precompute::Query q = interpolator_->force(p);
+  const precompute::Query q = probe_ ? probe_->force(p, probe_direction(orientation)).query : interpolator_->force(p);
   if (q.valid && !q.outside && q.force.allFinite()) {
     out.force = q.force;
     out.touching = true;
@@ -94,21 +111,24 @@ CspaceBody::BoxCounts CspaceBody::box_counts() const {
           first_inside_.load(std::memory_order_relaxed)};
 }
 
-void CspaceBody::positions(const Vec3& p, VecX& x) const {
+void CspaceBody::positions(const Vec3& p, const Quat& orientation, VecX& x) const {
   if (online_) {
     if (!online_->shape(p, x) || !x.allFinite()) x.setZero(rest_.size());
     x += rest_;
     return;
   }
-  const precompute::Query q = interpolator_->shape(p, x);
+  const precompute::Query q =
+      probe_ ? probe_->shape(p, probe_direction(orientation), x).query : interpolator_->shape(p, x);
   if (!q.valid || !x.allFinite()) x.setZero();
-  x += interpolator_->space().rest_positions;
+  x += (probe_ ? probe_->level(0) : *interpolator_).space().rest_positions;
 }
 
 CspaceBody::OnlineCounts CspaceBody::online_counts() const {
   OnlineCounts n;
   n.solved = solved_points();
-  n.points = online_ ? online_->grid().size() : interpolator_->space().grid.size();
+  n.points = online_  ? online_->grid().size()
+             : probe_ ? probe_->level_count() * probe_->level(0).space().grid.size()
+                      : interpolator_->space().grid.size();
   n.queries = queries_.load(std::memory_order_relaxed);
   n.complete = complete_.load(std::memory_order_relaxed);
   return n;
@@ -116,6 +136,12 @@ CspaceBody::OnlineCounts CspaceBody::online_counts() const {
 
 std::size_t CspaceBody::solved_points() const {
   if (online_) return online_->solved_count();
+  if (probe_) {
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < probe_->level_count(); ++k)
+      n += probe_->level(k).space().count(precompute::PointStatus::solved);
+    return n;
+  }
   return interpolator_->space().count(precompute::PointStatus::solved);
 }
 

@@ -2,6 +2,8 @@
 // A body rendered from a precomputed configuration space (scene kind = "cspace"): the haptic
 // loop reads the force at the tool's interaction point from the space's Interpolator, and
 // the simulation loop publishes the interpolated shape instead of simulating the body.
+// A probe space (levels of leans, precompute/probe.hpp) is looked up with the tool's −z axis
+// as the probe's direction.
 // With `online = true` the space is built during the run (precompute::OnlineBuilder): solver
 // threads work around the tool and ahead of it, and the force comes from the points solved
 // so far.
@@ -16,6 +18,7 @@
 #include "haptics/algorithms/field_lookup.hpp"
 #include "precompute/interpolator.hpp"
 #include "precompute/online.hpp"
+#include "precompute/probe.hpp"
 #include "scene/model.hpp"
 
 namespace tactus::compile {
@@ -34,13 +37,15 @@ class CspaceBody final : public haptics::ForceField {
   /// body once per run and share it: the haptic and simulation loops hold the same object.
   static std::shared_ptr<const CspaceBody> load(const scene::Model& model, std::size_t index);
 
-  /// The force at interaction point p [m] at loop time t [s]. Outside the grid's box the tool
-  /// is not attached and feels nothing. Allocation-free. On-line: the tool's position feeds
-  /// the solvers' prediction, and only the haptic thread may call it.
-  [[nodiscard]] CspaceForce force(const Vec3& p, double t) const noexcept override;
+  /// The force at interaction point p [m], the tool turned by `orientation`, at loop time t
+  /// [s]. Outside the grid's box the tool is not attached and feels nothing. Allocation-free.
+  /// On-line: the tool's position feeds the solvers' prediction, and only the haptic thread
+  /// may call it.
+  [[nodiscard]] CspaceForce force(const Vec3& p, const Quat& orientation, double t) const noexcept override;
   /// Node positions (3N) of the configuration at p: rest + interpolated displacement; the
-  /// rest shape where the space has no value. Allocates only when x has another size.
-  void positions(const Vec3& p, VecX& x) const;
+  /// rest shape where the space has no value. Allocates only when x has another size. One
+  /// thread at a time (the simulation loop's).
+  void positions(const Vec3& p, const Quat& orientation, VecX& x) const;
 
   [[nodiscard]] std::size_t body() const { return body_; }
   [[nodiscard]] bool online() const { return online_ != nullptr; }
@@ -59,16 +64,23 @@ class CspaceBody final : public haptics::ForceField {
     double first_inside = -1.0;
   };
   [[nodiscard]] BoxCounts box_counts() const;
-  /// The file's interpolator (not on-line).
+  /// The file's interpolator (a point space's, not on-line).
   [[nodiscard]] const precompute::Interpolator& interpolator() const { return *interpolator_; }
+  /// A probe space's interpolator, or null.
+  [[nodiscard]] const precompute::ProbeInterpolator* probe() const { return probe_ ? &*probe_ : nullptr; }
+  /// The probe's direction for a tool turned by `orientation`: its −z axis.
+  [[nodiscard]] static Vec3 probe_direction(const Quat& orientation) { return orientation * Vec3(0.0, 0.0, -1.0); }
 
   CspaceBody(std::size_t body, std::shared_ptr<const precompute::Space> space, precompute::Interpolation method);
+  CspaceBody(std::size_t body, std::vector<std::shared_ptr<const precompute::Space>> levels,
+             precompute::Interpolation method);
   CspaceBody(std::size_t body, std::unique_ptr<precompute::OnlineBuilder> online, VecX rest);
   ~CspaceBody();
 
  private:
   std::size_t body_;
   std::optional<precompute::Interpolator> interpolator_;
+  std::optional<precompute::ProbeInterpolator> probe_;
   /// On-line: written by its solver threads, read by the haptic thread (force) and the
   /// simulation thread (shape); its own synchronization makes that safe.
   std::unique_ptr<precompute::OnlineBuilder> online_;

@@ -178,6 +178,7 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   out.requested_force = safe.force.norm();
   out.touching = r.touching;
   out.position = f.position;
+  out.orientation = f.orientation;
   out.frame_point = r.frame_point;
   out.tool_axis = r.tool_axis;
   out.finger = {true, f.position, f.orientation, r.on_fabric, r.slipping};

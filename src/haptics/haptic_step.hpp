@@ -105,6 +105,7 @@ struct HapticOutputs {
   double requested_force = 0.0;  ///< magnitude asked of the safety layer [N]
   bool touching = false;
   Vec3 position = Vec3::Zero();     ///< the tool, scene [m]
+  Quat orientation = Quat::Identity();  ///< the tool frame, scene
   Vec3 frame_point = Vec3::Zero();  ///< HapticFrame::proxy
   Vec3 tool_axis = Vec3::Zero();
   PeerFinger finger;  ///< what the partner finger's loop is told about this frame

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "precompute/probe.hpp"
 
 namespace tactus::precompute {
 
@@ -26,16 +27,26 @@ ConfigurationSolver::ConfigurationSolver(const physics::Body& body, const SpaceS
   body_.settings.solver = physics::LinearSolver::cholesky;
   if (!settings_.gravity) body_.gravity = Vec3::Zero();
   contact_rest_ = body_.model->rest_positions().segment<3>(3 * static_cast<Eigen::Index>(settings_.contact_node));
+  rotation_ = probe_rotation(settings_);
   state_ = physics::make_state(body_);
   force_ = VecX::Zero(state_.x.size());
 }
 
-void ConfigurationSolver::place_patch(const Vec3& contact) {
+void ConfigurationSolver::place_patch(const Pose& pose) {
   const VecX& rest = body_.model->rest_positions();
-  const Vec3 shift = contact - contact_rest_;
+  if (pose.rotation.isZero(0.0)) {
+    const Vec3 shift = pose.contact - contact_rest_;
+    for (auto n : settings_.patch_nodes) {
+      const auto i = 3 * static_cast<Eigen::Index>(n);
+      state_.x.segment<3>(i) = rest.segment<3>(i) + shift;
+    }
+    return;
+  }
+  const double angle = pose.rotation.norm();
+  const Mat3 turn = Eigen::AngleAxisd(angle, pose.rotation / angle).toRotationMatrix();
   for (auto n : settings_.patch_nodes) {
     const auto i = 3 * static_cast<Eigen::Index>(n);
-    state_.x.segment<3>(i) = rest.segment<3>(i) + shift;
+    state_.x.segment<3>(i) = pose.contact + turn * (rest.segment<3>(i) - contact_rest_);
   }
 }
 
@@ -66,20 +77,26 @@ bool ConfigurationSolver::derivatives(PointResult& r) {
 }
 
 PointResult ConfigurationSolver::solve_start(std::size_t point, const Vec3& target) {
-  return run(point, -1, nullptr, contact_rest_, target, 1);
+  // A leaning probe turns the patch from rest: that is a deformation, walked in load steps.
+  const int steps = rotation_.isZero(0.0) ? 1 : settings_.load_steps;
+  return run(point, -1, nullptr, {contact_rest_, Vec3::Zero()}, {target, rotation_}, steps);
 }
 
 PointResult ConfigurationSolver::transition(std::size_t point, std::int64_t source, const VecX& source_displacement,
                                             const Vec3& from, const Vec3& target) {
-  return run(point, source, &source_displacement, from, target, settings_.load_steps);
+  return run(point, source, &source_displacement, {from, rotation_}, {target, rotation_}, settings_.load_steps);
 }
 
 PointResult ConfigurationSolver::solve_direct(const Vec3& target, int steps) {
-  return run(0, -1, nullptr, contact_rest_, target, steps);
+  return solve_direct(target, rotation_, steps);
 }
 
-PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, const VecX* start, const Vec3& from,
-                                     const Vec3& target, int steps) {
+PointResult ConfigurationSolver::solve_direct(const Vec3& target, const Vec3& rotation, int steps) {
+  return run(0, -1, nullptr, {contact_rest_, Vec3::Zero()}, {target, rotation}, steps);
+}
+
+PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, const VecX* start, const Pose& from,
+                                     const Pose& target, int steps) {
   const auto t0 = std::chrono::steady_clock::now();
   PointResult r;
   r.point = point;
@@ -107,7 +124,8 @@ PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, con
     int halvings = 0;
     while (reached < end && r.status == PointStatus::solved) {
       const double fraction = std::min(end, reached + step);
-      place_patch(from + fraction * (target - from));
+      place_patch({from.contact + fraction * (target.contact - from.contact),
+                   from.rotation + fraction * (target.rotation - from.rotation)});
       std::string failure;
       double step_residual = 0.0;
       try {

@@ -4,6 +4,8 @@
 // the patch moves along the grid edge in load steps, each a Newton solve warm-started from
 // the last. The solver keeps one BodyState for its whole life, so the sparse Cholesky
 // factorization's symbolic analysis (done on the first solve) is reused by every later one.
+// In a probe space the patch also turns with the probe, about the contact node, by the
+// level's lean; the start point of a leaning level is reached by turning it in load steps.
 #include <cstdint>
 
 #include "physics/body.hpp"
@@ -33,8 +35,12 @@ class ConfigurationSolver {
   PointResult transition(std::size_t point, std::int64_t source, const VecX& source_displacement, const Vec3& from,
                          const Vec3& target);
   /// A path from rest straight to `target` in `steps` load steps (the reference solution of
-  /// the accuracy study, independent of the grid).
+  /// the accuracy study, independent of the grid), the probe turning from rest to its level's
+  /// lean on the way.
   PointResult solve_direct(const Vec3& target, int steps);
+  /// The same with the probe turned by `rotation` (a rotation vector) at the end: the
+  /// reference of a probe space between its leans.
+  PointResult solve_direct(const Vec3& target, const Vec3& rotation, int steps);
 
   /// Rest position of the contact node.
   [[nodiscard]] const Vec3& contact_rest() const { return contact_rest_; }
@@ -43,9 +49,14 @@ class ConfigurationSolver {
   [[nodiscard]] long long newton_iterations() const { return newton_iterations_; }
 
  private:
-  PointResult run(std::size_t point, std::int64_t source, const VecX* start, const Vec3& from, const Vec3& target,
+  /// Where the patch is held: the contact node's place and the probe's rotation vector.
+  struct Pose {
+    Vec3 contact = Vec3::Zero();
+    Vec3 rotation = Vec3::Zero();
+  };
+  PointResult run(std::size_t point, std::int64_t source, const VecX* start, const Pose& from, const Pose& target,
                   int steps);
-  void place_patch(const Vec3& contact);
+  void place_patch(const Pose& pose);
   [[nodiscard]] Vec3 reaction();
   /// Fills r's force and displacement gradients at the balanced state; false where the
   /// stiffness does not solve.
@@ -55,6 +66,7 @@ class ConfigurationSolver {
   SpaceSettings settings_;
   physics::BodyState state_;
   Vec3 contact_rest_ = Vec3::Zero();
+  Vec3 rotation_ = Vec3::Zero();  ///< the probe's at this level's lean (precompute/probe.hpp)
   VecX force_;
   MatX held_, force_change_;
   long long newton_iterations_ = 0;

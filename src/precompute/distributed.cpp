@@ -372,12 +372,14 @@ void serve(ConfigurationSolver& solver, const Space& space, const Session& sessi
   Latency latency(session.rank());
   long tasks = 0;
   VecX source(dofs);
+  // This schedule's share only: a probe space's levels are served one after another.
+  const double cpu0 = process_cpu_seconds();
   for (;;) {
     std::int64_t head[kTaskHead];
     MPI_Status st;
     MPI_Recv(head, kTaskHead, MPI_INT64_T, 0, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
     if (st.MPI_TAG == kStopTag) {
-      const double cpu = process_cpu_seconds();
+      const double cpu = process_cpu_seconds() - cpu0;
       MPI_Send(&cpu, 1, MPI_DOUBLE, 0, kCpuTag, MPI_COMM_WORLD);
       return;
     }
@@ -407,6 +409,13 @@ void Session::abort_job(int code) {
   if (initialized_) MPI_Abort(MPI_COMM_WORLD, code);
 }
 
+bool Session::decide(bool go) const {
+  if (!initialized_) return go;
+  int value = go ? 1 : 0;
+  MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  return value != 0;
+}
+
 #else
 
 bool available() { return false; }
@@ -421,6 +430,8 @@ Session::Session() {
 Session::~Session() = default;
 
 void Session::abort_job(int) {}
+
+bool Session::decide(bool go) const { return go; }
 
 BuildStats schedule(Space&, const BuildOptions&, const Session&) {
   throw std::logic_error("distributed::schedule needs a build with MPI");

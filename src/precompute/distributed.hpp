@@ -28,6 +28,9 @@ class Session {
   /// Ends every rank of the job now with `code` (MPI_Abort): for a hung rank that would keep
   /// MPI_Finalize from returning. Nothing without MPI.
   void abort_job(int code);
+  /// Rank 0's `go`, on every rank (a broadcast every rank must reach): whether the solver
+  /// ranks serve another schedule.
+  [[nodiscard]] bool decide(bool go) const;
 
  private:
   int rank_ = 0;

@@ -54,6 +54,14 @@ ModelIdentity identify(const physics::Body& body, const SpaceSettings& settings,
   model.add(grid.origin.data(), 3 * sizeof(double));
   model.add_value(grid.spacing);
   model.add(grid.counts.data(), sizeof grid.counts);
+  if (settings.probe.enabled()) {
+    // A probe space's levels differ in their lean (hashed only for probes: point spaces keep
+    // their identity).
+    model.add(settings.probe.axis.data(), 3 * sizeof(double));
+    model.add_value(settings.probe.max_tilt);
+    model.add_value(settings.probe.tilt_levels);
+    model.add(settings.tilt.data(), 2 * sizeof(double));
+  }
   id.model_hash = model.value();
   return id;
 }

@@ -2,6 +2,7 @@
 // What a configuration space is built from: the grid around the organ, the contact node
 // (or patch) that is moved to each grid point, and the solver's convergence criteria.
 // docs/scene-format.md ([precompute]) documents each field as the key that sets it.
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -18,6 +19,20 @@ enum class Interpolation { trilinear, rbf_cubic, rbf_thin_plate, polynomial, tri
 /// Parses a method's name (to_string's); throws InputError naming the alternatives otherwise.
 Interpolation parse_interpolation(std::string_view name);
 std::string_view to_string(Interpolation method);
+
+/// A probe space (docs/precompute.md, "Probe spaces"): the patch is the end of a rigid probe,
+/// bonded to it, and the probe may lean away from its rest axis. Each level of the space is a
+/// grid of configurations at one lean; the levels form a square lattice of `tilt_levels` ×
+/// `tilt_levels` leans over [−max_tilt, max_tilt]² (precompute/probe.hpp).
+struct ProbeSettings {
+  Vec3 axis = Vec3::Zero();  ///< the probe's rest direction, pointing into the body (unit)
+  double max_tilt = 0.0;     ///< [rad] the largest lean the space covers about each tangent axis
+  int tilt_levels = 1;       ///< leans per tangent axis (odd; 1: a point space, no probe)
+  [[nodiscard]] bool enabled() const { return tilt_levels > 1; }
+  [[nodiscard]] std::size_t level_count() const {
+    return static_cast<std::size_t>(tilt_levels) * static_cast<std::size_t>(tilt_levels);
+  }
+};
 
 struct SpaceSettings {
   std::string body;                   ///< scene body the space belongs to
@@ -38,6 +53,9 @@ struct SpaceSettings {
   /// Adaptive refinement after the build: at most this many points more (0: none).
   int refine_points = 0;
   Interpolation interpolation = Interpolation::trilinear;
+  ProbeSettings probe;
+  /// This level's lean of the probe [rad] (its tangent coordinates; zero without a probe).
+  Vec2 tilt = Vec2::Zero();
 };
 
 }  // namespace tactus::precompute

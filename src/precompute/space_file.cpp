@@ -26,13 +26,11 @@ constexpr int kVersion = 2;
 
 }  // namespace
 
-void write_space(const std::filesystem::path& path, const Space& space) {
-  QuietErrors quiet;
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  Writer w(path, "the space file");
+namespace {
+
+/// One space's attributes and groups under `file` (the file's root, or a probe level's group).
+void write_into(Writer& w, hid_t file, const Space& space) {
   {
-    Handle file(H5Fcreate(tmp.string().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-    if (!file.valid()) fail(path, "cannot create the space file");
     const std::size_t points = space.point_count();
     const auto dofs = static_cast<hsize_t>(space.displacement.rows());
     const auto& s = space.settings;
@@ -65,6 +63,12 @@ void write_space(const std::filesystem::path& path, const Space& space) {
     const int gravity = s.gravity ? 1 : 0;
     w.attribute(settings, "gravity", H5T_NATIVE_INT, &gravity);
     w.attribute(settings, "refine_points", H5T_NATIVE_INT, &s.refine_points);
+    if (s.probe.enabled()) {
+      w.attribute(settings, "probe_axis", H5T_NATIVE_DOUBLE, s.probe.axis.data(), 3);
+      w.attribute(settings, "probe_max_tilt", H5T_NATIVE_DOUBLE, &s.probe.max_tilt);
+      w.attribute(settings, "probe_tilt_levels", H5T_NATIVE_INT, &s.probe.tilt_levels);
+      w.attribute(settings, "probe_tilt", H5T_NATIVE_DOUBLE, s.tilt.data(), 2);
+    }
 
     Handle pts(H5Gcreate2(file, "points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     w.dataset(pts, "status", H5T_NATIVE_UINT8, {points}, space.status.data());
@@ -100,6 +104,25 @@ void write_space(const std::filesystem::path& path, const Space& space) {
     w.dataset(model, "elements", H5T_NATIVE_INT32, {space.elements.size(), 4}, space.elements.data());
     w.dataset(model, "patch_nodes", H5T_NATIVE_INT32, {s.patch_nodes.size()}, s.patch_nodes.data());
     w.strings(model, "scene", {space.scene_text});
+  }
+}
+
+void write_file(const std::filesystem::path& path, const std::vector<const Space*>& levels) {
+  QuietErrors quiet;
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  Writer w(path, "the space file");
+  {
+    Handle file(H5Fcreate(tmp.string().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    if (!file.valid()) fail(path, "cannot create the space file");
+    write_into(w, file, *levels.front());
+    if (levels.size() > 1) {
+      Handle group(H5Gcreate2(file, "probe_levels", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+      for (std::size_t k = 1; k < levels.size(); ++k) {
+        Handle level(H5Gcreate2(group, std::to_string(k).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+        w.check(level.valid(), "probe level group");
+        write_into(w, level, *levels[k]);
+      }
+    }
     w.check(H5Fflush(file, H5F_SCOPE_GLOBAL) >= 0, "file");
   }
   std::error_code ec;
@@ -107,14 +130,8 @@ void write_space(const std::filesystem::path& path, const Space& space) {
   if (ec) fail(path, "cannot move the finished space file into place: " + ec.message());
 }
 
-Space read_space(const std::filesystem::path& path) {
-  QuietErrors quiet;
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) fail(path, "file not found");
-  if (H5Fis_hdf5(path.string().c_str()) <= 0) fail(path, "not an HDF5 file");
-  Handle file(H5Fopen(path.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!file.valid()) fail(path, "cannot open the HDF5 file");
-  Reader r(path);
+/// One space from under `file` (the root, or a probe level's group).
+Space read_from(Reader& r, hid_t file, const std::filesystem::path& path) {
   if (r.text(file, "format") != kFormat) fail(path, "not a Tactus configuration space");
   const int version = r.scalar<int>(file, "version", H5T_NATIVE_INT);
   if (version != 1 && version != kVersion)
@@ -158,6 +175,16 @@ Space read_space(const std::filesystem::path& path) {
   s.tolerance = r.scalar<double>(settings, "tolerance", H5T_NATIVE_DOUBLE);
   s.gravity = r.scalar<int>(settings, "gravity", H5T_NATIVE_INT) != 0;
   if (version >= 2) s.refine_points = r.scalar<int>(settings, "refine_points", H5T_NATIVE_INT);
+  if (H5Aexists(settings, "probe_tilt_levels") > 0) {
+    r.array(settings, "probe_axis", H5T_NATIVE_DOUBLE, s.probe.axis.data(), 3);
+    s.probe.max_tilt = r.scalar<double>(settings, "probe_max_tilt", H5T_NATIVE_DOUBLE);
+    s.probe.tilt_levels = r.scalar<int>(settings, "probe_tilt_levels", H5T_NATIVE_INT);
+    r.array(settings, "probe_tilt", H5T_NATIVE_DOUBLE, s.tilt.data(), 2);
+    if (s.probe.tilt_levels < 3 || s.probe.tilt_levels % 2 == 0 || s.probe.tilt_levels > 99 ||
+        !(s.probe.max_tilt > 0.0 && s.probe.max_tilt < 1.6) || !(s.probe.axis.norm() > 0.0) ||
+        !s.probe.axis.allFinite() || !s.tilt.allFinite())
+      fail(path, "implausible probe settings (leans per axis odd and 3 to 99, largest lean in (0, 90°), an axis)");
+  }
 
   const std::size_t nodes = space.identity.node_count;
   if (total * 12.0 * static_cast<double>(nodes) > 4e9) fail(path, "implausible size of the displacement tables");
@@ -227,6 +254,43 @@ Space read_space(const std::filesystem::path& path) {
   space.scene_text = r.strings(model, "scene", 1).front();
   return space;
 }
+
+}  // namespace
+
+void write_space(const std::filesystem::path& path, const Space& space) { write_file(path, {&space}); }
+
+void write_probe_space(const std::filesystem::path& path, const std::vector<Space>& levels) {
+  if (levels.empty()) throw InputError("a probe space has at least one level");
+  std::vector<const Space*> list;
+  for (const Space& level : levels) list.push_back(&level);
+  write_file(path, list);
+}
+
+std::vector<Space> read_space_levels(const std::filesystem::path& path) {
+  QuietErrors quiet;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) fail(path, "file not found");
+  if (H5Fis_hdf5(path.string().c_str()) <= 0) fail(path, "not an HDF5 file");
+  Handle file(H5Fopen(path.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!file.valid()) fail(path, "cannot open the HDF5 file");
+  Reader r(path);
+  std::vector<Space> levels;
+  levels.push_back(read_from(r, file, path));
+  const ProbeSettings& probe = levels.front().settings.probe;
+  if (!probe.enabled()) return levels;
+  Handle group(H5Gopen2(file, "probe_levels", H5P_DEFAULT), H5Gclose);
+  if (!group.valid()) fail(path, "a probe space without its group 'probe_levels'");
+  for (std::size_t k = 1; k < probe.level_count(); ++k) {
+    Handle level(H5Gopen2(group, std::to_string(k).c_str(), H5P_DEFAULT), H5Gclose);
+    if (!level.valid()) fail(path, fmt::format("probe level {} of {} is missing", k, probe.level_count()));
+    levels.push_back(read_from(r, level, path));
+    if (levels.back().identity.mesh_hash != levels.front().identity.mesh_hash)
+      fail(path, fmt::format("probe level {} was built for another mesh than level 0", k));
+  }
+  return levels;
+}
+
+Space read_space(const std::filesystem::path& path) { return std::move(read_space_levels(path).front()); }
 
 Space load_space(const std::filesystem::path& path, const ModelIdentity& model) {
   Space space = read_space(path);

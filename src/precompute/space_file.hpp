@@ -1,6 +1,7 @@
 #pragma once
 // Configuration spaces in HDF5 files (layout: docs/precompute.md).
 #include <filesystem>
+#include <vector>
 
 #include "precompute/space.hpp"
 
@@ -10,7 +11,15 @@ namespace tactus::precompute {
 /// sees half a file). Throws InputError when the file cannot be written.
 void write_space(const std::filesystem::path& path, const Space& space);
 
-/// Reads a space. Throws InputError for a missing, unreadable or malformed file.
+/// Writes a probe space: its levels in level order (level 0 at the root, as a point space
+/// is; the others in group probe_levels).
+void write_probe_space(const std::filesystem::path& path, const std::vector<Space>& levels);
+
+/// Reads every level of a space: one for a point space, level_count() for a probe space.
+/// Throws InputError for a missing, unreadable or malformed file or a missing level.
+std::vector<Space> read_space_levels(const std::filesystem::path& path);
+
+/// Reads a space (a probe space's level 0). Throws InputError for a missing, unreadable or malformed file.
 Space read_space(const std::filesystem::path& path);
 
 /// Reads a space and checks it against `model` (the identity of the body it is meant

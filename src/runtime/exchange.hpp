@@ -21,6 +21,7 @@ struct ToolState {
   Vec3 position = Vec3::Zero();  ///< tool frame origin (sphere centre for a fingertip)
   Vec3 axis = Vec3::Zero();      ///< needle tools: unit axis towards the tip; zero otherwise
   bool valid = false;
+  Quat orientation = Quat::Identity();  ///< tool frame, scene (a probe's lean: cspace bodies)
 };
 
 using haptics::ContactLoad;

@@ -101,6 +101,7 @@ void HapticLoop::step(double t, Nanos deadline, Nanos start, bool real_time) {
   if (follows_tool_) {
     ToolState& to_simulation = channels_.tool_to_simulation.write_buffer();
     to_simulation.position = out_.position;
+    to_simulation.orientation = out_.orientation;
     to_simulation.valid = true;
     channels_.tool_to_simulation.publish();
   }

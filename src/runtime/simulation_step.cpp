@@ -163,7 +163,7 @@ void shape_cspace_bodies(const SimulationModel& model, SimulationState& state, s
     if (!model.bodies[b].cspace) continue;
     for (std::size_t device = 0; device < tools.size() && device < model.patches.size(); ++device) {
       if (model.patches[device] || !tools[device].valid) continue;
-      model.bodies[b].cspace->positions(tools[device].position, state.bodies[b].state.x);
+      model.bodies[b].cspace->positions(tools[device].position, tools[device].orientation, state.bodies[b].state.x);
       break;
     }
   }

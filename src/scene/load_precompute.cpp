@@ -1,6 +1,7 @@
 // [precompute]: the configuration space `tactus precompute` builds for one FEM body.
 #include <algorithm>
 #include <limits>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -73,6 +74,21 @@ precompute::SpaceSettings read_precompute(Reader& r, const Model& model) {
   s.gravity = r.boolean("gravity", s.gravity);
   s.refine_points = r.integer("refine_points", s.refine_points, 0, 10'000'000);
   s.interpolation = read_interpolation(r, "interpolation");
+  // A probe space: the patch is the bonded end of a rigid probe that may lean.
+  if (const auto axis = r.vec3("probe_axis")) {
+    if (!(axis->norm() > 0.0)) r.fail("probe_axis", "the probe's axis must be a non-zero direction");
+    s.probe.axis = axis->normalized();
+    s.probe.max_tilt = r.required_number("probe_tilt", Range::open(0.0, 90.0)) * std::numbers::pi / 180.0;
+    s.probe.tilt_levels = r.integer("probe_tilt_levels", 3, 3, 15);
+    if (s.probe.tilt_levels % 2 == 0)
+      r.fail("probe_tilt_levels", "the leans per axis must be odd, so that the rest axis is one of them");
+    if (s.patch_nodes.size() < 2)
+      r.fail("patch_radius", "a probe turns its patch about the contact node: give it a patch_radius that takes in "
+                             "more nodes than that one");
+  } else {
+    for (const char* key : {"probe_tilt", "probe_tilt_levels"})
+      if (r.has(key)) r.fail(key, "a probe space also needs probe_axis (the probe's rest direction, into the body)");
+  }
   precompute::Grid grid;
   try {
     grid = precompute::Grid::through(node, s.bounds_min, s.bounds_max, s.spacing);

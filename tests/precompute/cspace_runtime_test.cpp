@@ -142,7 +142,7 @@ TEST_F(CspaceRuntime, ShapeFollowsTheToolAndForceIsZeroOutsideTheGrid) {
   const Space& space = body->interpolator().space();
   VecX x, displacement;
   const Vec3 p(0.001, 0.0005, 0.007);
-  body->positions(p, x);
+  body->positions(p, Quat::Identity(), x);
   const Query q = body->interpolator().shape(p, displacement);
   ASSERT_TRUE(q.valid);
   EXPECT_TRUE(x.isApprox(space.rest_positions + displacement, 1e-14));
@@ -150,9 +150,9 @@ TEST_F(CspaceRuntime, ShapeFollowsTheToolAndForceIsZeroOutsideTheGrid) {
   // configuration holds it at its grid point).
   const auto n = 3 * static_cast<Eigen::Index>(space.settings.contact_node);
   EXPECT_LT((x.segment<3>(n) - p).norm(), 1e-9);
-  EXPECT_FALSE(body->force(Vec3(0.0, 0.0, 0.05), 0.0).touching);
-  EXPECT_TRUE(body->force(p, 0.25).touching);
-  EXPECT_EQ(body->force(Vec3(0.0, 0.0, 0.05), 0.5).force, Vec3::Zero());
+  EXPECT_FALSE(body->force(Vec3(0.0, 0.0, 0.05), Quat::Identity(), 0.0).touching);
+  EXPECT_TRUE(body->force(p, Quat::Identity(), 0.25).touching);
+  EXPECT_EQ(body->force(Vec3(0.0, 0.0, 0.05), Quat::Identity(), 0.5).force, Vec3::Zero());
   // Where the tool was is counted, for the run's report: outside twice, inside once, at 0.25 s.
   const compile::CspaceBody::BoxCounts box = body->box_counts();
   EXPECT_EQ(box.inside, 1u);
@@ -298,7 +298,7 @@ TEST_F(CspaceRuntime, OnlineBodySolvesAroundTheToolAndFeelsWhatTheBuiltSpaceHold
   // Real time: the solvers run beside this loop at 1 kHz (10 s is far more than the few
   // solves this takes, even under a sanitizer).
   for (int frame = 0; frame < 10000 && !reached; ++frame, t += 1e-3) {
-    const compile::CspaceForce f = body->force(p, t);
+    const compile::CspaceForce f = body->force(p, Quat::Identity(), t);
     ASSERT_TRUE(f.force.allFinite());
     EXPECT_LE((f.force - last).norm(), 0.1 + 1e-12) << "frame " << frame;  // OnlineSettings::max_force_step
     last = f.force;
@@ -310,11 +310,11 @@ TEST_F(CspaceRuntime, OnlineBodySolvesAroundTheToolAndFeelsWhatTheBuiltSpaceHold
   // The shape there: the contact node at the tool (every configuration holds it at its
   // grid point).
   VecX x;
-  body->positions(p, x);
+  body->positions(p, Quat::Identity(), x);
   const auto n = 3 * static_cast<Eigen::Index>(built.settings.contact_node);
   EXPECT_LT((x.segment<3>(n) - p).norm(), 1e-9);
   // Outside the grid's box the tool is not attached.
-  EXPECT_FALSE(body->force(Vec3(0.0, 0.0, 0.05), t).touching);
+  EXPECT_FALSE(body->force(Vec3(0.0, 0.0, 0.05), Quat::Identity(), t).touching);
 }
 
 TEST_F(CspaceRuntime, RunWithOnlineFlagBuildsTheSpaceDuringTheRun) {

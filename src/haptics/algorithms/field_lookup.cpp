@@ -4,7 +4,7 @@ namespace tactus::haptics {
 
 Rendering FieldLookup::render(const FrameInputs& f, AlgorithmState& /*state*/) const {
   const Vec3 arm = f.orientation * offset_;
-  const FieldForce field = field_->force(f.position + arm, f.t);
+  const FieldForce field = field_->force(f.position + arm, f.orientation, f.t);
   Rendering r;
   r.force = field.force;
   r.torque = arm.cross(field.force);

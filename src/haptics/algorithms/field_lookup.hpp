@@ -17,8 +17,9 @@ struct FieldForce {
 class ForceField {
  public:
   virtual ~ForceField() = default;
-  /// The force at point p [m] at loop time t [s]. Allocation-free; called by one haptic thread.
-  [[nodiscard]] virtual FieldForce force(const Vec3& p, double t) const noexcept = 0;
+  /// The force at point p [m], the tool turned by `orientation` (scene frame), at loop time
+  /// t [s]. Allocation-free; called by one haptic thread.
+  [[nodiscard]] virtual FieldForce force(const Vec3& p, const Quat& orientation, double t) const noexcept = 0;
 };
 
 class FieldLookup final : public ForceAlgorithm {

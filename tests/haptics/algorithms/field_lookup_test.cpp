@@ -12,7 +12,7 @@ namespace {
 /// A spring field F = −k (p − centre) inside a 10 cm box, nothing outside.
 class SpringField final : public ForceField {
  public:
-  [[nodiscard]] FieldForce force(const Vec3& p, double /*t*/) const noexcept override {
+  [[nodiscard]] FieldForce force(const Vec3& p, const Quat& /*orientation*/, double /*t*/) const noexcept override {
     if ((p.array().abs() > 0.05).any()) return {};
     return {-300.0 * p, true};
   }
