@@ -276,7 +276,7 @@ std::vector<Space> read_space_levels(const std::filesystem::path& path) {
   Reader r(path);
   std::vector<Space> levels;
   levels.push_back(read_from(r, file, path));
-  const ProbeSettings& probe = levels.front().settings.probe;
+  const ProbeSettings probe = levels.front().settings.probe;  // a copy: levels grows
   if (!probe.enabled()) return levels;
   Handle group(H5Gopen2(file, "probe_levels", H5P_DEFAULT), H5Gclose);
   if (!group.valid()) fail(path, "a probe space without its group 'probe_levels'");
