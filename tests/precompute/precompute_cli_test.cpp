@@ -122,6 +122,54 @@ TEST_F(PrecomputeCli, ResumeAfterAStopComputesNothingTwiceAndLosesNothing) {
   expect_same(whole, part);
 }
 
+/// The block's [precompute] table for a probe leaning 12 degrees either way, its end the
+/// contact node and its neighbours 1 cm away: a space of 9 levels of 27 points, pressed at
+/// most 3 mm (deeper, the leaning probe turns the block's coarse elements inside out).
+const std::string kProbeScene = testing::block_scene(R"(contact_point = [0.0, 0.0, 0.01]
+spacing = 0.003
+min = [-0.003, -0.003, 0.007]
+max = [0.003, 0.003, 0.013]
+patch_radius = 0.0105
+probe_axis = [0.0, 0.0, -1.0]
+probe_tilt = 12.0
+)");
+
+void expect_same_levels(const fs::path& a, const fs::path& b) {
+  const std::vector<Space> x = read_space_levels(a), y = read_space_levels(b);
+  ASSERT_EQ(x.size(), 9u);
+  ASSERT_EQ(y.size(), x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    SCOPED_TRACE("level " + std::to_string(k));
+    EXPECT_EQ(x[k].settings.tilt, y[k].settings.tilt);
+    EXPECT_EQ(x[k].count(PointStatus::solved), x[k].grid.size());
+    EXPECT_EQ(x[k].status, y[k].status);
+    EXPECT_EQ(x[k].force, y[k].force);
+    EXPECT_TRUE(x[k].displacement == y[k].displacement);
+    EXPECT_EQ(x[k].identity.model_hash, y[k].identity.model_hash);
+  }
+}
+
+TEST_F(PrecomputeCli, AProbeSpaceIsBuiltLevelByLevelAndResumesAtTheLevelItStoppedIn) {
+  std::ofstream(dir_ / "block.toml") << kProbeScene;
+  ASSERT_EQ(precompute("whole.h5", "--threads 2"), 0) << log();
+  EXPECT_NE(log().find("probe level 9 of 9: leaning 12.0, 12.0 degrees"), std::string::npos) << log();
+  // Stopped after 10 solves of its first level.
+  ASSERT_EQ(precompute("part.h5", "--threads 1 --stop-after 10"), 3) << log();
+  EXPECT_TRUE(fs::exists(dir_ / "part.h5.level-0.journal"));
+  EXPECT_FALSE(fs::exists(dir_ / "part.h5"));
+  // Resumed with a stop after 20 solves a level: the first level's last 17 are solved, the
+  // second level stops, and both levels' journals stay.
+  ASSERT_EQ(precompute("part.h5", "--threads 1 --resume --stop-after 20"), 3) << log();
+  EXPECT_TRUE(fs::exists(dir_ / "part.h5.level-0.journal"));
+  EXPECT_TRUE(fs::exists(dir_ / "part.h5.level-1.journal"));
+  EXPECT_FALSE(fs::exists(dir_ / "part.h5.level-2.journal"));
+  ASSERT_EQ(precompute("part.h5", "--threads 2 --resume"), 0) << log();
+  EXPECT_NE(log().find("(27 taken from the journal)"), std::string::npos) << log();
+  EXPECT_NE(log().find("(20 taken from the journal)"), std::string::npos) << log();
+  for (int k = 0; k < 9; ++k) EXPECT_FALSE(fs::exists(dir_ / ("part.h5.level-" + std::to_string(k) + ".journal")));
+  expect_same_levels(dir_ / "whole.h5", dir_ / "part.h5");
+}
+
 TEST_F(PrecomputeCli, SceneWithoutPrecomputeTableIsAnInputError) {
   std::ofstream(dir_ / "block.toml") << "[scene]\nname = \"x\"\n";
   EXPECT_EQ(precompute("space.h5", ""), 1);
@@ -167,6 +215,20 @@ TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameSpaceAsOneProcess) {
     EXPECT_GT(std::stod(text.substr(per + 2)), 0.0) << text;
     expect_same(read_space(dir_ / "single.h5"), read_space(dir_ / file));
   }
+}
+
+TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameProbeSpaceAsOneProcess) {
+  std::ofstream(dir_ / "block.toml") << kProbeScene;
+  ASSERT_EQ(precompute("single.h5", "--threads 1"), 0) << log();
+  const std::string launcher = std::string("timeout 300 env ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '") +
+                               TACTUS_MPIEXEC + "' -np 3 --oversubscribe" +
+                               (::geteuid() == 0 ? " --allow-run-as-root" : "");
+  ASSERT_EQ(precompute("mpi.h5", "", launcher), 0) << log();
+  expect_same_levels(dir_ / "single.h5", dir_ / "mpi.h5");
+  // Stopped in the first level: the solver ranks are told there is no next one and end.
+  ASSERT_EQ(precompute("part.h5", "--stop-after 5", launcher), 3) << log();
+  ASSERT_EQ(precompute("part.h5", "--resume", launcher), 0) << log();
+  expect_same_levels(dir_ / "single.h5", dir_ / "part.h5");
 }
 
 TEST_F(PrecomputeCli, TwoTasksInFlightPerRankDoNotWaitOnEachOther) {

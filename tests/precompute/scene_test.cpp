@@ -1,6 +1,7 @@
 // The [precompute] table of scene files.
 #include <gtest/gtest.h>
 
+#include <numbers>
 #include <string>
 #include <variant>
 
@@ -44,6 +45,34 @@ refine_points = 40
   EXPECT_EQ(s.load_steps, 3);
   EXPECT_EQ(s.interpolation, Interpolation::rbf_cubic);
   EXPECT_EQ(s.refine_points, 40);
+}
+
+TEST(PrecomputeScene, ReadsAProbe) {
+  const std::string grid = "contact_point = [0, 0, 0.01]\nspacing = 0.005\nmin = [-0.01, -0.01, 0.0]\n"
+                           "max = [0.01, 0.01, 0.02]\npatch_radius = 0.011\n";
+  const auto m = scene::parse_scene(scene_with(grid + "probe_axis = [0, 0, -2]\nprobe_tilt = 15\n"
+                                                      "probe_tilt_levels = 5\n"),
+                                    "test.toml");
+  ASSERT_TRUE(m.precompute);
+  EXPECT_TRUE(m.precompute->probe.enabled());
+  EXPECT_EQ(m.precompute->probe.axis, Vec3(0, 0, -1));
+  EXPECT_NEAR(m.precompute->probe.max_tilt, 15.0 * std::numbers::pi / 180.0, 1e-15);
+  EXPECT_EQ(m.precompute->probe.level_count(), 25u);
+  EXPECT_FALSE(scene::parse_scene(scene_with(grid), "test.toml").precompute->probe.enabled());
+
+  auto fails = [&](const std::string& keys, const std::string& key, const std::string& why) {
+    const std::string e = error_of(grid + keys);
+    EXPECT_NE(e.find(key), std::string::npos) << e;
+    EXPECT_NE(e.find(why), std::string::npos) << e;
+  };
+  fails("probe_tilt = 10\n", "probe_tilt", "probe_axis");
+  fails("probe_axis = [0, 0, -1]\n", "probe_tilt", "");
+  fails("probe_axis = [0, 0, 0]\nprobe_tilt = 10\n", "probe_axis", "non-zero");
+  fails("probe_axis = [0, 0, -1]\nprobe_tilt = 95\n", "probe_tilt", "");
+  fails("probe_axis = [0, 0, -1]\nprobe_tilt = 10\nprobe_tilt_levels = 4\n", "probe_tilt_levels", "odd");
+  const std::string no_patch = error_of("contact_point = [0, 0, 0.01]\nspacing = 0.005\nmin = [-0.01, -0.01, 0.0]\n"
+                                        "max = [0.01, 0.01, 0.02]\nprobe_axis = [0, 0, -1]\nprobe_tilt = 10\n");
+  EXPECT_NE(no_patch.find("patch_radius"), std::string::npos) << no_patch;
 }
 
 TEST(PrecomputeScene, BadTablesAreInputErrors) {
