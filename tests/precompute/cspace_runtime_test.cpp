@@ -136,6 +136,60 @@ TEST_F(CspaceRuntime, LockstepRunRendersTheInterpolatedForce) {
   }
 }
 
+TEST_F(CspaceRuntime, AProbeSpaceRendersTheForceOfTheToolsLean) {
+  // A probe space of the block (9 leans of up to 12 degrees), and a hand that presses 2.5 mm
+  // while its −z axis leans 10 degrees about y.
+  std::ofstream(dir_ / "probe.toml") << testing::block_scene(R"(contact_point = [0.0, 0.0, 0.01]
+spacing = 0.003
+min = [-0.003, -0.003, 0.007]
+max = [0.003, 0.003, 0.013]
+patch_radius = 0.0105
+probe_axis = [0.0, 0.0, -1.0]
+probe_tilt = 12.0
+)");
+  ASSERT_EQ(tactus("precompute probe.toml -o probe.h5 --threads 2"), 0) << log();
+  std::string text = run_scene("tricubic_hermite");
+  text.replace(text.find("space.h5"), 8, "probe.h5");
+  const std::string press = text.substr(text.find("[devices.hand.trajectory]"));
+  text.replace(text.find(press), press.find("[tools.finger]"), R"([devices.hand.trajectory]
+type = "waypoints"
+points = [
+  { time = 0.0, position = [0.001, 0.0005, 0.0099], direction = [0.0, 0.0, -1.0] },
+  { time = 0.3, position = [0.001, 0.0005, 0.0075], direction = [0.17364817766693033, 0.0, -0.984807753012208] },
+]
+
+)");
+  const scene::Model m = model(text);
+  const auto body = compile::CspaceBody::load(m, 0);
+  ASSERT_NE(body->probe(), nullptr);
+  EXPECT_EQ(body->probe()->level_count(), 9u);
+
+  runtime::SessionOptions o;
+  o.scheduling = runtime::Scheduling::lockstep;
+  o.duration = 0.4;
+  o.keep_frames = true;
+  const runtime::SessionReport r = runtime::run_session(m, o);
+  ASSERT_GT(r.frames.size(), 350u);
+  std::size_t compared = 0;
+  for (const runtime::HapticFrame& f : r.frames) {
+    ASSERT_TRUE(f.force.allFinite());
+    if (f.flags != 0) continue;  // the safety layer changed this frame's force
+    const ProbeQuery q = body->probe()->force(f.position, compile::CspaceBody::probe_direction(f.orientation));
+    ASSERT_TRUE(q.query.valid) << "t = " << f.t;
+    EXPECT_LT((f.force - q.query.force).norm(), 1e-12 + 1e-9 * q.query.force.norm())
+        << "t = " << f.t << " " << f.force.transpose() << " / " << q.query.force.transpose() << " at "
+        << f.position.transpose() << " dir " << compile::CspaceBody::probe_direction(f.orientation).transpose();
+    ++compared;
+  }
+  EXPECT_GT(compared, 350u);
+  // Held leaning at the end: the force is the leaning probe's, not the upright one's. The
+  // lean about y (the frame's tilt along x) sets a sideways force the upright probe lacks.
+  const runtime::HapticFrame& last = r.frames.back();
+  const Vec3 upright = body->probe()->force(last.position, Vec3(0, 0, -1)).query.force;
+  EXPECT_GT((last.force - upright).norm(), 0.05 * upright.norm()) << last.force.transpose() << " / "
+                                                                    << upright.transpose();
+}
+
 TEST_F(CspaceRuntime, ShapeFollowsTheToolAndForceIsZeroOutsideTheGrid) {
   const scene::Model m = model(run_scene("trilinear"));
   const auto body = compile::CspaceBody::load(m, 0);
