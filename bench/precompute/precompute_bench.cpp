@@ -22,6 +22,14 @@
 //            with --refine, each grid also refined by up to K points, tricubic Hermite; with
 //            --worst W, the W worst tricubic Hermite positions per grid and how far their
 //            cell's corners lie from direct solves (path dependence against interpolation).
+//   probe    --nodes N --law L --spacing S --tilt DEG --levels n --positions M [--box MM]
+//            [--patch MM]
+//            a probe space (precompute/probe.hpp) on the accuracy box's grid of spacing S,
+//            n × n leans up to DEG degrees about each tangent axis of the probe pointing
+//            down, against direct solves at M random positions and leans: the force error
+//            per method, at the same positions with the nearest level's lean (the position's
+//            interpolation alone), and with the lean ignored (the upright level alone); the
+//            cost per point and the force query's latency.
 //   online   --nodes N --law L --spacing S --threads W [--first V]
 //            on-line construction: the largest tool speed at which at least 99 % of the
 //            1 kHz force queries find their cell complete, with W solver threads, on the
@@ -46,6 +54,7 @@
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <queue>
 #include <random>
@@ -58,6 +67,7 @@
 #include "core/histogram.hpp"
 #include "core/parallel.hpp"
 #include "precompute/builder.hpp"
+#include "precompute/probe.hpp"
 #include "precompute/configuration_solver.hpp"
 #include "precompute/interpolator.hpp"
 #include "precompute/online.hpp"
@@ -92,6 +102,9 @@ struct Options {
   std::size_t refine = 0;  ///< accuracy: each grid also refined by at most this many points
   std::size_t worst = 0;   ///< accuracy: list this many worst tricubic Hermite positions per grid
   std::vector<double> spacings;
+  double tilt = 15.0;  ///< probe: largest lean [degrees]
+  double patch = 0.016;  ///< probe: the patch's radius [m] (--patch, in mm): the probe's end
+  int levels = 3;      ///< probe: leans per tangent axis
 };
 
 double cpu_seconds() {
@@ -509,6 +522,118 @@ int accuracy(const Options& o) {
   return 0;
 }
 
+int probe(const Options& o) {
+  const Model m = load_model(o.nodes, o.law);
+  pc::SpaceSettings s = accuracy_grid(m, o.spacing, o.box);
+  // The probe's end: every node within the patch radius of the contact node (as the scene's
+  // patch_radius takes them).
+  const VecX& rest = m.body.model->rest_positions();
+  s.patch_radius = o.patch;
+  s.patch_nodes.clear();
+  for (Eigen::Index n = 0; n < rest.size() / 3; ++n)
+    if ((rest.segment<3>(3 * n) - m.contact).norm() <= o.patch) s.patch_nodes.push_back(static_cast<std::int32_t>(n));
+  s.probe.axis = Vec3(0.0, 0.0, -1.0);
+  s.probe.max_tilt = o.tilt * std::numbers::pi / 180.0;
+  s.probe.tilt_levels = o.levels;
+  std::vector<std::shared_ptr<const pc::Space>> levels;
+  double wall = 0.0, cpu = 0.0;
+  std::size_t points = 0, failed = 0;
+  for (std::size_t k = 0; k < s.probe.level_count(); ++k) {
+    const pc::SpaceSettings level = pc::level_settings(s, k);
+    auto space = std::make_shared<pc::Space>(pc::make_space(m.body, level, ""));
+    pc::BuildOptions b;
+    b.threads = o.threads;
+    const double cpu0 = cpu_seconds();
+    const pc::BuildStats st = pc::build_local(*space, factory(m, level), b);
+    cpu += cpu_seconds() - cpu0;
+    wall += st.wall_seconds;
+    points += space->grid.size();
+    failed += space->grid.size() - space->count(pc::PointStatus::solved);
+    levels.push_back(std::move(space));
+  }
+  std::printf("probe: %s, %zu nodes, %zu patch nodes, spacing %.4g mm, %d x %d leans up to %.1f degrees: %zu points "
+              "(%zu per level), %zu not solved, %.1f s wall, %.3f CPU-seconds per point\n",
+              o.law.c_str(), m.body.model->node_count(), s.patch_nodes.size(), 1e3 * o.spacing, o.levels, o.levels,
+              o.tilt, points, levels.front()->grid.size(), failed, wall, cpu / static_cast<double>(points));
+  std::fflush(stdout);
+
+  // References: straight from rest to the position and lean, in load steps of at most a
+  // third of a transition's.
+  pc::ConfigurationSolver solver(m.body, pc::level_settings(s, 0));
+  const pc::ProbeFrame frame(s.probe.axis);
+  std::mt19937 rng(o.seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Vec3 lo = m.contact + Vec3(0.0, 0.0, -o.box);
+  std::vector<pc::PointResult> refs;
+  std::vector<std::pair<Vec3, Vec3>> where;  // position, direction
+  std::vector<pc::PointResult> level_refs;   // at the same positions, the nearest level's lean
+  std::vector<Vec3> level_where;
+  for (int tries = 0; static_cast<int>(refs.size()) < o.positions && tries < 20 * o.positions; ++tries) {
+    const Vec3 p = lo + Vec3(u(rng), u(rng), u(rng)) * o.box;
+    const Vec2 t = s.probe.max_tilt * Vec2(2.0 * u(rng) - 1.0, 2.0 * u(rng) - 1.0);
+    const double step = o.spacing / std::max(1, s.load_steps) / 3.0;
+    const int steps = std::max(2, static_cast<int>(std::ceil((p - m.contact).norm() / step)));
+    pc::PointResult r = solver.solve_direct(p, frame.rotation(t), steps);
+    if (r.status != pc::PointStatus::solved) {
+      std::printf("  reference at (%.4f, %.4f, %.4f), lean (%.1f, %.1f) degrees failed: %s\n", p.x(), p.y(), p.z(),
+                  t.x() * 180.0 / std::numbers::pi, t.y() * 180.0 / std::numbers::pi, r.reason.c_str());
+      continue;
+    }
+    // The same position at the nearest level's lean: the error there is the position's
+    // interpolation alone.
+    const double step_lean = 2.0 * s.probe.max_tilt / (s.probe.tilt_levels - 1);
+    const Vec2 snapped = (t / step_lean).array().round() * step_lean;
+    pc::PointResult at_level = solver.solve_direct(p, frame.rotation(snapped), steps);
+    if (at_level.status != pc::PointStatus::solved) continue;
+    refs.push_back(std::move(r));
+    where.emplace_back(p, frame.direction(t));
+    level_refs.push_back(std::move(at_level));
+    level_where.push_back(frame.direction(snapped));
+  }
+  double mean_force = 0.0;
+  for (const auto& r : refs) mean_force += r.force.norm() / static_cast<double>(refs.size());
+  std::printf("  %zu reference positions and leans (mean |force| %.4g N)\n", refs.size(), mean_force);
+  std::printf("| method | force error mean | force error max | at the levels' leans: mean | max | lean ignored: mean | "
+              "max | query p50 | query p99 |\n|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto method : {pc::Interpolation::trilinear, pc::Interpolation::tricubic_hermite}) {
+    const pc::ProbeInterpolator in(levels, method);
+    const std::size_t upright = s.probe.level_count() / 2;
+    double mean = 0.0, worst = 0.0, mean_upright = 0.0, worst_upright = 0.0, mean_level = 0.0, worst_level = 0.0;
+    for (std::size_t i = 0; i < refs.size(); ++i) {
+      const double el = (in.force(where[i].first, level_where[i]).query.force - level_refs[i].force).norm() /
+                        level_refs[i].force.norm();
+      mean_level += el / static_cast<double>(refs.size());
+      worst_level = std::max(worst_level, el);
+      const double e = (in.force(where[i].first, where[i].second).query.force - refs[i].force).norm() /
+                       refs[i].force.norm();
+      const double e0 = (in.level(upright).force(where[i].first).force - refs[i].force).norm() / refs[i].force.norm();
+      mean += e / static_cast<double>(refs.size());
+      mean_upright += e0 / static_cast<double>(refs.size());
+      worst = std::max(worst, e);
+      worst_upright = std::max(worst_upright, e0);
+    }
+    // Query latency: 100,000 queries along a path through the box, leaning as it goes.
+    std::vector<double> ns;
+    ns.reserve(100'000);
+    Vec3 sink = Vec3::Zero();
+    for (int i = 0; i < 100'000; ++i) {
+      const double a = 1e-4 * i;
+      const Vec3 p = lo + o.box * Vec3(0.5 + 0.4 * std::sin(a), 0.5 + 0.4 * std::cos(1.3 * a), 0.5 + 0.4 * std::sin(0.7 * a));
+      const Vec3 d = frame.direction(s.probe.max_tilt * Vec2(std::sin(2.1 * a), std::cos(1.7 * a)));
+      const auto t0 = std::chrono::steady_clock::now();
+      sink += in.force(p, d).query.force;
+      ns.push_back(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(ns.begin(), ns.end());
+    std::printf("| %s | %.2f%% | %.2f%% | %.2f%% | %.2f%% | %.2f%% | %.2f%% | %.2f µs | %.2f µs |\n",
+                std::string(pc::to_string(method)).c_str(), 100 * mean, 100 * worst, 100 * mean_level,
+                100 * worst_level, 100 * mean_upright, 100 * worst_upright, 1e-3 * ns[ns.size() / 2],
+                1e-3 * ns[ns.size() * 99 / 100]);
+    if (!sink.allFinite()) std::printf("  (a query was not finite)\n");
+  }
+  return 0;
+}
+
 int online(const Options& o) {
   const Model m = load_model(o.nodes, o.law);
   const pc::SpaceSettings s = accuracy_grid(m, o.spacing);
@@ -563,28 +688,37 @@ int online(const Options& o) {
 }
 
 int compare(const std::string& a_path, const std::string& b_path) {
-  const pc::Space a = pc::read_space(a_path), b = pc::read_space(b_path);
-  if (a.identity.model_hash != b.identity.model_hash || a.grid.size() != b.grid.size()) {
-    std::printf("different models or grids\n");
+  const std::vector<pc::Space> a_levels = pc::read_space_levels(a_path), b_levels = pc::read_space_levels(b_path);
+  if (a_levels.size() != b_levels.size()) {
+    std::printf("different numbers of probe levels\n");
     return 2;
   }
-  std::size_t differ = 0;
-  for (std::size_t p = 0; p < a.grid.size(); ++p) {
-    const auto c = static_cast<Eigen::Index>(p);
-    if (a.status[p] != b.status[p] || a.source[p] != b.source[p] || a.force[p] != b.force[p] ||
-        a.displacement.col(c) != b.displacement.col(c))
-      ++differ;
+  std::size_t points = 0, solved = 0, differ = 0;
+  for (std::size_t k = 0; k < a_levels.size(); ++k) {
+    const pc::Space &a = a_levels[k], &b = b_levels[k];
+    if (a.identity.model_hash != b.identity.model_hash || a.grid.size() != b.grid.size()) {
+      std::printf("different models or grids\n");
+      return 2;
+    }
+    for (std::size_t p = 0; p < a.grid.size(); ++p) {
+      const auto c = static_cast<Eigen::Index>(p);
+      if (a.status[p] != b.status[p] || a.source[p] != b.source[p] || a.force[p] != b.force[p] ||
+          a.displacement.col(c) != b.displacement.col(c))
+        ++differ;
+    }
+    points += a.grid.size();
+    solved += a.count(pc::PointStatus::solved);
   }
-  std::printf("%zu points, %zu solved in both; %zu differ\n", a.grid.size(), a.count(pc::PointStatus::solved), differ);
+  std::printf("%zu points, %zu solved in both; %zu differ\n", points, solved, differ);
   return differ ? 2 : 0;
 }
 
 int usage() {
   std::fprintf(stderr,
                "usage: precompute_bench compare A.h5 B.h5\n"
-               "       precompute_bench cost|scaling|query|accuracy|online [--nodes N] [--law stvk|mooney_rivlin|mooney_rivlin_049|mooney_rivlin_nodal]\n"
+               "       precompute_bench cost|scaling|query|accuracy|online|probe [--nodes N] [--law stvk|mooney_rivlin|mooney_rivlin_049|mooney_rivlin_nodal]\n"
                "         [--spacing S] [--points K] [--seconds T] [--positions M] [--threads N] [--seed S] [--space FILE]\n"
-               "         [--box MM] [--spacings MM,MM,...] [--refine K] [--worst W]\n");
+               "         [--box MM] [--spacings MM,MM,...] [--refine K] [--worst W] [--tilt DEG] [--levels n] [--patch MM]\n");
   return 1;
 }
 
@@ -622,6 +756,9 @@ int main(int argc, char** argv) {
       else if (key == "--box") o.box = 1e-3 * std::stod(value);
       else if (key == "--refine") o.refine = std::stoul(value);
       else if (key == "--worst") o.worst = std::stoul(value);
+      else if (key == "--tilt") o.tilt = std::stod(value);
+      else if (key == "--patch") o.patch = 1e-3 * std::stod(value);
+      else if (key == "--levels") o.levels = std::stoi(value);
       else if (key == "--spacings") {
         o.spacings.clear();
         std::stringstream list(value);
@@ -639,6 +776,7 @@ int main(int argc, char** argv) {
       if (const double n = std::round(o.box / d); std::abs(o.box / n - d) < 1e-3 * d) d = o.box / n;
     if (o.command == "accuracy") return accuracy(o);
     if (o.command == "online") return online(o);
+    if (o.command == "probe") return probe(o);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

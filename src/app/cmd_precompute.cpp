@@ -234,6 +234,10 @@ int run_precompute(const PrecomputeArgs& a) {
   if (a.online_speed) {
     if (session.size() > 1)
       throw InputError("--online-speed runs its solvers as threads on one machine: start it without mpirun");
+    if (settings.probe.enabled())
+      throw InputError(SourceLocation{a.scene, {}, {}, {}},
+                       "--online-speed measures on-line construction, which builds point spaces; this [precompute] "
+                       "table has a probe");
     set_thread_limit(1);
     return run_online_speed(a, body, settings);
   }

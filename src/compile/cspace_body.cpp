@@ -22,6 +22,11 @@ std::shared_ptr<const CspaceBody> CspaceBody::load(const scene::Model& model, st
                                    b.name,
                                    model.precompute ? fmt::format("that table is for body '{}'", model.precompute->body)
                                                     : std::string("the scene has none")));
+    if (model.precompute->probe.enabled())
+      throw InputError(SourceLocation{model.source, {}, {}, {}},
+                       fmt::format("body '{}': on-line construction builds point spaces; the [precompute] table has a "
+                                   "probe (build it with `tactus precompute` and give the file as `space`)",
+                                   b.name));
     const physics::Body body = make_physics_body(model, index);
     precompute::Space space = precompute::make_space(body, *model.precompute, "");
     // The solvers' element loops run on their own thread: the parallelism is across points,

@@ -170,6 +170,15 @@ TEST_F(PrecomputeCli, AProbeSpaceIsBuiltLevelByLevelAndResumesAtTheLevelItStoppe
   expect_same_levels(dir_ / "whole.h5", dir_ / "part.h5");
 }
 
+TEST_F(PrecomputeCli, OnLineConstructionRefusesAProbe) {
+  std::ofstream(dir_ / "block.toml") << kProbeScene;
+  const std::string cmd = "cd '" + dir_.string() + "' && CI=1 '" + TACTUS_BINARY +
+                          "' -q precompute block.toml --online-speed >>log.txt 2>&1";
+  const int status = std::system(cmd.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << log();
+  EXPECT_NE(log().find("has a probe"), std::string::npos) << log();
+}
+
 TEST_F(PrecomputeCli, SceneWithoutPrecomputeTableIsAnInputError) {
   std::ofstream(dir_ / "block.toml") << "[scene]\nname = \"x\"\n";
   EXPECT_EQ(precompute("space.h5", ""), 1);
