@@ -26,7 +26,8 @@
 //            [--patch MM]
 //            a probe space (precompute/probe.hpp) on the accuracy box's grid of spacing S,
 //            n × n leans up to DEG degrees about each tangent axis of the probe pointing
-//            down, against direct solves at M random positions and leans: the force error
+//            down, against direct solves at M random positions (where every level's cell is
+//            solved) and leans: the force error
 //            per method, at the same positions with the nearest level's lean (the position's
 //            interpolation alone), and with the lean ignored (the upright level alone); the
 //            cost per point and the force query's latency.
@@ -549,6 +550,13 @@ int probe(const Options& o) {
     wall += st.wall_seconds;
     points += space->grid.size();
     failed += space->grid.size() - space->count(pc::PointStatus::solved);
+    for (std::size_t p = 0; p < space->grid.size(); ++p)
+      if (space->status[p] == pc::PointStatus::failed) {
+        const Vec3 at = space->grid.point(p) - m.contact;
+        std::printf("    lean (%+.1f, %+.1f) degrees: failed at (%+.1f, %+.1f, %+.1f) mm from the contact node: %s\n",
+                    level.tilt.x() * 180.0 / std::numbers::pi, level.tilt.y() * 180.0 / std::numbers::pi,
+                    1e3 * at.x(), 1e3 * at.y(), 1e3 * at.z(), space->reason[p].c_str());
+      }
     levels.push_back(std::move(space));
   }
   std::printf("probe: %s, %zu nodes, %zu patch nodes, spacing %.4g mm, %d x %d leans up to %.1f degrees: %zu points "
@@ -571,6 +579,9 @@ int probe(const Options& o) {
   for (int tries = 0; static_cast<int>(refs.size()) < o.positions && tries < 20 * o.positions; ++tries) {
     const Vec3 p = lo + Vec3(u(rng), u(rng), u(rng)) * o.box;
     const Vec2 t = s.probe.max_tilt * Vec2(2.0 * u(rng) - 1.0, 2.0 * u(rng) - 1.0);
+    // As the accuracy study: where every level's cell is solved (the interpolation's error,
+    // not that of points missing).
+    if (!std::all_of(levels.begin(), levels.end(), [&](const auto& l) { return cell_solved(*l, p); })) continue;
     const double step = o.spacing / std::max(1, s.load_steps) / 3.0;
     const int steps = std::max(2, static_cast<int>(std::ceil((p - m.contact).norm() / step)));
     pc::PointResult r = solver.solve_direct(p, frame.rotation(t), steps);
