@@ -31,6 +31,12 @@
 //            per method, at the same positions with the nearest level's lean (the position's
 //            interpolation alone), and with the lean ignored (the upright level alone); the
 //            cost per point and the force query's latency.
+//   twopoint --nodes N --law L --spacing S --separation MM --positions M [--box MM]
+//            two interaction points (two fingers): the top centre's node and the surface
+//            node MM further along +x, each with its own point space (a box of MM along +x
+//            and +y and MM down from it), against direct solves with both held at M random
+//            pairs of positions: the forces from each space alone, and corrected by the
+//            coupling of the two points (the rest stiffness condensed onto them).
 //   online   --nodes N --law L --spacing S --threads W [--first V]
 //            on-line construction: the largest tool speed at which at least 99 % of the
 //            1 kHz force queries find their cell complete, with W solver threads, on the
@@ -49,6 +55,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -105,6 +112,7 @@ struct Options {
   std::vector<double> spacings;
   double tilt = 15.0;  ///< probe: largest lean [degrees]
   double patch = 0.016;  ///< probe: the patch's radius [m] (--patch, in mm): the probe's end
+  double separation = 0.03;  ///< twopoint: from the first point to the second along +x [m] (mm)
   int levels = 3;      ///< probe: leans per tangent axis
 };
 
@@ -168,8 +176,14 @@ struct Model {
   Vec3 lower = Vec3::Zero(), upper = Vec3::Zero();  ///< the organ's bounding box
 };
 
-Model load_model(int nodes, const std::string& law) {
-  const scene::Model scene = scene::parse_scene(organ_scene(nodes, law), "organ-bench");
+/// The organ; `contact` moves the [precompute] table's contact point (the contact node is the
+/// surface node nearest to it).
+Model load_model(int nodes, const std::string& law, const Vec3& contact = Vec3(0.0, 0.0, 0.05)) {
+  std::string text = organ_scene(nodes, law);
+  const std::string key = "contact_point = [0.0, 0.0, 0.05]";
+  text.replace(text.find(key), key.size(),
+               fmt::format("contact_point = [{}, {}, {}]", contact.x(), contact.y(), contact.z()));
+  const scene::Model scene = scene::parse_scene(text, "organ-bench");
   Model m{compile::make_physics_body(scene, 0), *scene.precompute, {}, {}, {}};
   const VecX& rest = m.body.model->rest_positions();
   m.contact = rest.segment<3>(3 * m.settings.contact_node);
@@ -645,6 +659,165 @@ int probe(const Options& o) {
   return 0;
 }
 
+/// Static equilibria of the organ with two nodes held (two fingers): the two-point reference.
+class TwoPointSolver {
+ public:
+  TwoPointSolver(const physics::Body& body, std::int32_t a, std::int32_t b) : body_(body), a_(a), b_(b) {
+    body_.fixed_dofs.resize(3 * body_.model->node_count(), 0);
+    body_.fix_nodes({a, b});
+    body_.settings.solver = physics::LinearSolver::cholesky;
+    body_.gravity = Vec3::Zero();
+    state_ = physics::make_state(body_);
+    force_ = VecX::Zero(state_.x.size());
+  }
+  /// The forces on the two tools with the nodes at pa and pb, reached straight from rest in
+  /// `steps` load steps; nothing where a step fails or inverts an element.
+  std::optional<std::pair<Vec3, Vec3>> solve(const Vec3& pa, const Vec3& pb, int steps, int max_iterations,
+                                             double tolerance) {
+    const VecX& rest = body_.model->rest_positions();
+    state_.x = rest;
+    state_.v.setZero();
+    state_.q.setZero();
+    physics::forget_solver_history(state_);
+    VecX converged = state_.x;
+    for (int s = 1; s <= steps; ++s) {
+      const double f = static_cast<double>(s) / steps;
+      state_.x.segment<3>(3 * a_) = rest.segment<3>(3 * a_) + f * (pa - rest.segment<3>(3 * a_));
+      state_.x.segment<3>(3 * b_) = rest.segment<3>(3 * b_) + f * (pb - rest.segment<3>(3 * b_));
+      physics::predict_static(body_, state_, converged);
+      const auto r = physics::solve_static(body_, state_, {},
+                                           {max_iterations, tolerance, pc::kAbsoluteForceTolerance});
+      if (!r.converged || r.inverted || !state_.x.allFinite()) return std::nullopt;
+      converged = state_.x;
+    }
+    body_.model->forces(state_.x, state_.v, state_.q, force_, *state_.model_scratch);
+    return std::make_pair(Vec3(force_.segment<3>(3 * a_)), Vec3(force_.segment<3>(3 * b_)));
+  }
+  /// ∂(force on tool i)/∂(position of node j) at rest: the 3 × 3 block (i, j) of the rest
+  /// stiffness condensed onto the two nodes.
+  Mat3 coupling(int i, int j) {
+    state_.x = body_.model->rest_positions();
+    state_.v.setZero();
+    MatX held = MatX::Zero(state_.x.size(), 6), motion, force_change;
+    held.block<3, 3>(3 * a_, 0).setIdentity();
+    held.block<3, 3>(3 * b_, 3).setIdentity();
+    if (!physics::static_response(body_, state_, held, motion, force_change))
+      throw std::runtime_error("the rest stiffness did not solve");
+    return force_change.block<3, 3>(3 * (i == 0 ? a_ : b_), 3 * j);
+  }
+
+ private:
+  physics::Body body_;
+  std::int32_t a_, b_;
+  physics::BodyState state_;
+  VecX force_;
+};
+
+int twopoint(const Options& o) {
+  const Model ma = load_model(o.nodes, o.law);
+  const Model mb = load_model(o.nodes, o.law, Vec3(o.separation, 0.0, 0.05));
+  const std::int32_t a = ma.settings.contact_node, b = mb.settings.contact_node;
+  const Vec3 rest_a = ma.contact, rest_b = mb.contact;
+  // Each point's own space: the other point free, as a single-point space is.
+  std::array<std::shared_ptr<pc::Space>, 2> spaces;
+  for (int k = 0; k < 2; ++k) {
+    const Model& m = k == 0 ? ma : mb;
+    pc::SpaceSettings s = accuracy_grid(m, o.spacing, o.box);
+    s.patch_nodes = {m.settings.contact_node};
+    s.patch_radius = 0.0;
+    spaces[static_cast<std::size_t>(k)] = std::make_shared<pc::Space>(pc::make_space(ma.body, s, ""));
+    pc::BuildOptions bo;
+    bo.threads = o.threads;
+    const pc::BuildStats st = pc::build_local(*spaces[static_cast<std::size_t>(k)], factory(ma, s), bo);
+    std::printf("twopoint: point %c (node %d at (%.1f, %.1f, %.1f) mm): %zu points, %zu not solved, %.1f s wall\n",
+                k == 0 ? 'A' : 'B', s.contact_node, 1e3 * m.contact.x(), 1e3 * m.contact.y(), 1e3 * m.contact.z(),
+                spaces[static_cast<std::size_t>(k)]->grid.size(),
+                spaces[static_cast<std::size_t>(k)]->grid.size() -
+                    spaces[static_cast<std::size_t>(k)]->count(pc::PointStatus::solved),
+                st.wall_seconds);
+  }
+  TwoPointSolver both(ma.body, a, b);
+  const Mat3 k_ab = both.coupling(0, 1), k_ba = both.coupling(1, 0);
+  std::printf("  rest coupling: |K_AB| %.4g N/m, |K_AA| %.4g N/m (Frobenius); K_BA = K_ABᵀ to %.2g\n", k_ab.norm(),
+              both.coupling(0, 0).norm(), (k_ba - k_ab.transpose()).norm() / k_ab.norm());
+  const pc::Interpolator ia(spaces[0], pc::Interpolation::tricubic_hermite);
+  const pc::Interpolator ib(spaces[1], pc::Interpolation::tricubic_hermite);
+  std::mt19937 rng(o.seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  struct Errors {
+    double mean = 0.0, max = 0.0;
+    void add(double e, std::size_t n) {
+      mean += e / static_cast<double>(n);
+      max = std::max(max, e);
+    }
+  };
+  std::vector<std::array<Vec3, 2>> where, truth;
+  for (int tries = 0; static_cast<int>(where.size()) < o.positions && tries < 20 * o.positions; ++tries) {
+    const Vec3 pa = rest_a + Vec3(u(rng), u(rng), u(rng) - 1.0) * o.box;
+    const Vec3 pb = rest_b + Vec3(u(rng), u(rng), u(rng) - 1.0) * o.box;
+    if (!cell_solved(*spaces[0], pa) || !cell_solved(*spaces[1], pb)) continue;
+    const double step = o.spacing / 6.0;
+    const int steps = std::max(2, static_cast<int>(std::ceil(std::max((pa - rest_a).norm(), (pb - rest_b).norm()) / step)));
+    const auto f = both.solve(pa, pb, steps, ma.settings.max_iterations, ma.settings.tolerance);
+    if (!f) {
+      std::printf("  reference at A (%.4f, %.4f, %.4f), B (%.4f, %.4f, %.4f) failed\n", pa.x(), pa.y(), pa.z(), pb.x(),
+                  pb.y(), pb.z());
+      continue;
+    }
+    where.push_back({pa, pb});
+    truth.push_back({f->first, f->second});
+  }
+  const std::size_t n = where.size();
+  Errors alone, corrected, at_configuration;
+  // Also against the sample's mean force: a finger barely loaded makes the relative error
+  // large where the newtons are few.
+  Errors alone_n, corrected_n, at_configuration_n;
+  double mean_force = 0.0, mean_change = 0.0;
+  for (const auto& t : truth) mean_force += (t[0].norm() + t[1].norm()) / static_cast<double>(2 * n);
+  VecX ua, ub;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& [pa, pb] = where[i];
+    const pc::Query qa = ia.shape(pa, ua), qb = ib.shape(pb, ub);
+    // Where the other point sits in each point's own configuration, and how far the other
+    // finger moves it from there.
+    const Vec3 b_in_a = rest_b + ua.segment<3>(3 * b), a_in_b = rest_a + ub.segment<3>(3 * a);
+    const std::array<Vec3, 2> own{qa.force, qb.force};
+    const std::array<Vec3, 2> fixed{qa.force + k_ab * (pb - b_in_a), qb.force + k_ba * (pa - a_in_b)};
+    // The coupling at the configurations instead of at rest: from each space's stiffness and
+    // the other point's displacement gradient at its nearest grid point (two-point condensed
+    // stiffness from single-point data: K_AA = K_A (I − G_AB G_BA)⁻¹, K_AB = −K_AA G_AB, with
+    // G_XY = ∂u_X/∂p_Y; exact for a linear body).
+    const std::size_t na = spaces[0]->grid.nearest(pa), nb = spaces[1]->grid.nearest(pb);
+    const Mat3 g_ba = spaces[0]->displacement_gradient.block<3, 3>(3 * b, 3 * static_cast<Eigen::Index>(na));
+    const Mat3 g_ab = spaces[1]->displacement_gradient.block<3, 3>(3 * a, 3 * static_cast<Eigen::Index>(nb));
+    const Mat3 k_aa = spaces[0]->force_gradient[na] * (Mat3::Identity() - g_ab * g_ba).inverse();
+    const Mat3 k_bb = spaces[1]->force_gradient[nb] * (Mat3::Identity() - g_ba * g_ab).inverse();
+    const std::array<Vec3, 2> local{qa.force - k_aa * g_ab * (pb - b_in_a), qb.force - k_bb * g_ba * (pa - a_in_b)};
+    for (std::size_t k = 0; k < 2; ++k) {
+      const double scale = truth[i][k].norm();
+      alone.add((own[k] - truth[i][k]).norm() / scale, 2 * n);
+      corrected.add((fixed[k] - truth[i][k]).norm() / scale, 2 * n);
+      at_configuration.add((local[k] - truth[i][k]).norm() / scale, 2 * n);
+      alone_n.add((own[k] - truth[i][k]).norm() / mean_force, 2 * n);
+      corrected_n.add((fixed[k] - truth[i][k]).norm() / mean_force, 2 * n);
+      at_configuration_n.add((local[k] - truth[i][k]).norm() / mean_force, 2 * n);
+      mean_change += (own[k] - truth[i][k]).norm() / static_cast<double>(2 * n);
+    }
+  }
+  std::printf("  %zu reference pairs (mean |force| %.4g N; the other finger changes a finger's force by %.4g N on "
+              "average)\n",
+              n, mean_force, mean_change);
+  std::printf("| prediction | force error mean | max | against the mean force: mean | max |\n|---|---|---|---|---|\n");
+  auto row = [](const char* name, const Errors& e, const Errors& en) {
+    std::printf("| %s | %.2f%% | %.2f%% | %.2f%% | %.2f%% |\n", name, 100 * e.mean, 100 * e.max, 100 * en.mean,
+                100 * en.max);
+  };
+  row("each point's space alone", alone, alone_n);
+  row("corrected by the rest coupling", corrected, corrected_n);
+  row("corrected by the coupling at the configurations", at_configuration, at_configuration_n);
+  return 0;
+}
+
 int online(const Options& o) {
   const Model m = load_model(o.nodes, o.law);
   const pc::SpaceSettings s = accuracy_grid(m, o.spacing);
@@ -727,9 +900,10 @@ int compare(const std::string& a_path, const std::string& b_path) {
 int usage() {
   std::fprintf(stderr,
                "usage: precompute_bench compare A.h5 B.h5\n"
-               "       precompute_bench cost|scaling|query|accuracy|online|probe [--nodes N] [--law stvk|mooney_rivlin|mooney_rivlin_049|mooney_rivlin_nodal]\n"
+               "       precompute_bench cost|scaling|query|accuracy|online|probe|twopoint [--nodes N] [--law stvk|mooney_rivlin|mooney_rivlin_049|mooney_rivlin_nodal]\n"
                "         [--spacing S] [--points K] [--seconds T] [--positions M] [--threads N] [--seed S] [--space FILE]\n"
-               "         [--box MM] [--spacings MM,MM,...] [--refine K] [--worst W] [--tilt DEG] [--levels n] [--patch MM]\n");
+               "         [--box MM] [--spacings MM,MM,...] [--refine K] [--worst W] [--tilt DEG] [--levels n] [--patch MM]\n"
+               "         [--separation MM]\n");
   return 1;
 }
 
@@ -769,6 +943,7 @@ int main(int argc, char** argv) {
       else if (key == "--worst") o.worst = std::stoul(value);
       else if (key == "--tilt") o.tilt = std::stod(value);
       else if (key == "--patch") o.patch = 1e-3 * std::stod(value);
+      else if (key == "--separation") o.separation = 1e-3 * std::stod(value);
       else if (key == "--levels") o.levels = std::stoi(value);
       else if (key == "--spacings") {
         o.spacings.clear();
@@ -788,6 +963,7 @@ int main(int argc, char** argv) {
     if (o.command == "accuracy") return accuracy(o);
     if (o.command == "online") return online(o);
     if (o.command == "probe") return probe(o);
+    if (o.command == "twopoint") return twopoint(o);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
