@@ -156,7 +156,7 @@ const std::vector<std::string> kScenarios = {"default",         "nodule",       
                                              "needle_block",    "pulse_demo",       "skin_patch",
                                              "femoral",         "femoral_s1_idle",  "femoral_s2_palpation",
                                              "femoral_s3_needle", "femoral_labels",  "liver_cspace",
-                                             "fabric",          "room"};
+                                             "liver_probe",     "fabric",           "room"};
 
 INSTANTIATE_TEST_SUITE_P(Bundled, ScenarioSmoothness, ::testing::ValuesIn(kScenarios),
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
