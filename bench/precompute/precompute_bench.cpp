@@ -36,7 +36,10 @@
 //            node MM further along +x, each with its own point space (a box of MM along +x
 //            and +y and MM down from it), against direct solves with both held at M random
 //            pairs of positions: the forces from each space alone, and corrected by the
-//            coupling of the two points (the rest stiffness condensed onto them).
+//            coupling of the two points (the rest stiffness condensed onto them); and from
+//            pair spaces: per point of the other's grid a level, the point's own space with
+//            the other held there (trilinear or triquadratic across levels, tricubic Hermite
+//            within).
 //   online   --nodes N --law L --spacing S --threads W [--first V]
 //            on-line construction: the largest tool speed at which at least 99 % of the
 //            1 kHz force queries find their cell complete, with W solver threads, on the
@@ -713,6 +716,80 @@ class TwoPointSolver {
   VecX force_;
 };
 
+/// A space over pairs of positions (seed 001: "each degree of freedom yields additional
+/// dimension of the grid"): for each point q of the other node's grid, a point space of the
+/// primary contact node with the other node held at q (SpaceSettings::held_node). Between
+/// levels the force is trilinear in the other node's position.
+struct PairSpace {
+  pc::Grid other;
+  std::vector<pc::Interpolator> levels;
+  std::size_t points = 0, solved = 0;
+  double wall = 0.0;
+
+  /// The primary's force with it at p and the other node at q; nothing where a level used has
+  /// no value at p.
+  [[nodiscard]] std::optional<Vec3> force(const Vec3& p, const Vec3& q) const {
+    const Vec3 u = (q - other.origin) / other.spacing;
+    std::array<int, 3> c{};
+    Vec3 t;
+    for (int a = 0; a < 3; ++a) {
+      c[static_cast<std::size_t>(a)] = std::clamp(static_cast<int>(std::floor(u[a])), 0, other.counts[static_cast<std::size_t>(a)] - 2);
+      t[a] = std::clamp(u[a] - c[static_cast<std::size_t>(a)], 0.0, 1.0);
+    }
+    Vec3 f = Vec3::Zero();
+    for (int corner = 0; corner < 8; ++corner) {
+      const int i = corner & 1, j = (corner >> 1) & 1, k = corner >> 2;
+      const double w = (i ? t.x() : 1 - t.x()) * (j ? t.y() : 1 - t.y()) * (k ? t.z() : 1 - t.z());
+      const pc::Query qy = levels[other.index(c[0] + i, c[1] + j, c[2] + k)].force(p);
+      if (!qy.valid) return std::nullopt;
+      f += w * qy.force;
+    }
+    return f;
+  }
+  /// The same, triquadratic across levels (Lagrange over the 3 × 3 × 3 levels around q).
+  [[nodiscard]] std::optional<Vec3> force_quadratic(const Vec3& p, const Vec3& q) const {
+    const Vec3 u = (q - other.origin) / other.spacing;
+    std::array<int, 3> c{};
+    std::array<std::array<double, 3>, 3> w{};
+    for (std::size_t a = 0; a < 3; ++a) {
+      c[a] = std::clamp(static_cast<int>(std::lround(u[static_cast<Eigen::Index>(a)])), 1, other.counts[a] - 2);
+      const double x = u[static_cast<Eigen::Index>(a)] - c[a];
+      w[a] = {0.5 * x * (x - 1.0), 1.0 - x * x, 0.5 * x * (x + 1.0)};
+    }
+    Vec3 f = Vec3::Zero();
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+          const pc::Query qy = levels[other.index(c[0] + i - 1, c[1] + j - 1, c[2] + k - 1)].force(p);
+          if (!qy.valid) return std::nullopt;
+          f += w[0][static_cast<std::size_t>(i)] * w[1][static_cast<std::size_t>(j)] * w[2][static_cast<std::size_t>(k)] *
+               qy.force;
+        }
+    return f;
+  }
+};
+
+PairSpace build_pair(const Model& m, std::int32_t other_node, const pc::Grid& other, const Options& o) {
+  PairSpace pair;
+  pair.other = other;
+  pair.levels.reserve(other.size());
+  for (std::size_t j = 0; j < other.size(); ++j) {
+    pc::SpaceSettings s = accuracy_grid(m, o.spacing, o.box);
+    s.patch_nodes = {m.settings.contact_node};
+    s.patch_radius = 0.0;
+    s.held_node = other_node;
+    s.held_at = other.point(j);
+    auto space = std::make_shared<pc::Space>(pc::make_space(m.body, s, ""));
+    pc::BuildOptions bo;
+    bo.threads = o.threads;
+    pair.wall += pc::build_local(*space, factory(m, s), bo).wall_seconds;
+    pair.points += space->grid.size();
+    pair.solved += space->count(pc::PointStatus::solved);
+    pair.levels.emplace_back(std::move(space), pc::Interpolation::tricubic_hermite);
+  }
+  return pair;
+}
+
 int twopoint(const Options& o) {
   const Model ma = load_model(o.nodes, o.law);
   const Model mb = load_model(o.nodes, o.law, Vec3(o.separation, 0.0, 0.05));
@@ -736,6 +813,12 @@ int twopoint(const Options& o) {
                     spaces[static_cast<std::size_t>(k)]->count(pc::PointStatus::solved),
                 st.wall_seconds);
   }
+  // The pair spaces: A's force over B's grid of levels, and B's over A's.
+  const PairSpace pair_a = build_pair(ma, b, spaces[1]->grid, o);
+  const PairSpace pair_b = build_pair(mb, a, spaces[0]->grid, o);
+  std::printf("  pair spaces: %zu + %zu configurations (%zu levels of %zu), %zu + %zu solved, %.1f s wall\n",
+              pair_a.points, pair_b.points, pair_a.levels.size(), spaces[0]->grid.size(), pair_a.solved,
+              pair_b.solved, pair_a.wall + pair_b.wall);
   TwoPointSolver both(ma.body, a, b);
   const Mat3 k_ab = both.coupling(0, 1), k_ba = both.coupling(1, 0);
   std::printf("  rest coupling: |K_AB| %.4g N/m, |K_AA| %.4g N/m (Frobenius); K_BA = K_ABᵀ to %.2g\n", k_ab.norm(),
@@ -756,6 +839,7 @@ int twopoint(const Options& o) {
     const Vec3 pa = rest_a + Vec3(u(rng), u(rng), u(rng) - 1.0) * o.box;
     const Vec3 pb = rest_b + Vec3(u(rng), u(rng), u(rng) - 1.0) * o.box;
     if (!cell_solved(*spaces[0], pa) || !cell_solved(*spaces[1], pb)) continue;
+    if (!pair_a.force(pa, pb) || !pair_b.force(pb, pa)) continue;  // the pair spaces have a value there
     const double step = o.spacing / 6.0;
     const int steps = std::max(2, static_cast<int>(std::ceil(std::max((pa - rest_a).norm(), (pb - rest_b).norm()) / step)));
     const auto f = both.solve(pa, pb, steps, ma.settings.max_iterations, ma.settings.tolerance);
@@ -768,10 +852,11 @@ int twopoint(const Options& o) {
     truth.push_back({f->first, f->second});
   }
   const std::size_t n = where.size();
-  Errors alone, corrected, at_configuration;
+  Errors alone, corrected, at_configuration, paired, paired_quadratic;
   // Also against the sample's mean force: a finger barely loaded makes the relative error
   // large where the newtons are few.
-  Errors alone_n, corrected_n, at_configuration_n;
+  Errors alone_n, corrected_n, at_configuration_n, paired_n, paired_quadratic_n;
+  int quadratic_fallbacks = 0;
   double mean_force = 0.0, mean_change = 0.0;
   for (const auto& t : truth) mean_force += (t[0].norm() + t[1].norm()) / static_cast<double>(2 * n);
   VecX ua, ub;
@@ -793,8 +878,17 @@ int twopoint(const Options& o) {
     const Mat3 k_aa = spaces[0]->force_gradient[na] * (Mat3::Identity() - g_ab * g_ba).inverse();
     const Mat3 k_bb = spaces[1]->force_gradient[nb] * (Mat3::Identity() - g_ba * g_ab).inverse();
     const std::array<Vec3, 2> local{qa.force - k_aa * g_ab * (pb - b_in_a), qb.force - k_bb * g_ba * (pa - a_in_b)};
+    const std::array<Vec3, 2> pair{*pair_a.force(pa, pb), *pair_b.force(pb, pa)};
+    // Triquadratic where its 27 levels have a value at the point, else trilinear (counted).
+    const auto qa2 = pair_a.force_quadratic(pa, pb), qb2 = pair_b.force_quadratic(pb, pa);
+    quadratic_fallbacks += (qa2 ? 0 : 1) + (qb2 ? 0 : 1);
+    const std::array<Vec3, 2> quadratic{qa2 ? *qa2 : pair[0], qb2 ? *qb2 : pair[1]};
     for (std::size_t k = 0; k < 2; ++k) {
       const double scale = truth[i][k].norm();
+      paired.add((pair[k] - truth[i][k]).norm() / scale, 2 * n);
+      paired_n.add((pair[k] - truth[i][k]).norm() / mean_force, 2 * n);
+      paired_quadratic.add((quadratic[k] - truth[i][k]).norm() / scale, 2 * n);
+      paired_quadratic_n.add((quadratic[k] - truth[i][k]).norm() / mean_force, 2 * n);
       alone.add((own[k] - truth[i][k]).norm() / scale, 2 * n);
       corrected.add((fixed[k] - truth[i][k]).norm() / scale, 2 * n);
       at_configuration.add((local[k] - truth[i][k]).norm() / scale, 2 * n);
@@ -815,6 +909,10 @@ int twopoint(const Options& o) {
   row("each point's space alone", alone, alone_n);
   row("corrected by the rest coupling", corrected, corrected_n);
   row("corrected by the coupling at the configurations", at_configuration, at_configuration_n);
+  row("pair space, trilinear across levels", paired, paired_n);
+  row("pair space, triquadratic across levels", paired_quadratic, paired_quadratic_n);
+  std::printf("  (triquadratic fell back to trilinear for %d of %zu forces: a level it needs has no value there)\n",
+              quadratic_fallbacks, 2 * n);
   return 0;
 }
 

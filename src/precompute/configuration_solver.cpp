@@ -24,6 +24,15 @@ ConfigurationSolver::ConfigurationSolver(const physics::Body& body, const SpaceS
       throw InputError(fmt::format("contact patch node {} lies in a fixed region; choose another contact point", n));
   }
   body_.fix_nodes(settings_.patch_nodes);
+  if (settings_.held_node >= 0) {
+    const auto n = settings_.held_node;
+    if (static_cast<std::size_t>(n) >= nodes || body_.fixed_dofs[3 * static_cast<std::size_t>(n)] ||
+        !settings_.held_at.allFinite())
+      throw InputError(fmt::format("the second interaction point (node {}) is not a free node of the body, apart "
+                                   "from the contact patch",
+                                   n));
+    body_.fix_nodes({n});
+  }
   body_.settings.solver = physics::LinearSolver::cholesky;
   if (!settings_.gravity) body_.gravity = Vec3::Zero();
   contact_rest_ = body_.model->rest_positions().segment<3>(3 * static_cast<Eigen::Index>(settings_.contact_node));
@@ -34,6 +43,10 @@ ConfigurationSolver::ConfigurationSolver(const physics::Body& body, const SpaceS
 
 void ConfigurationSolver::place_patch(const Pose& pose) {
   const VecX& rest = body_.model->rest_positions();
+  if (settings_.held_node >= 0) {
+    const auto i = 3 * static_cast<Eigen::Index>(settings_.held_node);
+    state_.x.segment<3>(i) = rest.segment<3>(i) + pose.held * (settings_.held_at - rest.segment<3>(i));
+  }
   if (pose.rotation.isZero(0.0)) {
     const Vec3 shift = pose.contact - contact_rest_;
     for (auto n : settings_.patch_nodes) {
@@ -77,9 +90,11 @@ bool ConfigurationSolver::derivatives(PointResult& r) {
 }
 
 PointResult ConfigurationSolver::solve_start(std::size_t point, const Vec3& target) {
-  // A leaning probe turns the patch from rest: that is a deformation, walked in load steps.
-  const int steps = rotation_.isZero(0.0) ? 1 : settings_.load_steps;
-  return run(point, -1, nullptr, {contact_rest_, Vec3::Zero()}, {target, rotation_}, steps);
+  // A leaning probe turns the patch from rest, and a held second point moves there from rest:
+  // deformations, walked in load steps.
+  const bool moves = !rotation_.isZero(0.0) || settings_.held_node >= 0;
+  return run(point, -1, nullptr, {contact_rest_, Vec3::Zero(), 0.0}, {target, rotation_, 1.0},
+             moves ? settings_.load_steps : 1);
 }
 
 PointResult ConfigurationSolver::transition(std::size_t point, std::int64_t source, const VecX& source_displacement,
@@ -92,7 +107,7 @@ PointResult ConfigurationSolver::solve_direct(const Vec3& target, int steps) {
 }
 
 PointResult ConfigurationSolver::solve_direct(const Vec3& target, const Vec3& rotation, int steps) {
-  return run(0, -1, nullptr, {contact_rest_, Vec3::Zero()}, {target, rotation}, steps);
+  return run(0, -1, nullptr, {contact_rest_, Vec3::Zero(), 0.0}, {target, rotation, 1.0}, steps);
 }
 
 PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, const VecX* start, const Pose& from,
@@ -125,7 +140,8 @@ PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, con
     while (reached < end && r.status == PointStatus::solved) {
       const double fraction = std::min(end, reached + step);
       place_patch({from.contact + fraction * (target.contact - from.contact),
-                   from.rotation + fraction * (target.rotation - from.rotation)});
+                   from.rotation + fraction * (target.rotation - from.rotation),
+                   from.held + fraction * (target.held - from.held)});
       std::string failure;
       double step_residual = 0.0;
       try {

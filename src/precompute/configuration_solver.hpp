@@ -49,10 +49,12 @@ class ConfigurationSolver {
   [[nodiscard]] long long newton_iterations() const { return newton_iterations_; }
 
  private:
-  /// Where the patch is held: the contact node's place and the probe's rotation vector.
+  /// Where the patch is held: the contact node's place and the probe's rotation vector; and
+  /// how far the held second node (settings.held_node) has come from rest to held_at.
   struct Pose {
     Vec3 contact = Vec3::Zero();
     Vec3 rotation = Vec3::Zero();
+    double held = 1.0;
   };
   PointResult run(std::size_t point, std::int64_t source, const VecX* start, const Pose& from, const Pose& target,
                   int steps);

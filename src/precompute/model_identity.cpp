@@ -62,6 +62,10 @@ ModelIdentity identify(const physics::Body& body, const SpaceSettings& settings,
     model.add_value(settings.probe.tilt_levels);
     model.add(settings.tilt.data(), 2 * sizeof(double));
   }
+  if (settings.held_node >= 0) {
+    model.add_value(settings.held_node);
+    model.add(settings.held_at.data(), 3 * sizeof(double));
+  }
   id.model_hash = model.value();
   return id;
 }

@@ -56,6 +56,10 @@ struct SpaceSettings {
   ProbeSettings probe;
   /// This level's lean of the probe [rad] (its tangent coordinates; zero without a probe).
   Vec2 tilt = Vec2::Zero();
+  /// A second interaction point held still in every configuration (a second finger): the
+  /// node (−1: none) and where it is held [m]. The start point moves it there from rest.
+  std::int32_t held_node = -1;
+  Vec3 held_at = Vec3::Zero();
 };
 
 }  // namespace tactus::precompute

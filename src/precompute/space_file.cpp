@@ -69,6 +69,10 @@ void write_into(Writer& w, hid_t file, const Space& space) {
       w.attribute(settings, "probe_tilt_levels", H5T_NATIVE_INT, &s.probe.tilt_levels);
       w.attribute(settings, "probe_tilt", H5T_NATIVE_DOUBLE, s.tilt.data(), 2);
     }
+    if (s.held_node >= 0) {
+      w.attribute(settings, "held_node", H5T_NATIVE_INT32, &s.held_node);
+      w.attribute(settings, "held_at", H5T_NATIVE_DOUBLE, s.held_at.data(), 3);
+    }
 
     Handle pts(H5Gcreate2(file, "points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     w.dataset(pts, "status", H5T_NATIVE_UINT8, {points}, space.status.data());
@@ -184,6 +188,11 @@ Space read_from(Reader& r, hid_t file, const std::filesystem::path& path) {
         !(s.probe.max_tilt > 0.0 && s.probe.max_tilt < 1.6) || !(s.probe.axis.norm() > 0.0) ||
         !s.probe.axis.allFinite() || !s.tilt.allFinite())
       fail(path, "implausible probe settings (leans per axis odd and 3 to 99, largest lean in (0, 90°), an axis)");
+  }
+  if (H5Aexists(settings, "held_node") > 0) {
+    s.held_node = r.scalar<std::int32_t>(settings, "held_node", H5T_NATIVE_INT32);
+    r.array(settings, "held_at", H5T_NATIVE_DOUBLE, s.held_at.data(), 3);
+    if (s.held_node < 0 || !s.held_at.allFinite()) fail(path, "implausible second interaction point");
   }
 
   const std::size_t nodes = space.identity.node_count;
