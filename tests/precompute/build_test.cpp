@@ -55,6 +55,43 @@ TEST(Build, ThreadCountDoesNotChangeTheSpace) {
   EXPECT_TRUE(one.displacement == three.displacement);
 }
 
+TEST(Build, ASecondPointHeldStillStaysWhereItIsHeldInEveryConfiguration) {
+  // A second finger: the top node 10 mm along +x held 2 mm down while the contact node
+  // visits its grid. The held node keeps its place, its pull changes the contact's force, and
+  // the equilibria are those of a direct solve with both held.
+  const physics::Body body = testing::block_body();
+  SpaceSettings s = testing::block_settings(body);
+  const Space alone = build(body, s, 1);
+  const VecX& rest = body.model->rest_positions();
+  for (Eigen::Index n = 0; n < rest.size() / 3; ++n)
+    if (rest.segment<3>(3 * n).isApprox(Vec3(0.01, 0, 0.01), 1e-9)) s.held_node = static_cast<std::int32_t>(n);
+  ASSERT_GE(s.held_node, 0);
+  s.held_at = Vec3(0.01, 0.0, 0.008);
+  const Space held = build(body, s, 2);
+  ASSERT_EQ(held.count(PointStatus::solved), held.grid.size());
+  EXPECT_NE(held.identity.model_hash, alone.identity.model_hash);
+  for (std::size_t p = 0; p < held.grid.size(); ++p) {
+    const Vec3 x = rest.segment<3>(3 * s.held_node) +
+                   held.displacement.col(static_cast<Eigen::Index>(p)).segment<3>(3 * s.held_node);
+    EXPECT_LT((x - s.held_at).norm(), 1e-12) << p;
+  }
+  // At the start point the contact node is where it rests, and the other finger's press
+  // pulls it down: the tool is pulled into the body.
+  EXPECT_LT(held.force[held.start].z(), -1e-3);
+  EXPECT_LT(alone.force[alone.start].norm(), 1e-12);
+  ConfigurationSolver solver(body, s);
+  const std::size_t p = held.grid.index(0, 2, 0);
+  const PointResult direct = solver.solve_direct(held.grid.point(p), 6);
+  ASSERT_EQ(direct.status, PointStatus::solved) << direct.reason;
+  EXPECT_LT((direct.force - held.force[p]).norm(), 1e-5 * direct.force.norm());
+  // A held node in the contact patch or outside the mesh is refused.
+  SpaceSettings bad = s;
+  bad.held_node = s.contact_node;
+  EXPECT_THROW(ConfigurationSolver(body, bad), InputError);
+  bad.held_node = 100000;
+  EXPECT_THROW(ConfigurationSolver(body, bad), InputError);
+}
+
 TEST(Build, EquilibriumMatchesADirectSolve) {
   // A transition path and a straight path from rest reach the same equilibrium (an elastic,
   // path-independent law), up to the solver tolerance.
