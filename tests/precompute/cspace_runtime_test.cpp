@@ -139,14 +139,7 @@ TEST_F(CspaceRuntime, LockstepRunRendersTheInterpolatedForce) {
 TEST_F(CspaceRuntime, AProbeSpaceRendersTheForceOfTheToolsLean) {
   // A probe space of the block (9 leans of up to 12 degrees), and a hand that presses 2.5 mm
   // while its −z axis leans 10 degrees about y.
-  std::ofstream(dir_ / "probe.toml") << testing::block_scene(R"(contact_point = [0.0, 0.0, 0.01]
-spacing = 0.003
-min = [-0.003, -0.003, 0.007]
-max = [0.003, 0.003, 0.013]
-patch_radius = 0.0105
-probe_axis = [0.0, 0.0, -1.0]
-probe_tilt = 12.0
-)");
+  std::ofstream(dir_ / "probe.toml") << testing::probe_block_scene();
   ASSERT_EQ(tactus("precompute probe.toml -o probe.h5 --threads 2"), 0) << log();
   std::string text = run_scene("tricubic_hermite");
   text.replace(text.find("space.h5"), 8, "probe.h5");

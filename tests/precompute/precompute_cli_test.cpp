@@ -122,17 +122,7 @@ TEST_F(PrecomputeCli, ResumeAfterAStopComputesNothingTwiceAndLosesNothing) {
   expect_same(whole, part);
 }
 
-/// The block's [precompute] table for a probe leaning 12 degrees either way, its end the
-/// contact node and its neighbours 1 cm away: a space of 9 levels of 27 points, pressed at
-/// most 3 mm (deeper, the leaning probe turns the block's coarse elements inside out).
-const std::string kProbeScene = testing::block_scene(R"(contact_point = [0.0, 0.0, 0.01]
-spacing = 0.003
-min = [-0.003, -0.003, 0.007]
-max = [0.003, 0.003, 0.013]
-patch_radius = 0.0105
-probe_axis = [0.0, 0.0, -1.0]
-probe_tilt = 12.0
-)");
+const std::string kProbeScene = testing::probe_block_scene();
 
 void expect_same_levels(const fs::path& a, const fs::path& b) {
   const std::vector<Space> x = read_space_levels(a), y = read_space_levels(b);
