@@ -275,6 +275,7 @@ int run_precompute(const PrecomputeArgs& a) {
       std::fflush(stdout);
       session.abort_job(4);
     }
+    if (session.rank() > 0) continue;  // a solver rank keeps no level
     levels.push_back(std::move(built->space));
     journals.push_back(built->journal_path);
   }
