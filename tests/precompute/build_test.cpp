@@ -87,9 +87,9 @@ TEST(Build, ASecondPointHeldStillStaysWhereItIsHeldInEveryConfiguration) {
   // A held node in the contact patch or outside the mesh is refused.
   SpaceSettings bad = s;
   bad.held_node = s.contact_node;
-  EXPECT_THROW(ConfigurationSolver(body, bad), InputError);
+  EXPECT_THROW((void)ConfigurationSolver(body, bad), InputError);
   bad.held_node = 100000;
-  EXPECT_THROW(ConfigurationSolver(body, bad), InputError);
+  EXPECT_THROW((void)ConfigurationSolver(body, bad), InputError);
 }
 
 TEST(Build, EquilibriumMatchesADirectSolve) {

@@ -73,7 +73,7 @@ TEST(ProbeFrame, ALeanAndItsDirectionMapBothWays) {
       EXPECT_LT((Eigen::AngleAxisd(w.norm(), w.normalized()) * f.axis - d).norm(), 1e-12);
     }
   }
-  EXPECT_THROW(ProbeFrame(Vec3::Zero()), InputError);
+  EXPECT_THROW((void)ProbeFrame(Vec3::Zero()), InputError);
 }
 
 TEST(ProbeSpace, LevelsLieOnALatticeOfLeansAroundTheUprightOne) {
@@ -204,10 +204,10 @@ TEST(ProbeSpace, AFileHoldsEveryLevel) {
   // Levels out of order, or missing, do not make a probe space.
   std::vector<Space> swapped = read;
   std::swap(swapped[1], swapped[2]);
-  EXPECT_THROW(ProbeInterpolator(shared(std::move(swapped)), Interpolation::trilinear), InputError);
+  EXPECT_THROW((void)ProbeInterpolator(shared(std::move(swapped)), Interpolation::trilinear), InputError);
   std::vector<Space> missing = read;
   missing.pop_back();
-  EXPECT_THROW(ProbeInterpolator(shared(std::move(missing)), Interpolation::trilinear), InputError);
+  EXPECT_THROW((void)ProbeInterpolator(shared(std::move(missing)), Interpolation::trilinear), InputError);
 }
 
 }  // namespace
