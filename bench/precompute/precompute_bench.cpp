@@ -628,11 +628,11 @@ int probe(const Options& o) {
     const std::size_t upright = s.probe.level_count() / 2;
     double mean = 0.0, worst = 0.0, mean_upright = 0.0, worst_upright = 0.0, mean_level = 0.0, worst_level = 0.0;
     for (std::size_t i = 0; i < refs.size(); ++i) {
-      const double el = (in.force(where[i].first, level_where[i]).query.force - level_refs[i].force).norm() /
+      const double el = (in.force(where[i].first, level_where[i]).force - level_refs[i].force).norm() /
                         level_refs[i].force.norm();
       mean_level += el / static_cast<double>(refs.size());
       worst_level = std::max(worst_level, el);
-      const double e = (in.force(where[i].first, where[i].second).query.force - refs[i].force).norm() /
+      const double e = (in.force(where[i].first, where[i].second).force - refs[i].force).norm() /
                        refs[i].force.norm();
       const double e0 = (in.level(upright).force(where[i].first).force - refs[i].force).norm() / refs[i].force.norm();
       mean += e / static_cast<double>(refs.size());
@@ -649,7 +649,7 @@ int probe(const Options& o) {
       const Vec3 p = lo + o.box * Vec3(0.5 + 0.4 * std::sin(a), 0.5 + 0.4 * std::cos(1.3 * a), 0.5 + 0.4 * std::sin(0.7 * a));
       const Vec3 d = frame.direction(s.probe.max_tilt * Vec2(std::sin(2.1 * a), std::cos(1.7 * a)));
       const auto t0 = std::chrono::steady_clock::now();
-      sink += in.force(p, d).query.force;
+      sink += in.force(p, d).force;
       ns.push_back(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
     }
     std::sort(ns.begin(), ns.end());

@@ -246,42 +246,41 @@ int run_precompute(const PrecomputeArgs& a) {
   set_thread_limit(1);
   const std::filesystem::path output(a.output);
   const std::string scene_text = read_text(a.scene);
-  if (!settings.probe.enabled()) {
-    const auto built = build_space(a, session, body, settings, scene_text, output.string() + ".journal");
-    if (!built) return 3;
-    if (session.rank() > 0) return 0;
-    pc::write_space(output, built->space);
-    return finish_output(output, session, {built->journal_path}, built->unresponsive);
-  }
-  // A probe space: its levels one after another, each with its own journal, so that a
-  // killed build resumes at the level it was in; the file is written once all are built.
+  // The space's levels one after another: a point space has one, a probe space one per lean
+  // (precompute/probe.hpp), each with its own journal, so that a killed build resumes in the
+  // level it was in. The file is written once all are built.
+  const std::size_t count = settings.probe.level_count();
   std::vector<pc::Space> levels;
   std::vector<std::filesystem::path> journals;
-  for (std::size_t k = 0; k < settings.probe.level_count(); ++k) {
+  int unresponsive = 0;
+  for (std::size_t k = 0; k < count; ++k) {
     const pc::SpaceSettings level = pc::level_settings(settings, k);
     if (k > 0 && !session.decide(true)) return 0;  // rank 0 stopped: the solver ranks end too
-    if (session.rank() == 0)
-      std::printf("probe level %zu of %zu: leaning %.1f, %.1f degrees\n", k + 1, settings.probe.level_count(),
+    if (count > 1 && session.rank() == 0)
+      std::printf("probe level %zu of %zu: leaning %.1f, %.1f degrees\n", k + 1, count,
                   level.tilt.x() * 180.0 / std::numbers::pi, level.tilt.y() * 180.0 / std::numbers::pi);
-    auto built = build_space(a, session, body, level, scene_text, fmt::format("{}.level-{}.journal", a.output, k));
+    const std::string journal =
+        count == 1 ? output.string() + ".journal" : fmt::format("{}.level-{}.journal", a.output, k);
+    auto built = build_space(a, session, body, level, scene_text, journal);
     if (!built) {
-      if (k + 1 < settings.probe.level_count()) (void)session.decide(false);
+      if (k + 1 < count) (void)session.decide(false);
       return 3;
     }
-    if (built->unresponsive > 0) {
+    if (session.rank() > 0) continue;  // a solver rank keeps no level
+    unresponsive = built->unresponsive;
+    if (unresponsive > 0 && k + 1 < count) {
       // A hung rank takes part in nothing more: the levels built are in their journals.
       log::error("{} rank(s) never answered; ending the job after probe level {} (continue with --resume)",
-                 built->unresponsive, k + 1);
+                 unresponsive, k + 1);
       std::fflush(stdout);
       session.abort_job(4);
     }
-    if (session.rank() > 0) continue;  // a solver rank keeps no level
     levels.push_back(std::move(built->space));
     journals.push_back(built->journal_path);
   }
   if (session.rank() > 0) return 0;
-  pc::write_probe_space(output, levels);
-  return finish_output(output, session, journals, 0);
+  pc::write_space_levels(output, levels);
+  return finish_output(output, session, journals, unresponsive);
 }
 
 /// After the file is written: removes its journals and says so. A hung rank would keep

@@ -103,7 +103,7 @@ CspaceForce CspaceBody::force(const Vec3& p, const Quat& orientation, double t) 
     }
     return out;
   }
-  const precompute::Query q = probe_ ? probe_->force(p, probe_direction(orientation)).query : interpolator_->force(p);
+  const precompute::Query q = probe_ ? probe_->force(p, probe_direction(orientation)) : interpolator_->force(p);
   if (q.valid && !q.outside && q.force.allFinite()) {
     out.force = q.force;
     out.touching = true;
@@ -123,7 +123,7 @@ void CspaceBody::positions(const Vec3& p, const Quat& orientation, VecX& x) cons
     return;
   }
   const precompute::Query q =
-      probe_ ? probe_->shape(p, probe_direction(orientation), x).query : interpolator_->shape(p, x);
+      probe_ ? probe_->shape(p, probe_direction(orientation), x) : interpolator_->shape(p, x);
   if (!q.valid || !x.allFinite()) x.setZero();
   x += (probe_ ? probe_->level(0) : *interpolator_).space().rest_positions;
 }

@@ -87,11 +87,7 @@ ProbeInterpolator::Stencil ProbeInterpolator::stencil(const Vec3& direction) con
   std::array<int, 2> centre{};
   std::array<std::array<double, 3>, 2> w{};
   for (int axis = 0; axis < 2; ++axis) {
-    double u = t[axis];
-    if (u < -probe_.max_tilt || u > probe_.max_tilt) {
-      out.outside = true;
-      u = std::clamp(u, -probe_.max_tilt, probe_.max_tilt);
-    }
+    const double u = std::clamp(t[axis], -probe_.max_tilt, probe_.max_tilt);
     // The 3 levels around the lean: the nearest interior level and its two neighbours.
     const double x = (u + probe_.max_tilt) / step;
     const int c = std::clamp(static_cast<int>(std::lround(x)), 1, n - 2);
@@ -108,40 +104,38 @@ ProbeInterpolator::Stencil ProbeInterpolator::stencil(const Vec3& direction) con
   return out;
 }
 
-ProbeQuery ProbeInterpolator::force(const Vec3& p, const Vec3& direction) const noexcept {
+Query ProbeInterpolator::force(const Vec3& p, const Vec3& direction) const noexcept {
   const Stencil s = stencil(direction);
-  ProbeQuery out;
-  out.tilt_outside = s.outside;
-  out.query.valid = true;
+  Query out;
+  out.valid = true;
   for (std::size_t i = 0; i < s.level.size(); ++i) {
     const Query q = levels_[s.level[i]].force(p);
-    out.query.valid = out.query.valid && q.valid;
-    out.query.outside = out.query.outside || q.outside;
-    out.query.fallback = out.query.fallback || q.fallback;
-    out.query.force += s.weight[i] * q.force;
+    out.valid = out.valid && q.valid;
+    out.outside = out.outside || q.outside;
+    out.fallback = out.fallback || q.fallback;
+    out.force += s.weight[i] * q.force;
   }
-  if (!out.query.valid) out.query.force.setZero();
+  if (!out.valid) out.force.setZero();
   return out;
 }
 
-ProbeQuery ProbeInterpolator::shape(const Vec3& p, const Vec3& direction, VecX& displacement) const {
+Query ProbeInterpolator::shape(const Vec3& p, const Vec3& direction, VecX& displacement) const {
   const Stencil s = stencil(direction);
-  ProbeQuery out;
-  out.tilt_outside = s.outside;
-  out.query.valid = true;
+  Query out;
+  out.valid = true;
   const auto dofs = levels_.front().space().displacement.rows();
   if (displacement.size() != dofs) displacement.resize(dofs);
   displacement.setZero();
   for (std::size_t i = 0; i < s.level.size(); ++i) {
     const Query q = levels_[s.level[i]].shape(p, scratch_);
-    out.query.valid = out.query.valid && q.valid;
-    out.query.outside = out.query.outside || q.outside;
-    out.query.fallback = out.query.fallback || q.fallback;
-    out.query.force += s.weight[i] * q.force;
+    out.valid = out.valid && q.valid;
+    out.outside = out.outside || q.outside;
+    out.fallback = out.fallback || q.fallback;
+    out.force += s.weight[i] * q.force;
     displacement += s.weight[i] * scratch_;
   }
-  if (!out.query.valid) {
-    out.query.force.setZero();
+  if (!out.valid) {
+    out.force.setZero();
     displacement.setZero();
   }
   return out;

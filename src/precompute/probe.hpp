@@ -50,23 +50,19 @@ struct ProbeFrame {
 /// The rotation vector of the probe at its level's lean (zero without a probe).
 [[nodiscard]] Vec3 probe_rotation(const SpaceSettings& settings);
 
-struct ProbeQuery {
-  Query query;                ///< the force, and the position's validity (every level's)
-  bool tilt_outside = false;  ///< the lean lay beyond max_tilt and was clamped onto it
-};
-
 class ProbeInterpolator {
  public:
   /// `levels`: a probe space's level_count() levels in level order. Throws InputError when
   /// their number, leans, grids or probes disagree.
   ProbeInterpolator(std::vector<std::shared_ptr<const Space>> levels, Interpolation method);
 
-  /// The force at interaction point p [m] with the probe pointing along `direction`.
-  /// Allocation-free. Valid where every level used has a value at p.
-  [[nodiscard]] ProbeQuery force(const Vec3& p, const Vec3& direction) const noexcept;
+  /// The force at interaction point p [m] with the probe pointing along `direction` (a lean
+  /// beyond max_tilt is clamped onto it). Allocation-free. Valid where every level used has a
+  /// value at p; outside and fallback where any level's query was.
+  [[nodiscard]] Query force(const Vec3& p, const Vec3& direction) const noexcept;
   /// The force and the nodal displacements (3N). Allocates only when `displacement` has
   /// another size; one thread at a time (it keeps a scratch vector).
-  ProbeQuery shape(const Vec3& p, const Vec3& direction, VecX& displacement) const;
+  Query shape(const Vec3& p, const Vec3& direction, VecX& displacement) const;
 
   [[nodiscard]] std::size_t level_count() const { return levels_.size(); }
   [[nodiscard]] const Interpolator& level(std::size_t k) const { return levels_[k]; }
@@ -76,7 +72,6 @@ class ProbeInterpolator {
   struct Stencil {
     std::array<std::size_t, 9> level{};
     std::array<double, 9> weight{};
-    bool outside = false;
   };
   [[nodiscard]] Stencil stencil(const Vec3& direction) const noexcept;
 

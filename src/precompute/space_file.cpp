@@ -268,8 +268,8 @@ Space read_from(Reader& r, hid_t file, const std::filesystem::path& path) {
 
 void write_space(const std::filesystem::path& path, const Space& space) { write_file(path, {&space}); }
 
-void write_probe_space(const std::filesystem::path& path, const std::vector<Space>& levels) {
-  if (levels.empty()) throw InputError("a probe space has at least one level");
+void write_space_levels(const std::filesystem::path& path, const std::vector<Space>& levels) {
+  if (levels.empty()) throw InputError("a space has at least one level");
   std::vector<const Space*> list;
   for (const Space& level : levels) list.push_back(&level);
   write_file(path, list);

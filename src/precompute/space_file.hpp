@@ -11,9 +11,9 @@ namespace tactus::precompute {
 /// sees half a file). Throws InputError when the file cannot be written.
 void write_space(const std::filesystem::path& path, const Space& space);
 
-/// Writes a probe space: its levels in level order (level 0 at the root, as a point space
-/// is; the others in group probe_levels).
-void write_probe_space(const std::filesystem::path& path, const std::vector<Space>& levels);
+/// Writes a space's levels in level order: a point space's one, or a probe space's (level 0
+/// at the root, as a point space is; the others in group probe_levels).
+void write_space_levels(const std::filesystem::path& path, const std::vector<Space>& levels);
 
 /// Reads every level of a space: one for a point space, level_count() for a probe space.
 /// Throws InputError for a missing, unreadable or malformed file or a missing level.

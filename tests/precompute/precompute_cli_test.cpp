@@ -191,6 +191,13 @@ TEST_F(PrecomputeCli, OnlineSpeedSearchRunsAndReportsAFiniteSpeed) {
 }
 
 #ifdef TACTUS_MPIEXEC
+/// mpirun of three ranks, stopped after `seconds` (a hang fails the test instead of the suite);
+/// the ranks' leak check is off, as below.
+std::string three_ranks(int seconds) {
+  return "timeout " + std::to_string(seconds) + " env ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '" +
+         TACTUS_MPIEXEC + "' -np 3 --oversubscribe" + (::geteuid() == 0 ? " --allow-run-as-root" : "");
+}
+
 TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameSpaceAsOneProcess) {
   ASSERT_EQ(precompute("single.h5", "--threads 1"), 0) << log();
   // Open MPI's plugins leave allocations behind at MPI_Finalize and are unloaded, so a
@@ -219,9 +226,7 @@ TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameSpaceAsOneProcess) {
 TEST_F(PrecomputeCli, ThreeMpiRanksBuildTheSameProbeSpaceAsOneProcess) {
   std::ofstream(dir_ / "block.toml") << kProbeScene;
   ASSERT_EQ(precompute("single.h5", "--threads 1"), 0) << log();
-  const std::string launcher = std::string("timeout 300 env ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '") +
-                               TACTUS_MPIEXEC + "' -np 3 --oversubscribe" +
-                               (::geteuid() == 0 ? " --allow-run-as-root" : "");
+  const std::string launcher = three_ranks(300);
   ASSERT_EQ(precompute("mpi.h5", "", launcher), 0) << log();
   expect_same_levels(dir_ / "single.h5", dir_ / "mpi.h5");
   // Stopped in the first level: the solver ranks are told there is no next one and end.
@@ -239,9 +244,7 @@ TEST_F(PrecomputeCli, TwoTasksInFlightPerRankDoNotWaitOnEachOther) {
   scene.replace(scene.find("cells = [4, 4, 2]"), 17, "cells = [8, 8, 4]");
   std::ofstream(dir_ / "block.toml") << scene;
   ASSERT_EQ(precompute("single.h5", "--threads 1"), 0) << log();
-  const std::string launcher = std::string("timeout 120 env ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '") +
-                               TACTUS_MPIEXEC + "' -np 3 --oversubscribe" +
-                               (::geteuid() == 0 ? " --allow-run-as-root" : "");
+  const std::string launcher = three_ranks(120);
   ASSERT_EQ(precompute("mpi.h5", "--in-flight 2", launcher), 0) << log();
   expect_same(read_space(dir_ / "single.h5"), read_space(dir_ / "mpi.h5"));
 }

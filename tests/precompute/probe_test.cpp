@@ -167,13 +167,13 @@ TEST(ProbeSpace, BetweenLeansTheForceFollowsDirectSolvesOfTheLeaningProbe) {
   // At a level's lean and a grid point, the level's own configuration.
   const Space& level5 = probe.level(5).space();
   for (std::size_t p = 0; p < level5.grid.size(); ++p) {
-    const ProbeQuery q = probe.force(level5.grid.point(p), probe.frame().direction(level5.settings.tilt));
-    ASSERT_TRUE(q.query.valid);
-    EXPECT_LT((q.query.force - level5.force[p]).norm(), 1e-12 * (1.0 + level5.force[p].norm()));
+    const Query q = probe.force(level5.grid.point(p), probe.frame().direction(level5.settings.tilt));
+    ASSERT_TRUE(q.valid);
+    EXPECT_LT((q.force - level5.force[p]).norm(), 1e-12 * (1.0 + level5.force[p].norm()));
   }
 
   const auto [mean, worst] = errors_against_direct(
-      body, s, [&](const Vec3& p, const Vec3& d) { return probe.force(p, d).query.force; }, 40);
+      body, s, [&](const Vec3& p, const Vec3& d) { return probe.force(p, d).force; }, 40);
   // The same positions with the lean ignored (the upright level alone): what the levels buy.
   const auto [mean_upright, worst_upright] = errors_against_direct(
       body, s, [&](const Vec3& p, const Vec3&) { return probe.level(4).force(p).force; }, 40);
@@ -189,7 +189,7 @@ TEST(ProbeSpace, AFileHoldsEveryLevel) {
   const SpaceSettings s = probe_settings(body);
   const std::vector<Space> levels = build_levels(body, s);
   const auto path = std::filesystem::temp_directory_path() / ("tactus_probe_" + std::to_string(::getpid()) + ".h5");
-  write_probe_space(path, levels);
+  write_space_levels(path, levels);
   const std::vector<Space> read = read_space_levels(path);
   std::filesystem::remove(path);
   ASSERT_EQ(read.size(), levels.size());
