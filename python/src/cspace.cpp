@@ -51,10 +51,13 @@ void bind_cspace(py::module_& m) {
       "loop's interpolators. Forces are what the body exerts on the tool [N]; positions in metres.")
       .def(py::init([](const std::filesystem::path& path, const std::string& method) {
              auto space = std::make_shared<const precompute::Space>(precompute::read_space(path));
-             if (space->settings.probe.enabled())
+             if (space->settings.probe.enabled() || space->settings.pair.enabled())
                throw InputError(SourceLocation{path.string(), {}, {}, {}},
-                                "a probe space (levels of leans): ConfigurationSpace reads point spaces only; a "
-                                "scene's cspace body renders probe spaces");
+                                space->settings.probe.enabled()
+                                    ? "a probe space (levels of leans): ConfigurationSpace reads point spaces only; a "
+                                      "scene's cspace body renders probe spaces"
+                                    : "a two-point space (levels of a second point): ConfigurationSpace reads point "
+                                      "spaces only; a scene's cspace body renders two-point spaces");
              const precompute::Interpolation how = precompute::parse_interpolation(method);
              return std::make_shared<ConfigurationSpace>(ConfigurationSpace{space, precompute::Interpolator(space, how)});
            }),

@@ -30,6 +30,7 @@
 #include "precompute/journal.hpp"
 #include "precompute/model_identity.hpp"
 #include "precompute/online.hpp"
+#include "precompute/pair.hpp"
 #include "precompute/probe.hpp"
 #include "precompute/refinement.hpp"
 #include "precompute/space_file.hpp"
@@ -213,7 +214,7 @@ struct BuiltSpace {
   int unresponsive = 0;  ///< MPI ranks that never answered
 };
 
-/// Builds one space (a point space, or one level of a probe space) with its checkpoint
+/// Builds one space (a point space, or one level of a probe or two-point space) with its checkpoint
 /// journal, and refines it where the settings ask. Nothing when --stop-after cut it short.
 /// Solver ranks serve the scheduler and return their (empty) space.
 std::optional<BuiltSpace> build_space(const PrecomputeArgs& a, pc::distributed::Session& session,
@@ -221,6 +222,18 @@ std::optional<BuiltSpace> build_space(const PrecomputeArgs& a, pc::distributed::
                                       const std::string& scene_text, const std::filesystem::path& journal_path);
 int finish_output(const std::filesystem::path& output, pc::distributed::Session& session,
                   const std::vector<std::filesystem::path>& journals, int unresponsive);
+
+/// "level K of N: ...", what a level of a probe or two-point space holds.
+std::string level_title(const pc::SpaceSettings& level, std::size_t k, std::size_t count) {
+  const std::string head = fmt::format("level {} of {}: ", k + 1, count);
+  if (level.probe.enabled())
+    return head + fmt::format("the probe leaning {:.1f}, {:.1f} degrees", level.tilt.x() * 180.0 / std::numbers::pi,
+                              level.tilt.y() * 180.0 / std::numbers::pi);
+  const char* own = level.finger == 0 ? "the first point" : "the second point";
+  if (level.held_node < 0) return head + fmt::format("{}, the other free", own);
+  return head + fmt::format("{}, the other held at ({:.1f}, {:.1f}, {:.1f}) mm", own, 1e3 * level.held_at.x(),
+                            1e3 * level.held_at.y(), 1e3 * level.held_at.z());
+}
 
 int run_precompute(const PrecomputeArgs& a) {
   pc::distributed::Session session;
@@ -234,10 +247,11 @@ int run_precompute(const PrecomputeArgs& a) {
   if (a.online_speed) {
     if (session.size() > 1)
       throw InputError("--online-speed runs its solvers as threads on one machine: start it without mpirun");
-    if (settings.probe.enabled())
+    if (settings.probe.enabled() || settings.pair.enabled())
       throw InputError(SourceLocation{a.scene, {}, {}, {}},
-                       "--online-speed measures on-line construction, which builds point spaces; this [precompute] "
-                       "table has a probe");
+                       fmt::format("--online-speed measures on-line construction, which builds point spaces; this "
+                                   "[precompute] table has {}",
+                                   settings.probe.enabled() ? "a probe" : "a second point"));
     set_thread_limit(1);
     return run_online_speed(a, body, settings);
   }
@@ -247,18 +261,18 @@ int run_precompute(const PrecomputeArgs& a) {
   const std::filesystem::path output(a.output);
   const std::string scene_text = read_text(a.scene);
   // The space's levels one after another: a point space has one, a probe space one per lean
-  // (precompute/probe.hpp), each with its own journal, so that a killed build resumes in the
-  // level it was in. The file is written once all are built.
-  const std::size_t count = settings.probe.level_count();
+  // (precompute/probe.hpp), a two-point space 2 + nA + nB (precompute/pair.hpp), each with
+  // its own journal, so that a killed build resumes in the level it was in. The file is
+  // written once all are built.
+  const std::vector<pc::SpaceSettings> level_list = pc::space_levels(settings, body.model->rest_positions());
+  const std::size_t count = level_list.size();
   std::vector<pc::Space> levels;
   std::vector<std::filesystem::path> journals;
   int unresponsive = 0;
   for (std::size_t k = 0; k < count; ++k) {
-    const pc::SpaceSettings level = pc::level_settings(settings, k);
+    const pc::SpaceSettings& level = level_list[k];
     if (k > 0 && !session.decide(true)) return 0;  // rank 0 stopped: the solver ranks end too
-    if (count > 1 && session.rank() == 0)
-      std::printf("probe level %zu of %zu: leaning %.1f, %.1f degrees\n", k + 1, count,
-                  level.tilt.x() * 180.0 / std::numbers::pi, level.tilt.y() * 180.0 / std::numbers::pi);
+    if (count > 1 && session.rank() == 0) std::printf("%s\n", level_title(level, k, count).c_str());
     const std::string journal =
         count == 1 ? output.string() + ".journal" : fmt::format("{}.level-{}.journal", a.output, k);
     auto built = build_space(a, session, body, level, scene_text, journal);
@@ -270,7 +284,7 @@ int run_precompute(const PrecomputeArgs& a) {
     unresponsive = built->unresponsive;
     if (unresponsive > 0 && k + 1 < count) {
       // A hung rank takes part in nothing more: the levels built are in their journals.
-      log::error("{} rank(s) never answered; ending the job after probe level {} (continue with --resume)",
+      log::error("{} rank(s) never answered; ending the job after level {} (continue with --resume)",
                  unresponsive, k + 1);
       std::fflush(stdout);
       session.abort_job(4);

@@ -22,11 +22,11 @@ std::shared_ptr<const CspaceBody> CspaceBody::load(const scene::Model& model, st
                                    b.name,
                                    model.precompute ? fmt::format("that table is for body '{}'", model.precompute->body)
                                                     : std::string("the scene has none")));
-    if (model.precompute->probe.enabled())
+    if (model.precompute->probe.enabled() || model.precompute->pair.enabled())
       throw InputError(SourceLocation{model.source, {}, {}, {}},
-                       fmt::format("body '{}': on-line construction builds point spaces; the [precompute] table has a "
-                                   "probe (build it with `tactus precompute` and give the file as `space`)",
-                                   b.name));
+                       fmt::format("body '{}': on-line construction builds point spaces; the [precompute] table has "
+                                   "{} (build it with `tactus precompute` and give the file as `space`)",
+                                   b.name, model.precompute->probe.enabled() ? "a probe" : "a second point"));
     const physics::Body body = make_physics_body(model, index);
     precompute::Space space = precompute::make_space(body, *model.precompute, "");
     // The solvers' element loops run on their own thread: the parallelism is across points,
@@ -53,8 +53,22 @@ std::shared_ptr<const CspaceBody> CspaceBody::load(const scene::Model& model, st
     precompute::check_identity(space->identity, precompute::identify(body, space->settings, space->grid),
                                file.string());
   }
+  // A two-point space is felt by the two tools the body names; a space of one point by any.
+  const bool two_points = levels.front()->settings.pair.enabled();
+  if (two_points != (b.cspace->tools.size() == 2))
+    throw InputError(SourceLocation{model.source, {}, {}, {}},
+                     two_points ? fmt::format("body '{}': its space ({}) holds two points; name the tools at them "
+                                              "with tools = [\"first\", \"second\"] in the body's table",
+                                              b.name, file.string())
+                                : fmt::format("body '{}' names two tools, and its space ({}) holds one point (build a "
+                                              "two-point space: second_point in [precompute])",
+                                              b.name, file.string()));
   if (levels.size() > 1) {
     try {
+      if (two_points)
+        return std::make_shared<CspaceBody>(
+            index, precompute::PairInterpolator(std::move(levels), b.cspace->interpolation),
+            std::array<std::size_t, 2>{b.cspace->tools[0], b.cspace->tools[1]});
       return std::make_shared<CspaceBody>(index, std::move(levels), b.cspace->interpolation);
     } catch (const InputError& e) {
       throw InputError(SourceLocation{file.string(), {}, {}, {}}, e.reason());
@@ -74,19 +88,42 @@ CspaceBody::CspaceBody(std::size_t body, std::vector<std::shared_ptr<const preco
 CspaceBody::CspaceBody(std::size_t body, std::unique_ptr<precompute::OnlineBuilder> online, VecX rest)
     : body_(body), online_(std::move(online)), rest_(std::move(rest)) {}
 
+CspaceBody::CspaceBody(std::size_t body, precompute::PairInterpolator pair, std::array<std::size_t, 2> tools)
+    : body_(body), pair_(std::move(pair)), pair_tools_(tools) {}
+
 CspaceBody::~CspaceBody() {
   if (online_) online_->stop();
 }
 
+void CspaceBody::count_box(bool in_box, double t) const noexcept {
+  (in_box ? inside_ : outside_).fetch_add(1, std::memory_order_relaxed);
+  if (in_box && first_inside_.load(std::memory_order_relaxed) < 0.0) first_inside_.store(t, std::memory_order_relaxed);
+}
+
+CspaceForce CspaceBody::force_on(int finger, const Vec3& p, const Quat& orientation, const Vec3* other,
+                                 double t) const noexcept {
+  if (!pair_) return force(p, orientation, t);
+  CspaceForce out;
+  const bool in_box = pair_->in_box(finger, p);
+  count_box(in_box, t);
+  if (!in_box) return out;
+  const precompute::Query q = pair_->force(finger, p, other);
+  if (q.valid && !q.outside && q.force.allFinite()) {
+    out.force = q.force;
+    out.touching = true;
+  }
+  return out;
+}
+
 CspaceForce CspaceBody::force(const Vec3& p, const Quat& orientation, double t) const noexcept {
+  if (pair_) return force_on(0, p, orientation, nullptr, t);
   CspaceForce out;
   const precompute::Grid& g = online_ ? online_->grid()
                               : probe_ ? probe_->level(0).space().grid
                                        : interpolator_->space().grid;
   const Vec3 far = g.origin + g.spacing * Vec3(g.counts[0] - 1, g.counts[1] - 1, g.counts[2] - 1);
   const bool in_box = (p.array() >= g.origin.array()).all() && (p.array() <= far.array()).all();
-  (in_box ? inside_ : outside_).fetch_add(1, std::memory_order_relaxed);
-  if (in_box && first_inside_.load(std::memory_order_relaxed) < 0.0) first_inside_.store(t, std::memory_order_relaxed);
+  count_box(in_box, t);
   if (online_) {
     online_->observe(p, t);
     const precompute::OnlineQuery q = online_->render(p);
@@ -116,7 +153,26 @@ CspaceBody::BoxCounts CspaceBody::box_counts() const {
           first_inside_.load(std::memory_order_relaxed)};
 }
 
+void CspaceBody::positions(const Vec3* first, const Vec3* second, VecX& x) const {
+  if (!pair_) {
+    if (first) positions(*first, Quat::Identity(), x);
+    return;
+  }
+  const std::array<const Vec3*, 2> at{first, second};
+  precompute::Query q;
+  for (int finger = 0; finger < 2 && !q.valid; ++finger)
+    if (const Vec3* p = at[static_cast<std::size_t>(finger)]; p && pair_->in_box(finger, *p))
+      q = pair_->shape(finger, *p, at[static_cast<std::size_t>(1 - finger)], x);
+  const VecX& rest = pair_->level(0).space().rest_positions;
+  if (!q.valid || x.size() != rest.size() || !x.allFinite()) x.setZero(rest.size());
+  x += rest;
+}
+
 void CspaceBody::positions(const Vec3& p, const Quat& orientation, VecX& x) const {
+  if (pair_) {
+    positions(&p, nullptr, x);
+    return;
+  }
   if (online_) {
     if (!online_->shape(p, x) || !x.allFinite()) x.setZero(rest_.size());
     x += rest_;
@@ -133,7 +189,10 @@ CspaceBody::OnlineCounts CspaceBody::online_counts() const {
   n.solved = solved_points();
   n.points = online_  ? online_->grid().size()
              : probe_ ? probe_->level_count() * probe_->level(0).space().grid.size()
+             : pair_  ? 0
                       : interpolator_->space().grid.size();
+  if (pair_)
+    for (std::size_t k = 0; k < pair_->level_count(); ++k) n.points += pair_->level(k).space().grid.size();
   n.queries = queries_.load(std::memory_order_relaxed);
   n.complete = complete_.load(std::memory_order_relaxed);
   return n;
@@ -141,10 +200,11 @@ CspaceBody::OnlineCounts CspaceBody::online_counts() const {
 
 std::size_t CspaceBody::solved_points() const {
   if (online_) return online_->solved_count();
-  if (probe_) {
+  if (probe_ || pair_) {
     std::size_t n = 0;
-    for (std::size_t k = 0; k < probe_->level_count(); ++k)
-      n += probe_->level(k).space().count(precompute::PointStatus::solved);
+    const std::size_t count = probe_ ? probe_->level_count() : pair_->level_count();
+    for (std::size_t k = 0; k < count; ++k)
+      n += (probe_ ? probe_->level(k) : pair_->level(k)).space().count(precompute::PointStatus::solved);
     return n;
   }
   return interpolator_->space().count(precompute::PointStatus::solved);

@@ -3,10 +3,13 @@
 // loop reads the force at the tool's interaction point from the space's Interpolator, and
 // the simulation loop publishes the interpolated shape instead of simulating the body.
 // A probe space (levels of leans, precompute/probe.hpp) is looked up with the tool's −z axis
-// as the probe's direction.
+// as the probe's direction. A two-point space (precompute/pair.hpp) is felt by two tools on
+// two devices, the body's `tools`: each tool's force comes from its point's levels at its
+// own position and its partner's.
 // With `online = true` the space is built during the run (precompute::OnlineBuilder): solver
 // threads work around the tool and ahead of it, and the force comes from the points solved
 // so far.
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -18,6 +21,7 @@
 #include "haptics/algorithms/field_lookup.hpp"
 #include "precompute/interpolator.hpp"
 #include "precompute/online.hpp"
+#include "precompute/pair.hpp"
 #include "precompute/probe.hpp"
 #include "scene/model.hpp"
 
@@ -42,10 +46,18 @@ class CspaceBody final : public haptics::ForceField {
   /// On-line: the tool's position feeds the solvers' prediction, and only the haptic thread
   /// may call it.
   [[nodiscard]] CspaceForce force(const Vec3& p, const Quat& orientation, double t) const noexcept override;
+  /// A two-point space: the force on point `finger` at p, the other point at `other` (null:
+  /// not known; outside its box: free). A space of one point: force().
+  [[nodiscard]] CspaceForce force_on(int finger, const Vec3& p, const Quat& orientation, const Vec3* other,
+                                     double t) const noexcept override;
   /// Node positions (3N) of the configuration at p: rest + interpolated displacement; the
   /// rest shape where the space has no value. Allocates only when x has another size. One
   /// thread at a time (the simulation loop's).
   void positions(const Vec3& p, const Quat& orientation, VecX& x) const;
+  /// A two-point space's shape with its points at `first` and `second` (null: not known):
+  /// the first point's levels while it lies in its box, else the second's; the rest shape
+  /// when neither does.
+  void positions(const Vec3* first, const Vec3* second, VecX& x) const;
 
   [[nodiscard]] std::size_t body() const { return body_; }
   [[nodiscard]] bool online() const { return online_ != nullptr; }
@@ -68,6 +80,10 @@ class CspaceBody final : public haptics::ForceField {
   [[nodiscard]] const precompute::Interpolator& interpolator() const { return *interpolator_; }
   /// A probe space's interpolator, or null.
   [[nodiscard]] const precompute::ProbeInterpolator* probe() const { return probe_ ? &*probe_ : nullptr; }
+  /// A two-point space's interpolator, or null.
+  [[nodiscard]] const precompute::PairInterpolator* pair() const { return pair_ ? &*pair_ : nullptr; }
+  /// A two-point space's tools (indices into the scene's tools): at its first and second point.
+  [[nodiscard]] const std::array<std::size_t, 2>& pair_tools() const { return pair_tools_; }
   /// The probe's direction for a tool turned by `orientation`: its −z axis.
   [[nodiscard]] static Vec3 probe_direction(const Quat& orientation) { return orientation * Vec3(0.0, 0.0, -1.0); }
 
@@ -75,12 +91,18 @@ class CspaceBody final : public haptics::ForceField {
   CspaceBody(std::size_t body, std::vector<std::shared_ptr<const precompute::Space>> levels,
              precompute::Interpolation method);
   CspaceBody(std::size_t body, std::unique_ptr<precompute::OnlineBuilder> online, VecX rest);
+  CspaceBody(std::size_t body, precompute::PairInterpolator pair, std::array<std::size_t, 2> tools);
   ~CspaceBody();
 
  private:
+  /// Counts a force() call inside or outside the grid's box.
+  void count_box(bool in_box, double t) const noexcept;
+
   std::size_t body_;
   std::optional<precompute::Interpolator> interpolator_;
   std::optional<precompute::ProbeInterpolator> probe_;
+  std::optional<precompute::PairInterpolator> pair_;
+  std::array<std::size_t, 2> pair_tools_{};
   /// On-line: written by its solver threads, read by the haptic thread (force) and the
   /// simulation thread (shape); its own synchronization makes that safe.
   std::unique_ptr<precompute::OnlineBuilder> online_;

@@ -184,6 +184,32 @@ double longest_edge(const mesh::TriMesh& surface) {
   return longest;
 }
 
+/// Where a tool looks a field up, in its frame: its first sphere's centre.
+Vec3 lookup_offset(const scene::Tool& tool) {
+  if (const auto* set = std::get_if<scene::SphereSetTool>(&tool.shape); set && !set->spheres.empty())
+    return set->spheres.front().center;
+  return Vec3::Zero();
+}
+
+/// A tool on a two-point space: which of its points it is (the body's `tools`), and its
+/// partner, the other point's tool, whose frames its loop reads (HapticModel::partner).
+haptics::FieldPoint field_point_of(const scene::Model& m, const CspaceBody& cspace, const scene::Tool& tool,
+                               const std::string& algorithm, haptics::HapticModel& model) {
+  const std::array<std::size_t, 2>& tools = cspace.pair_tools();
+  const scene::Body& body = m.bodies[cspace.body()];
+  int finger = -1;
+  for (int k = 0; k < 2; ++k)
+    if (&m.tools[tools[static_cast<std::size_t>(k)]] == &tool) finger = k;
+  if (finger < 0)
+    throw InputError(SourceLocation{m.source, {}, {}, {}},
+                     fmt::format("algorithm '{}': tool '{}' touches body '{}', whose two-point space is felt by "
+                                 "tools '{}' and '{}' only",
+                                 algorithm, tool.name, body.name, m.tools[tools[0]].name, m.tools[tools[1]].name));
+  const scene::Tool& partner = m.tools[tools[static_cast<std::size_t>(1 - finger)]];
+  model.partner = static_cast<std::uint16_t>(partner.devices.front());
+  return {finger, lookup_offset(partner)};
+}
+
 DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceBodies& cspaces,
                          const Touchables* touchables) {
   const scene::Device& d = m.devices[index];
@@ -397,6 +423,9 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
   try {
     if (multi) {
       model.algorithms.push_back(std::make_shared<haptics::MultiSurfaceAlgorithm>(*multi, s.bodies, first.offset));
+    } else if (cspace && cspace->pair()) {
+      model.algorithms.push_back(
+          std::make_shared<haptics::FieldLookup>(cspace, first.offset, field_point_of(m, *cspace, tool, a->name, model)));
     } else if (cspace) {
       model.algorithms.push_back(std::make_shared<haptics::FieldLookup>(cspace, first.offset));
     } else if (fabric) {

@@ -25,13 +25,16 @@ ConfigurationSolver::ConfigurationSolver(const physics::Body& body, const SpaceS
   }
   body_.fix_nodes(settings_.patch_nodes);
   if (settings_.held_node >= 0) {
-    const auto n = settings_.held_node;
-    if (static_cast<std::size_t>(n) >= nodes || body_.fixed_dofs[3 * static_cast<std::size_t>(n)] ||
-        !settings_.held_at.allFinite())
-      throw InputError(fmt::format("the second interaction point (node {}) is not a free node of the body, apart "
-                                   "from the contact patch",
-                                   n));
-    body_.fix_nodes({n});
+    if (settings_.held_patch.empty()) settings_.held_patch = {settings_.held_node};
+    if (!std::binary_search(settings_.held_patch.begin(), settings_.held_patch.end(), settings_.held_node))
+      throw InputError(fmt::format("the held patch does not hold its node {}", settings_.held_node));
+    for (auto n : settings_.held_patch)
+      if (n < 0 || static_cast<std::size_t>(n) >= nodes || body_.fixed_dofs[3 * static_cast<std::size_t>(n)] ||
+          !settings_.held_at.allFinite())
+        throw InputError(fmt::format("the second interaction point's node {} is not a free node of the body, apart "
+                                     "from the contact patch",
+                                     n));
+    body_.fix_nodes(settings_.held_patch);
   }
   body_.settings.solver = physics::LinearSolver::cholesky;
   if (!settings_.gravity) body_.gravity = Vec3::Zero();
@@ -44,8 +47,13 @@ ConfigurationSolver::ConfigurationSolver(const physics::Body& body, const SpaceS
 void ConfigurationSolver::place_patch(const Pose& pose) {
   const VecX& rest = body_.model->rest_positions();
   if (settings_.held_node >= 0) {
-    const auto i = 3 * static_cast<Eigen::Index>(settings_.held_node);
-    state_.x.segment<3>(i) = rest.segment<3>(i) + pose.held * (settings_.held_at - rest.segment<3>(i));
+    // The held patch moves rigidly with its node.
+    const auto node = 3 * static_cast<Eigen::Index>(settings_.held_node);
+    const Vec3 shift = pose.held * (settings_.held_at - rest.segment<3>(node));
+    for (auto n : settings_.held_patch) {
+      const auto i = 3 * static_cast<Eigen::Index>(n);
+      state_.x.segment<3>(i) = rest.segment<3>(i) + shift;
+    }
   }
   if (pose.rotation.isZero(0.0)) {
     const Vec3 shift = pose.contact - contact_rest_;

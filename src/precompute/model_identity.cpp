@@ -65,6 +65,16 @@ ModelIdentity identify(const physics::Body& body, const SpaceSettings& settings,
   if (settings.held_node >= 0) {
     model.add_value(settings.held_node);
     model.add(settings.held_at.data(), 3 * sizeof(double));
+    // A held patch beyond the node alone (hashed only then: a held node keeps its identity).
+    if (settings.held_patch.size() > 1)
+      model.add(settings.held_patch.data(), settings.held_patch.size() * sizeof(std::int32_t));
+  }
+  if (settings.pair.enabled()) {
+    model.add_value(settings.finger);
+    model.add_value(settings.pair.node);
+    model.add(settings.pair.patch_nodes.data(), settings.pair.patch_nodes.size() * sizeof(std::int32_t));
+    model.add(settings.pair.bounds_min.data(), 3 * sizeof(double));
+    model.add(settings.pair.bounds_max.data(), 3 * sizeof(double));
   }
   id.model_hash = model.value();
   return id;

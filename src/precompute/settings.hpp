@@ -34,6 +34,19 @@ struct ProbeSettings {
   }
 };
 
+/// A two-point space (docs/precompute.md, "Two-point spaces"): a second interaction point (a
+/// second finger or instrument) with its own patch and grid box, on the space's spacing. Seed
+/// 001 (§3.4): "each degree of freedom yields additional dimension of the grid". The space is
+/// built as levels (precompute/pair.hpp): each point's space with the other free, then for
+/// each grid point of the other, its space with the other held there.
+struct PairSettings {
+  std::int32_t node = -1;                 ///< the other point's contact node (−1: no other point)
+  std::vector<std::int32_t> patch_nodes;  ///< moved rigidly with it (sorted, contains node)
+  Vec3 bounds_min = Vec3::Zero();         ///< its grid covers this box [m]
+  Vec3 bounds_max = Vec3::Zero();
+  [[nodiscard]] bool enabled() const { return node >= 0; }
+};
+
 struct SpaceSettings {
   std::string body;                   ///< scene body the space belongs to
   std::int32_t contact_node = 0;      ///< the interaction point: a node of the body's volume mesh
@@ -57,9 +70,16 @@ struct SpaceSettings {
   /// This level's lean of the probe [rad] (its tangent coordinates; zero without a probe).
   Vec2 tilt = Vec2::Zero();
   /// A second interaction point held still in every configuration (a second finger): the
-  /// node (−1: none) and where it is held [m]. The start point moves it there from rest.
+  /// node (−1: none) and where it is held [m]. The start point moves it there from rest. Its
+  /// patch (sorted, contains held_node; empty: the node alone) moves rigidly with it.
   std::int32_t held_node = -1;
   Vec3 held_at = Vec3::Zero();
+  std::vector<std::int32_t> held_patch;
+  /// A two-point space: the other point (the contact node and patch above are this level's
+  /// own), and which of the scene's two points this level's own is (0: contact_point, 1:
+  /// second_point).
+  PairSettings pair;
+  int finger = 0;
 };
 
 }  // namespace tactus::precompute

@@ -28,7 +28,7 @@ constexpr int kVersion = 2;
 
 namespace {
 
-/// One space's attributes and groups under `file` (the file's root, or a probe level's group).
+/// One space's attributes and groups under `file` (the file's root, or a level's group).
 void write_into(Writer& w, hid_t file, const Space& space) {
   {
     const std::size_t points = space.point_count();
@@ -73,6 +73,12 @@ void write_into(Writer& w, hid_t file, const Space& space) {
       w.attribute(settings, "held_node", H5T_NATIVE_INT32, &s.held_node);
       w.attribute(settings, "held_at", H5T_NATIVE_DOUBLE, s.held_at.data(), 3);
     }
+    if (s.pair.enabled()) {
+      w.attribute(settings, "pair_finger", H5T_NATIVE_INT, &s.finger);
+      w.attribute(settings, "pair_node", H5T_NATIVE_INT32, &s.pair.node);
+      w.attribute(settings, "pair_bounds_min", H5T_NATIVE_DOUBLE, s.pair.bounds_min.data(), 3);
+      w.attribute(settings, "pair_bounds_max", H5T_NATIVE_DOUBLE, s.pair.bounds_max.data(), 3);
+    }
 
     Handle pts(H5Gcreate2(file, "points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     w.dataset(pts, "status", H5T_NATIVE_UINT8, {points}, space.status.data());
@@ -107,6 +113,10 @@ void write_into(Writer& w, hid_t file, const Space& space) {
               space.rest_positions.data());
     w.dataset(model, "elements", H5T_NATIVE_INT32, {space.elements.size(), 4}, space.elements.data());
     w.dataset(model, "patch_nodes", H5T_NATIVE_INT32, {s.patch_nodes.size()}, s.patch_nodes.data());
+    if (s.held_patch.size() > 1)
+      w.dataset(model, "held_patch", H5T_NATIVE_INT32, {s.held_patch.size()}, s.held_patch.data());
+    if (s.pair.enabled())
+      w.dataset(model, "pair_patch_nodes", H5T_NATIVE_INT32, {s.pair.patch_nodes.size()}, s.pair.patch_nodes.data());
     w.strings(model, "scene", {space.scene_text});
   }
 }
@@ -120,10 +130,10 @@ void write_file(const std::filesystem::path& path, const std::vector<const Space
     if (!file.valid()) fail(path, "cannot create the space file");
     write_into(w, file, *levels.front());
     if (levels.size() > 1) {
-      Handle group(H5Gcreate2(file, "probe_levels", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+      Handle group(H5Gcreate2(file, "levels", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
       for (std::size_t k = 1; k < levels.size(); ++k) {
         Handle level(H5Gcreate2(group, std::to_string(k).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-        w.check(level.valid(), "probe level group");
+        w.check(level.valid(), "level group");
         write_into(w, level, *levels[k]);
       }
     }
@@ -134,7 +144,7 @@ void write_file(const std::filesystem::path& path, const std::vector<const Space
   if (ec) fail(path, "cannot move the finished space file into place: " + ec.message());
 }
 
-/// One space from under `file` (the root, or a probe level's group).
+/// One space from under `file` (the root, or a level's group).
 Space read_from(Reader& r, hid_t file, const std::filesystem::path& path) {
   if (r.text(file, "format") != kFormat) fail(path, "not a Tactus configuration space");
   const int version = r.scalar<int>(file, "version", H5T_NATIVE_INT);
@@ -193,6 +203,15 @@ Space read_from(Reader& r, hid_t file, const std::filesystem::path& path) {
     s.held_node = r.scalar<std::int32_t>(settings, "held_node", H5T_NATIVE_INT32);
     r.array(settings, "held_at", H5T_NATIVE_DOUBLE, s.held_at.data(), 3);
     if (s.held_node < 0 || !s.held_at.allFinite()) fail(path, "implausible second interaction point");
+  }
+  if (H5Aexists(settings, "pair_node") > 0) {
+    s.finger = r.scalar<int>(settings, "pair_finger", H5T_NATIVE_INT);
+    s.pair.node = r.scalar<std::int32_t>(settings, "pair_node", H5T_NATIVE_INT32);
+    r.array(settings, "pair_bounds_min", H5T_NATIVE_DOUBLE, s.pair.bounds_min.data(), 3);
+    r.array(settings, "pair_bounds_max", H5T_NATIVE_DOUBLE, s.pair.bounds_max.data(), 3);
+    if ((s.finger != 0 && s.finger != 1) || s.pair.node < 0 || !s.pair.bounds_min.allFinite() ||
+        !s.pair.bounds_max.allFinite() || s.probe.enabled())
+      fail(path, "implausible two-point settings (the point 0 or 1, the other's node and box, no probe)");
   }
 
   const std::size_t nodes = space.identity.node_count;
@@ -260,6 +279,16 @@ Space read_from(Reader& r, hid_t file, const std::filesystem::path& path) {
   if (patch[0] > nodes) fail(path, "more patch nodes than nodes");
   s.patch_nodes.resize(patch[0]);
   r.dataset(model, "patch_nodes", H5T_NATIVE_INT32, s.patch_nodes.size(), s.patch_nodes.data());
+  auto node_list = [&](const char* name, std::vector<std::int32_t>& list) {
+    const auto n = r.dims(model, name, 1);
+    if (n[0] > nodes) fail(path, fmt::format("more nodes in model/{} than in the mesh", name));
+    list.resize(n[0]);
+    r.dataset(model, name, H5T_NATIVE_INT32, list.size(), list.data());
+    for (auto v : list)
+      if (v < 0 || static_cast<std::size_t>(v) >= nodes) fail(path, fmt::format("model/{} names node {}", name, v));
+  };
+  if (s.held_node >= 0 && H5Lexists(model, "held_patch", H5P_DEFAULT) > 0) node_list("held_patch", s.held_patch);
+  if (s.pair.enabled()) node_list("pair_patch_nodes", s.pair.patch_nodes);
   space.scene_text = r.strings(model, "scene", 1).front();
   return space;
 }
@@ -285,16 +314,20 @@ std::vector<Space> read_space_levels(const std::filesystem::path& path) {
   Reader r(path);
   std::vector<Space> levels;
   levels.push_back(read_from(r, file, path));
-  const ProbeSettings probe = levels.front().settings.probe;  // a copy: levels grows
-  if (!probe.enabled()) return levels;
-  Handle group(H5Gopen2(file, "probe_levels", H5P_DEFAULT), H5Gclose);
-  if (!group.valid()) fail(path, "a probe space without its group 'probe_levels'");
-  for (std::size_t k = 1; k < probe.level_count(); ++k) {
+  const SpaceSettings first = levels.front().settings;  // a copy: levels grows
+  if (!first.probe.enabled() && !first.pair.enabled()) return levels;
+  Handle group(H5Gopen2(file, "levels", H5P_DEFAULT), H5Gclose);
+  if (!group.valid()) fail(path, "a space of several levels without its group 'levels'");
+  // A probe space has a level per lean; a two-point space 2 + nA + nB, nB being the size of
+  // level 1's grid (precompute/pair.hpp).
+  std::size_t count = first.pair.enabled() ? 2 : first.probe.level_count();
+  for (std::size_t k = 1; k < count; ++k) {
     Handle level(H5Gopen2(group, std::to_string(k).c_str(), H5P_DEFAULT), H5Gclose);
-    if (!level.valid()) fail(path, fmt::format("probe level {} of {} is missing", k, probe.level_count()));
+    if (!level.valid()) fail(path, fmt::format("level {} of {} is missing", k, count));
     levels.push_back(read_from(r, level, path));
     if (levels.back().identity.mesh_hash != levels.front().identity.mesh_hash)
-      fail(path, fmt::format("probe level {} was built for another mesh than level 0", k));
+      fail(path, fmt::format("level {} was built for another mesh than level 0", k));
+    if (first.pair.enabled() && k == 1) count = 2 + levels[0].grid.size() + levels[1].grid.size();
   }
   return levels;
 }

@@ -1,5 +1,6 @@
 #include "runtime/simulation_step.hpp"
 
+#include <array>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -157,10 +158,20 @@ void apply_live_materials(const SimulationModel& model, SimulationState& state, 
 }
 
 /// Cspace bodies take the interpolated shape at the tool of the first device without a
-/// patch that reports one (devices with a patch hand theirs to the patches instead).
+/// patch that reports one (devices with a patch hand theirs to the patches instead); a
+/// two-point space at its two tools.
 void shape_cspace_bodies(const SimulationModel& model, SimulationState& state, std::span<const ToolState> tools) {
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     if (!model.bodies[b].cspace) continue;
+    if (model.bodies[b].cspace->pair()) {
+      std::array<const Vec3*, 2> at{};
+      for (std::size_t k = 0; k < 2; ++k) {
+        const std::size_t device = model.scene->tools[model.bodies[b].cspace->pair_tools()[k]].devices.front();
+        if (device < tools.size() && tools[device].valid) at[k] = &tools[device].position;
+      }
+      model.bodies[b].cspace->positions(at[0], at[1], state.bodies[b].state.x);
+      continue;
+    }
     for (std::size_t device = 0; device < tools.size() && device < model.patches.size(); ++device) {
       if (model.patches[device] || !tools[device].valid) continue;
       model.bodies[b].cspace->positions(tools[device].position, tools[device].orientation, state.bodies[b].state.x);

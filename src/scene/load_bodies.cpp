@@ -582,6 +582,22 @@ Probe read_probe(Reader& f, std::size_t index) {
 
 }  // namespace
 
+void read_cspace_tools(Reader& r, Model& model, std::size_t body) {
+  const std::vector<std::string> names = r.string_list("tools", {});
+  if (names.size() != 2)
+    r.fail("tools", "a two-point space is felt by two tools, at its first and its second point: "
+                    "tools = [\"first\", \"second\"]");
+  Body::ConfigurationSpace& c = *model.bodies[body].cspace;
+  for (const auto& name : names) {
+    const std::size_t t = resolve_name(r, "tools", name, model.tools, "tool");
+    if (model.tools[t].devices.size() != 1)
+      r.fail("tools", fmt::format("tool '{}' must be driven by one device of its own", name));
+    c.tools.push_back(t);
+  }
+  if (model.tools[c.tools[0]].devices == model.tools[c.tools[1]].devices)
+    r.fail("tools", "the two points are felt by two tools on two devices");
+}
+
 Body read_body(Reader& r, const std::string& name, const Model& model) {
   Body b;
   b.name = name;
@@ -608,6 +624,10 @@ Body read_body(Reader& r, const std::string& name, const Model& model) {
       c.interpolation = read_interpolation(r, "interpolation");
       if (r.has("workers")) r.fail("workers", "`workers` is for an on-line space (online = true)");
     }
+    // `tools` names tools, which are read after the bodies: read_cspace_tools resolves it.
+    if (r.has("tools") && c.online)
+      r.fail("tools", "on-line construction builds spaces of one point; a two-point space is built with "
+                      "`tactus precompute` and given as `space`");
     b.cspace = std::move(c);
   }
   if (b.kind == BodyKind::embedded) {

@@ -39,29 +39,39 @@ precompute::SpaceSettings read_precompute(Reader& r, const Model& model) {
     r.fail("body", "body '" + body.name + "' is not an FEM body (kind = \"fem\")");
   s.body = body.name;
 
-  // The contact node: the surface node nearest to contact_point.
-  const Vec3 contact = r.required_vec3("contact_point");
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t v = 0; v < body.surface.vertices.size(); ++v) {
-    const double d = (body.surface.vertices[v] - contact).squaredNorm();
-    if (d < best) {
-      best = d;
-      s.contact_node = static_cast<std::int32_t>(body.surface_to_volume[v]);
-    }
-  }
-  for (const auto& f : body.fixed)
-    if (std::binary_search(f.nodes.begin(), f.nodes.end(), static_cast<mesh::Index>(s.contact_node)))
-      r.fail("contact_point", fmt::format("the nearest surface node ({}) lies in fixed region '{}'", s.contact_node,
-                                          f.name));
+  // A point's contact node: the surface node nearest to where the key puts it; its patch:
+  // the nodes within patch_radius of it. Neither may lie in a fixed region.
   const auto& vertices = body.volume->vertices;
+  auto contact_node = [&](const char* key, const Vec3& at) {
+    std::int32_t node = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t v = 0; v < body.surface.vertices.size(); ++v) {
+      const double d = (body.surface.vertices[v] - at).squaredNorm();
+      if (d < best) {
+        best = d;
+        node = static_cast<std::int32_t>(body.surface_to_volume[v]);
+      }
+    }
+    for (const auto& f : body.fixed)
+      if (std::binary_search(f.nodes.begin(), f.nodes.end(), static_cast<mesh::Index>(node)))
+        r.fail(key, fmt::format("the nearest surface node ({}) lies in fixed region '{}'", node, f.name));
+    return node;
+  };
+  auto patch_of = [&](std::int32_t node) {
+    std::vector<std::int32_t> patch;
+    const Vec3 centre = vertices[static_cast<std::size_t>(node)];
+    for (std::size_t v = 0; v < vertices.size(); ++v)
+      if ((vertices[v] - centre).norm() <= s.patch_radius) patch.push_back(static_cast<std::int32_t>(v));
+    for (const auto& f : body.fixed)
+      for (auto n : patch)
+        if (std::binary_search(f.nodes.begin(), f.nodes.end(), static_cast<mesh::Index>(n)))
+          r.fail("patch_radius", fmt::format("the contact patch reaches fixed region '{}' (node {})", f.name, n));
+    return patch;
+  };
+  s.contact_node = contact_node("contact_point", r.required_vec3("contact_point"));
   const Vec3 node = vertices[static_cast<std::size_t>(s.contact_node)];
   s.patch_radius = r.number("patch_radius", 0.0, Range::non_negative());
-  for (std::size_t v = 0; v < vertices.size(); ++v)
-    if ((vertices[v] - node).norm() <= s.patch_radius) s.patch_nodes.push_back(static_cast<std::int32_t>(v));
-  for (const auto& f : body.fixed)
-    for (auto n : s.patch_nodes)
-      if (std::binary_search(f.nodes.begin(), f.nodes.end(), static_cast<mesh::Index>(n)))
-        r.fail("patch_radius", fmt::format("the contact patch reaches fixed region '{}' (node {})", f.name, n));
+  s.patch_nodes = patch_of(s.contact_node);
 
   s.spacing = r.required_number("spacing", Range::positive());
   s.bounds_min = r.required_vec3("min");
@@ -89,17 +99,42 @@ precompute::SpaceSettings read_precompute(Reader& r, const Model& model) {
     for (const char* key : {"probe_tilt", "probe_tilt_levels"})
       if (r.has(key)) r.fail(key, "a probe space also needs probe_axis (the probe's rest direction, into the body)");
   }
-  precompute::Grid grid;
-  try {
-    grid = precompute::Grid::through(node, s.bounds_min, s.bounds_max, s.spacing);
-  } catch (const InputError& e) {
-    r.fail("min", e.reason());
+  // A two-point space: a second interaction point with its own box (precompute/pair.hpp).
+  if (const auto second = r.vec3("second_point")) {
+    if (s.probe.enabled()) r.fail("second_point", "a space holds either a probe or a second point, not both");
+    s.pair.node = contact_node("second_point", *second);
+    s.pair.patch_nodes = patch_of(s.pair.node);
+    for (auto n : s.pair.patch_nodes)
+      if (std::binary_search(s.patch_nodes.begin(), s.patch_nodes.end(), n))
+        r.fail("second_point", fmt::format("the two points' patches share node {} (the nearest surface node to "
+                                           "second_point is {}); put the points farther apart than twice "
+                                           "patch_radius",
+                                           n, s.pair.node));
+    s.pair.bounds_min = r.required_vec3("second_min");
+    s.pair.bounds_max = r.required_vec3("second_max");
+    if (!(s.pair.bounds_min.array() < s.pair.bounds_max.array()).all())
+      r.fail("second_max", "second_max must exceed second_min on every axis");
+  } else {
+    for (const char* key : {"second_min", "second_max"})
+      if (r.has(key)) r.fail(key, "a two-point space also needs second_point (where the second point rests)");
   }
-  for (int a = 0; a < 3; ++a)
-    if (grid.counts[static_cast<std::size_t>(a)] < 2)
-      r.fail("spacing", fmt::format("the grid has a single point along {}; make the box wider than the spacing "
-                                    "on either side of the contact node",
-                                    "xyz"[a]));
+  auto check_grid = [&](const Vec3& anchor, const Vec3& lo, const Vec3& hi, const char* min_key, const char* what) {
+    precompute::Grid grid;
+    try {
+      grid = precompute::Grid::through(anchor, lo, hi, s.spacing);
+    } catch (const InputError& e) {
+      r.fail(min_key, e.reason());
+    }
+    for (int a = 0; a < 3; ++a)
+      if (grid.counts[static_cast<std::size_t>(a)] < 2)
+        r.fail("spacing", fmt::format("the grid has a single point along {}; make the box wider than the spacing "
+                                      "on either side of {}",
+                                      "xyz"[a], what));
+  };
+  check_grid(node, s.bounds_min, s.bounds_max, "min", "the contact node");
+  if (s.pair.enabled())
+    check_grid(vertices[static_cast<std::size_t>(s.pair.node)], s.pair.bounds_min, s.pair.bounds_max, "second_min",
+               "the second point's node");
   r.finish();
   return s;
 }

@@ -107,14 +107,18 @@ Model read_model(Reader& root, const std::string& source_name) {
   // Sections in dependency order: each may refer to the ones before it.
   if (auto t = root.table("materials"))
     for (auto& [name, r] : t->named_tables()) m.materials.push_back(detail::read_material(r, name));
+  // Cspace bodies that name their tools (a two-point space), resolved once the tools are read.
+  std::vector<std::pair<std::size_t, Reader>> cspace_tools;
   if (auto t = root.table("bodies")) {
     // Embedded surfaces last: they name the body that carries them.
     std::vector<std::pair<std::string, Reader>> embedded;
     for (auto& [name, r] : t->named_tables()) {
-      if (r.string("kind") == "embedded")
+      if (r.string("kind") == "embedded") {
         embedded.emplace_back(name, r);
-      else
-        m.bodies.push_back(detail::read_body(r, name, m));
+        continue;
+      }
+      m.bodies.push_back(detail::read_body(r, name, m));
+      if (m.bodies.back().cspace && r.has("tools")) cspace_tools.emplace_back(m.bodies.size() - 1, r);
     }
     for (auto& [name, r] : embedded) m.bodies.push_back(detail::read_body(r, name, m));
   }
@@ -122,6 +126,7 @@ Model read_model(Reader& root, const std::string& source_name) {
     for (auto& [name, r] : t->named_tables()) m.devices.push_back(detail::read_device(r, name));
   if (auto t = root.table("tools"))
     for (auto& [name, r] : t->named_tables()) m.tools.push_back(detail::read_tool(r, name, m));
+  for (auto& [body, r] : cspace_tools) detail::read_cspace_tools(r, m, body);
   if (auto t = root.table("algorithms")) {
     auto tables = t->named_tables();
     for (auto& [name, r] : tables) m.algorithms.push_back(detail::read_algorithm(r, name, m));

@@ -18,6 +18,8 @@ Tool read_tool(Reader& r, const std::string& name, const Model& model);
 Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model);
 /// Once every algorithm is read: a two-finger fabric algorithm's partner names it back, on
 /// the other side of the fabric (`r` is the algorithm's table; the tools have their own devices).
+/// Once every tool is read: a cspace body's `tools` (a two-point space's two tools).
+void read_cspace_tools(Reader& r, Model& model, std::size_t body);
 void check_partner(const Reader& r, const Model& model, std::size_t algorithm);
 precompute::SpaceSettings read_precompute(Reader& r, const Model& model);
 /// An interpolation method by name (`trilinear`, default, `rbf_cubic`, `rbf_thin_plate`, `polynomial`).

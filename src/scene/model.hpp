@@ -249,6 +249,9 @@ struct Body {
     /// a file: solver threads work around the tool and ahead of it (precompute/online.hpp).
     bool online = false;
     int workers = 1;  ///< online: solver threads
+    /// A two-point space (precompute/pair.hpp): the tools at its first and second point
+    /// (indices into Model::tools, each on its own device); empty for a space of one point.
+    std::vector<std::size_t> tools;
   };
   std::optional<ConfigurationSpace> cspace;
   /// kind = "embedded": the volumetric body whose tetrahedra carry this surface (an earlier

@@ -142,7 +142,7 @@ void expect_same_levels(const fs::path& a, const fs::path& b) {
 TEST_F(PrecomputeCli, AProbeSpaceIsBuiltLevelByLevelAndResumesAtTheLevelItStoppedIn) {
   std::ofstream(dir_ / "block.toml") << kProbeScene;
   ASSERT_EQ(precompute("whole.h5", "--threads 2"), 0) << log();
-  EXPECT_NE(log().find("probe level 9 of 9: leaning 12.0, 12.0 degrees"), std::string::npos) << log();
+  EXPECT_NE(log().find("level 9 of 9: the probe leaning 12.0, 12.0 degrees"), std::string::npos) << log();
   // Stopped after 10 solves of its first level.
   ASSERT_EQ(precompute("part.h5", "--threads 1 --stop-after 10"), 3) << log();
   EXPECT_TRUE(fs::exists(dir_ / "part.h5.level-0.journal"));

@@ -4,7 +4,15 @@ namespace tactus::haptics {
 
 Rendering FieldLookup::render(const FrameInputs& f, AlgorithmState& /*state*/) const {
   const Vec3 arm = f.orientation * offset_;
-  const FieldForce field = field_->force(f.position + arm, f.orientation, f.t);
+  FieldForce field;
+  if (point_) {
+    // The partner's newest frame, one haptic period old at most (its loop publishes it).
+    const bool partner = f.peer && f.peer->valid;
+    const Vec3 other = partner ? Vec3(f.peer->position + f.peer->orientation * point_->partner_offset) : Vec3::Zero();
+    field = field_->force_on(point_->finger, f.position + arm, f.orientation, partner ? &other : nullptr, f.t);
+  } else {
+    field = field_->force(f.position + arm, f.orientation, f.t);
+  }
   Rendering r;
   r.force = field.force;
   r.torque = arm.cross(field.force);
