@@ -18,6 +18,7 @@
 
 #include "core/error.hpp"
 #include "precompute/interpolator.hpp"
+#include "precompute/pair.hpp"
 #include "precompute/space_file.hpp"
 #include "compile/cspace_body.hpp"
 #include "report/report.hpp"
@@ -187,6 +188,109 @@ points = [
   const Vec3 upright = body->probe()->force(last.position, Vec3(0, 0, -1)).force;
   EXPECT_GT((last.force - upright).norm(), 0.05 * upright.norm()) << last.force.transpose() << " / "
                                                                     << upright.transpose();
+}
+
+/// The block as a cspace body of the two-point space `space`, felt by two scripted fingers,
+/// each on its own device, pressing at the two points (`tools`: the body's key, or empty).
+std::string pair_run_scene(const std::string& space, const std::string& tools) {
+  std::string text = testing::block_scene("");
+  text = text.substr(0, text.find("[precompute]"));
+  const std::string fem = "kind = \"fem\"";
+  text.replace(text.find(fem), fem.size(),
+               "kind = \"cspace\"\nspace = \"" + space + "\"\ninterpolation = \"tricubic_hermite\"\n" + tools);
+  auto finger = [](const std::string& name, const std::string& at, double depth, double speed) {
+    return "[devices." + name + "]\ntype = \"scripted\"\nmax_force = 10.0\n\n[devices." + name +
+           ".trajectory]\ntype = \"press\"\nposition = " + at + "\ndirection = [0.0, 0.0, -1.0]\ndepth = " +
+           std::to_string(depth) + "\nspeed = " + std::to_string(speed) + "\nhold = 1.0\n\n[tools." + name +
+           "_tip]\ntype = \"sphere\"\ndevice = \"" + name + "\"\nradius = 0.004\n\n[algorithms." + name +
+           "_touch]\ntype = \"proxy\"\ntool = \"" + name + "_tip\"\nstiffness = 1000.0\n\n";
+  };
+  return text + finger("first", "[-0.0098, 0.0005, 0.0100]", 0.004, 0.02) +
+         finger("second", "[0.0101, -0.0004, 0.0100]", 0.003, 0.03);
+}
+
+TEST_F(CspaceRuntime, ATwoPointSpaceRendersEachFingersForceWithTheOtherFingerWhereItIs) {
+  std::ofstream(dir_ / "pair.toml") << testing::pair_block_scene();
+  ASSERT_EQ(tactus("precompute pair.toml -o pair.h5 --threads 2"), 0) << log();
+  const scene::Model m = model(pair_run_scene("pair.h5", "tools = [\"first_tip\", \"second_tip\"]\n"));
+  const auto body = compile::CspaceBody::load(m, 0);
+  const PairInterpolator* pair = body->pair();
+  ASSERT_NE(pair, nullptr);
+  ASSERT_EQ(pair->level_count(), 56u);
+
+  runtime::SessionOptions o;
+  o.scheduling = runtime::Scheduling::lockstep;
+  o.duration = 0.5;
+  o.keep_frames = true;
+  const runtime::SessionReport r = runtime::run_session(m, o);
+  // Each device's frames by index.
+  std::array<std::vector<const runtime::HapticFrame*>, 2> frames;
+  for (const runtime::HapticFrame& f : r.frames) {
+    ASSERT_LT(f.device, 2);
+    ASSERT_TRUE(f.force.allFinite());
+    auto& list = frames[f.device];
+    if (list.size() <= f.frame) list.resize(f.frame + 1, nullptr);
+    list[f.frame] = &f;
+  }
+  ASSERT_GT(frames[0].size(), 450u);
+  ASSERT_GT(frames[1].size(), 450u);
+  // Every frame the safety layer left alone renders its point's force with the other finger
+  // where the partner's loop last published it: at the same tick or the one before (the
+  // lockstep order), or nowhere yet at the start.
+  std::size_t compared = 0;
+  for (int finger = 0; finger < 2; ++finger)
+    for (std::size_t n = 0; n < frames[static_cast<std::size_t>(finger)].size(); ++n) {
+      const runtime::HapticFrame* f = frames[static_cast<std::size_t>(finger)][n];
+      if (!f || f->flags != 0) continue;
+      const auto& other = frames[static_cast<std::size_t>(1 - finger)];
+      double best = pair->force(finger, f->position, nullptr).force.isApprox(f->force, 1e-9) ? 0.0 : 1e9;
+      for (std::size_t m2 : {n, n - 1})
+        if (m2 < other.size() && other[m2]) {
+          const Query q = pair->force(finger, f->position, &other[m2]->position);
+          best = std::min(best, (q.force - f->force).norm() / (1e-12 + q.force.norm()));
+        }
+      EXPECT_LT(best, 1e-9) << "finger " << finger << " frame " << n << " t = " << f->t;
+      ++compared;
+    }
+  EXPECT_GT(compared, 900u);
+  // Both fingers holding at the end: each feels the other's press (the other finger free would
+  // give another force), and its own.
+  const Vec3 a = frames[0].back()->position, b = frames[1].back()->position;
+  EXPECT_LT(a.z(), 0.0065);
+  EXPECT_LT(b.z(), 0.0075);
+  const Vec3 alone = pair->force(0, a, nullptr).force, both = pair->force(0, a, &b).force;
+  EXPECT_LT((frames[0].back()->force - both).norm(), 1e-9 * both.norm());
+  EXPECT_GT((both - alone).norm(), 0.05 * alone.norm()) << both.transpose() << " / " << alone.transpose();
+  EXPECT_GT(both.z(), 0.05);
+  // The shape holds each point's contact node at its finger.
+  VecX x;
+  body->positions(&a, &b, x);
+  const Space& first = pair->level(0).space();
+  EXPECT_LT((x.segment<3>(3 * first.settings.contact_node) - a).norm(), 1e-9);
+  EXPECT_LT((x.segment<3>(3 * first.settings.pair.node) - b).norm(), 1e-9);
+}
+
+TEST_F(CspaceRuntime, ATwoPointSpaceNeedsItsTwoToolsNamed) {
+  std::ofstream(dir_ / "pair.toml") << testing::pair_block_scene();
+  ASSERT_EQ(tactus("precompute pair.toml -o pair.h5 --threads 2"), 0) << log();
+  auto load_error = [&](const std::string& text) -> std::string {
+    try {
+      (void)compile::CspaceBody::load(model(text), 0);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string unnamed = load_error(pair_run_scene("pair.h5", ""));
+  EXPECT_NE(unnamed.find("holds two points; name the tools"), std::string::npos) << unnamed;
+  const std::string one_point = load_error(pair_run_scene("space.h5", "tools = [\"first_tip\", \"second_tip\"]\n"));
+  EXPECT_NE(one_point.find("holds one point"), std::string::npos) << one_point;
+  // The scene refuses a tool named twice or one it lacks, by key.
+  const std::string twice = load_error(pair_run_scene("pair.h5", "tools = [\"first_tip\", \"first_tip\"]\n"));
+  EXPECT_NE(twice.find("tools"), std::string::npos) << twice;
+  EXPECT_NE(twice.find("two devices"), std::string::npos) << twice;
+  const std::string unknown = load_error(pair_run_scene("pair.h5", "tools = [\"first_tip\", \"thumb\"]\n"));
+  EXPECT_NE(unknown.find("thumb"), std::string::npos) << unknown;
 }
 
 TEST_F(CspaceRuntime, ShapeFollowsTheToolAndForceIsZeroOutsideTheGrid) {

@@ -160,6 +160,26 @@ TEST_F(PrecomputeCli, AProbeSpaceIsBuiltLevelByLevelAndResumesAtTheLevelItStoppe
   expect_same_levels(dir_ / "whole.h5", dir_ / "part.h5");
 }
 
+TEST_F(PrecomputeCli, ATwoPointSpaceIsBuiltAsEachPointsLevels) {
+  std::ofstream(dir_ / "block.toml") << testing::pair_block_scene();
+  ASSERT_EQ(precompute("pair.h5", "--threads 2"), 0) << log();
+  EXPECT_NE(log().find("level 1 of 56: the first point, the other free"), std::string::npos) << log();
+  EXPECT_NE(log().find("level 3 of 56: the first point, the other held at (7.0, -3.0, 4.0) mm"), std::string::npos)
+      << log();
+  EXPECT_NE(log().find("level 56 of 56: the second point, the other held at (-7.0, 3.0, 10.0) mm"), std::string::npos)
+      << log();
+  const std::vector<Space> levels = read_space_levels(dir_ / "pair.h5");
+  ASSERT_EQ(levels.size(), 56u);
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    EXPECT_EQ(levels[k].count(PointStatus::solved), 27u) << "level " << k;
+    EXPECT_EQ(levels[k].settings.finger, k == 1 || k >= 29 ? 1 : 0) << "level " << k;
+  }
+  for (int k = 0; k < 56; ++k) EXPECT_FALSE(fs::exists(dir_ / ("pair.h5.level-" + std::to_string(k) + ".journal")));
+  // On-line construction builds spaces of one point.
+  EXPECT_EQ(precompute("x.h5", "--online-speed"), 1);
+  EXPECT_NE(log().find("has a second point"), std::string::npos) << log();
+}
+
 TEST_F(PrecomputeCli, OnLineConstructionRefusesAProbe) {
   std::ofstream(dir_ / "block.toml") << kProbeScene;
   const std::string cmd = "cd '" + dir_.string() + "' && CI=1 '" + TACTUS_BINARY +

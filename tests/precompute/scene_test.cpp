@@ -75,6 +75,45 @@ TEST(PrecomputeScene, ReadsAProbe) {
   EXPECT_NE(no_patch.find("patch_radius"), std::string::npos) << no_patch;
 }
 
+TEST(PrecomputeScene, ReadsASecondPoint) {
+  const std::string grid = "contact_point = [-0.01, 0, 0.01]\nspacing = 0.003\nmin = [-0.013, -0.003, 0.004]\n"
+                           "max = [-0.007, 0.003, 0.0101]\n";
+  const std::string second = "second_point = [0.0098, 0.0002, 0.0101]\nsecond_min = [0.007, -0.003, 0.004]\n"
+                             "second_max = [0.013, 0.003, 0.0101]\n";
+  const auto m = scene::parse_scene(scene_with(grid + second), "test.toml");
+  ASSERT_TRUE(m.precompute);
+  const auto& s = *m.precompute;
+  ASSERT_TRUE(s.pair.enabled());
+  const auto& nodes = m.bodies[0].volume->vertices;
+  EXPECT_TRUE(nodes[static_cast<std::size_t>(s.pair.node)].isApprox(Vec3(0.01, 0.0, 0.01)));
+  EXPECT_EQ(s.pair.patch_nodes, std::vector<std::int32_t>{s.pair.node});
+  EXPECT_EQ(s.pair.bounds_min, Vec3(0.007, -0.003, 0.004));
+  EXPECT_EQ(s.finger, 0);
+  EXPECT_FALSE(scene::parse_scene(scene_with(grid), "test.toml").precompute->pair.enabled());
+
+  auto fails = [&](const std::string& keys, const std::string& key, const std::string& why) {
+    const std::string e = error_of(keys);
+    EXPECT_NE(e.find(key), std::string::npos) << e;
+    EXPECT_NE(e.find(why), std::string::npos) << e;
+  };
+  fails(grid + "second_min = [0.007, -0.003, 0.004]\n", "second_min", "second_point");
+  fails(grid + "second_point = [0.01, 0, 0.01]\nsecond_max = [0.013, 0.003, 0.0101]\n", "second_min", "");
+  fails(grid + "second_point = [0.01, 0, 0.01]\nsecond_min = [0.013, -0.003, 0.004]\nsecond_max = [0.007, 0.003, "
+               "0.0101]\n",
+        "second_max", "exceed");
+  // A box that leaves the second point's grid a single point along z.
+  fails(grid + "second_point = [0.01, 0, 0.01]\nsecond_min = [0.007, -0.003, 0.009]\nsecond_max = [0.013, 0.003, "
+               "0.0101]\n",
+        "spacing", "the second point's node");
+  fails(grid + "second_point = [0.01, 0, -0.01]\nsecond_min = [0.007, -0.003, -0.013]\nsecond_max = [0.013, 0.003, "
+               "-0.007]\n",
+        "second_point", "fixed region");
+  // Patches that overlap: 11 mm patches of nodes 20 mm apart share the node between them.
+  fails(grid + second + "patch_radius = 0.011\n", "second_point", "share node");
+  fails(grid + second + "patch_radius = 0.011\nprobe_axis = [0, 0, -1]\nprobe_tilt = 10\n", "second_point",
+        "either a probe or a second point");
+}
+
 TEST(PrecomputeScene, BadTablesAreInputErrors) {
   const std::string grid = "spacing = 0.005\nmin = [-0.01, -0.01, 0.0]\nmax = [0.01, 0.01, 0.02]\n";
   EXPECT_NE(error_of("spacing = 0.005\n").find("contact_point"), std::string::npos);

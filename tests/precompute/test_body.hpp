@@ -81,4 +81,17 @@ probe_tilt = 12.0
 )");
 }
 
+/// The block's scene with two points on its top 20 mm apart (at x = −10 and +10 mm), each
+/// with a 3 mm grid over 3 mm either way and 6 mm down: 27 points each, 2 + 27 + 27 levels.
+inline std::string pair_block_scene() {
+  return block_scene(R"(contact_point = [-0.01, 0.0, 0.01]
+spacing = 0.003
+min = [-0.013, -0.003, 0.004]
+max = [-0.007, 0.003, 0.0101]
+second_point = [0.01, 0.0, 0.01]
+second_min = [0.007, -0.003, 0.004]
+second_max = [0.013, 0.003, 0.0101]
+)");
+}
+
 }  // namespace tactus::precompute::testing
