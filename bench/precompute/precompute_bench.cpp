@@ -37,9 +37,8 @@
 //            and +y and MM down from it), against direct solves with both held at M random
 //            pairs of positions: the forces from each space alone, and corrected by the
 //            coupling of the two points (the rest stiffness condensed onto them); and from
-//            pair spaces: per point of the other's grid a level, the point's own space with
-//            the other held there (trilinear or triquadratic across levels, tricubic Hermite
-//            within).
+//            the two-point space `tactus precompute` builds (precompute/pair.hpp): per point
+//            of the other's grid a level, the point's own space with the other held there.
 //   online   --nodes N --law L --spacing S --threads W [--first V]
 //            on-line construction: the largest tool speed at which at least 99 % of the
 //            1 kHz force queries find their cell complete, with W solver threads, on the
@@ -82,6 +81,7 @@
 #include "precompute/configuration_solver.hpp"
 #include "precompute/interpolator.hpp"
 #include "precompute/online.hpp"
+#include "precompute/pair.hpp"
 #include "precompute/refinement.hpp"
 #include "precompute/space_file.hpp"
 #include "precompute/wavefront.hpp"
@@ -662,169 +662,80 @@ int probe(const Options& o) {
   return 0;
 }
 
-/// Static equilibria of the organ with two nodes held (two fingers): the two-point reference.
-class TwoPointSolver {
- public:
-  TwoPointSolver(const physics::Body& body, std::int32_t a, std::int32_t b) : body_(body), a_(a), b_(b) {
-    body_.fixed_dofs.resize(3 * body_.model->node_count(), 0);
-    body_.fix_nodes({a, b});
-    body_.settings.solver = physics::LinearSolver::cholesky;
-    body_.gravity = Vec3::Zero();
-    state_ = physics::make_state(body_);
-    force_ = VecX::Zero(state_.x.size());
-  }
-  /// The forces on the two tools with the nodes at pa and pb, reached straight from rest in
-  /// `steps` load steps; nothing where a step fails or inverts an element.
-  std::optional<std::pair<Vec3, Vec3>> solve(const Vec3& pa, const Vec3& pb, int steps, int max_iterations,
-                                             double tolerance) {
-    const VecX& rest = body_.model->rest_positions();
-    state_.x = rest;
-    state_.v.setZero();
-    state_.q.setZero();
-    physics::forget_solver_history(state_);
-    VecX converged = state_.x;
-    for (int s = 1; s <= steps; ++s) {
-      const double f = static_cast<double>(s) / steps;
-      state_.x.segment<3>(3 * a_) = rest.segment<3>(3 * a_) + f * (pa - rest.segment<3>(3 * a_));
-      state_.x.segment<3>(3 * b_) = rest.segment<3>(3 * b_) + f * (pb - rest.segment<3>(3 * b_));
-      physics::predict_static(body_, state_, converged);
-      const auto r = physics::solve_static(body_, state_, {},
-                                           {max_iterations, tolerance, pc::kAbsoluteForceTolerance});
-      if (!r.converged || r.inverted || !state_.x.allFinite()) return std::nullopt;
-      converged = state_.x;
-    }
-    body_.model->forces(state_.x, state_.v, state_.q, force_, *state_.model_scratch);
-    return std::make_pair(Vec3(force_.segment<3>(3 * a_)), Vec3(force_.segment<3>(3 * b_)));
-  }
-  /// ∂(force on tool i)/∂(position of node j) at rest: the 3 × 3 block (i, j) of the rest
-  /// stiffness condensed onto the two nodes.
-  Mat3 coupling(int i, int j) {
-    state_.x = body_.model->rest_positions();
-    state_.v.setZero();
-    MatX held = MatX::Zero(state_.x.size(), 6), motion, force_change;
-    held.block<3, 3>(3 * a_, 0).setIdentity();
-    held.block<3, 3>(3 * b_, 3).setIdentity();
-    if (!physics::static_response(body_, state_, held, motion, force_change))
-      throw std::runtime_error("the rest stiffness did not solve");
-    return force_change.block<3, 3>(3 * (i == 0 ? a_ : b_), 3 * j);
-  }
-
- private:
-  physics::Body body_;
-  std::int32_t a_, b_;
-  physics::BodyState state_;
-  VecX force_;
-};
-
-/// A space over pairs of positions (seed 001: "each degree of freedom yields additional
-/// dimension of the grid"): for each point q of the other node's grid, a point space of the
-/// primary contact node with the other node held at q (SpaceSettings::held_node). Between
-/// levels the force is trilinear in the other node's position.
-struct PairSpace {
-  pc::Grid other;
-  std::vector<pc::Interpolator> levels;
-  std::size_t points = 0, solved = 0;
-  double wall = 0.0;
-
-  /// The primary's force with it at p and the other node at q; nothing where a level used has
-  /// no value at p.
-  [[nodiscard]] std::optional<Vec3> force(const Vec3& p, const Vec3& q) const {
-    const Vec3 u = (q - other.origin) / other.spacing;
-    std::array<int, 3> c{};
-    Vec3 t;
-    for (int a = 0; a < 3; ++a) {
-      c[static_cast<std::size_t>(a)] = std::clamp(static_cast<int>(std::floor(u[a])), 0, other.counts[static_cast<std::size_t>(a)] - 2);
-      t[a] = std::clamp(u[a] - c[static_cast<std::size_t>(a)], 0.0, 1.0);
-    }
-    Vec3 f = Vec3::Zero();
-    for (int corner = 0; corner < 8; ++corner) {
-      const int i = corner & 1, j = (corner >> 1) & 1, k = corner >> 2;
-      const double w = (i ? t.x() : 1 - t.x()) * (j ? t.y() : 1 - t.y()) * (k ? t.z() : 1 - t.z());
-      const pc::Query qy = levels[other.index(c[0] + i, c[1] + j, c[2] + k)].force(p);
-      if (!qy.valid) return std::nullopt;
-      f += w * qy.force;
-    }
-    return f;
-  }
-  /// The same, triquadratic across levels (Lagrange over the 3 × 3 × 3 levels around q).
-  [[nodiscard]] std::optional<Vec3> force_quadratic(const Vec3& p, const Vec3& q) const {
-    const Vec3 u = (q - other.origin) / other.spacing;
-    std::array<int, 3> c{};
-    std::array<std::array<double, 3>, 3> w{};
-    for (std::size_t a = 0; a < 3; ++a) {
-      c[a] = std::clamp(static_cast<int>(std::lround(u[static_cast<Eigen::Index>(a)])), 1, other.counts[a] - 2);
-      const double x = u[static_cast<Eigen::Index>(a)] - c[a];
-      w[a] = {0.5 * x * (x - 1.0), 1.0 - x * x, 0.5 * x * (x + 1.0)};
-    }
-    Vec3 f = Vec3::Zero();
-    for (int k = 0; k < 3; ++k)
-      for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) {
-          const pc::Query qy = levels[other.index(c[0] + i - 1, c[1] + j - 1, c[2] + k - 1)].force(p);
-          if (!qy.valid) return std::nullopt;
-          f += w[0][static_cast<std::size_t>(i)] * w[1][static_cast<std::size_t>(j)] * w[2][static_cast<std::size_t>(k)] *
-               qy.force;
-        }
-    return f;
-  }
-};
-
-PairSpace build_pair(const Model& m, std::int32_t other_node, const pc::Grid& other, const Options& o) {
-  PairSpace pair;
-  pair.other = other;
-  pair.levels.reserve(other.size());
-  for (std::size_t j = 0; j < other.size(); ++j) {
-    pc::SpaceSettings s = accuracy_grid(m, o.spacing, o.box);
-    s.patch_nodes = {m.settings.contact_node};
-    s.patch_radius = 0.0;
-    s.held_node = other_node;
-    s.held_at = other.point(j);
-    auto space = std::make_shared<pc::Space>(pc::make_space(m.body, s, ""));
-    pc::BuildOptions bo;
-    bo.threads = o.threads;
-    pair.wall += pc::build_local(*space, factory(m, s), bo).wall_seconds;
-    pair.points += space->grid.size();
-    pair.solved += space->count(pc::PointStatus::solved);
-    pair.levels.emplace_back(std::move(space), pc::Interpolation::tricubic_hermite);
-  }
-  return pair;
+/// The rest stiffness condensed onto two nodes a and b: ∂(forces on a, b)/∂(positions of a,
+/// b), 6 × 6 (exact for a linear body: F = K d).
+Eigen::Matrix<double, 6, 6> rest_coupling(const physics::Body& original, std::int32_t a, std::int32_t b) {
+  physics::Body body = original;
+  body.fixed_dofs.resize(3 * body.model->node_count(), 0);
+  body.fix_nodes({a, b});
+  body.settings.solver = physics::LinearSolver::cholesky;
+  body.gravity = Vec3::Zero();
+  physics::BodyState state = physics::make_state(body);
+  MatX held = MatX::Zero(state.x.size(), 6), motion, force_change;
+  held.block<3, 3>(3 * a, 0).setIdentity();
+  held.block<3, 3>(3 * b, 3).setIdentity();
+  if (!physics::static_response(body, state, held, motion, force_change))
+    throw std::runtime_error("the rest stiffness did not solve");
+  Eigen::Matrix<double, 6, 6> k;
+  k.topRows<3>() = force_change.middleRows<3>(3 * a);
+  k.bottomRows<3>() = force_change.middleRows<3>(3 * b);
+  return k;
 }
 
+/// A two-point space as `tactus precompute` builds it (precompute/pair.hpp): each point's space
+/// with the other free, then each point's with the other held at each of its grid points.
 int twopoint(const Options& o) {
   const Model ma = load_model(o.nodes, o.law);
   const Model mb = load_model(o.nodes, o.law, Vec3(o.separation, 0.0, 0.05));
   const std::int32_t a = ma.settings.contact_node, b = mb.settings.contact_node;
   const Vec3 rest_a = ma.contact, rest_b = mb.contact;
-  // Each point's own space: the other point free, as a single-point space is.
-  std::array<std::shared_ptr<pc::Space>, 2> spaces;
-  for (int k = 0; k < 2; ++k) {
-    const Model& m = k == 0 ? ma : mb;
-    pc::SpaceSettings s = accuracy_grid(m, o.spacing, o.box);
-    s.patch_nodes = {m.settings.contact_node};
-    s.patch_radius = 0.0;
-    spaces[static_cast<std::size_t>(k)] = std::make_shared<pc::Space>(pc::make_space(ma.body, s, ""));
+  // Each point a single node with its own grid (a box of --box along +x and +y and down).
+  pc::SpaceSettings s = accuracy_grid(ma, o.spacing, o.box);
+  s.patch_nodes = {a};
+  s.patch_radius = 0.0;
+  const pc::SpaceSettings sb = accuracy_grid(mb, o.spacing, o.box);
+  s.pair.node = b;
+  s.pair.patch_nodes = {b};
+  s.pair.bounds_min = sb.bounds_min;
+  s.pair.bounds_max = sb.bounds_max;
+  const std::vector<pc::SpaceSettings> settings = pc::space_levels(s, ma.body.model->rest_positions());
+  std::vector<std::shared_ptr<const pc::Space>> levels;
+  std::size_t points = 0, solved = 0;
+  double wall = 0.0;
+  for (const pc::SpaceSettings& level : settings) {
+    pc::Space space = pc::make_space(ma.body, level, "");
     pc::BuildOptions bo;
     bo.threads = o.threads;
-    const pc::BuildStats st = pc::build_local(*spaces[static_cast<std::size_t>(k)], factory(ma, s), bo);
-    std::printf("twopoint: point %c (node %d at (%.1f, %.1f, %.1f) mm): %zu points, %zu not solved, %.1f s wall\n",
-                k == 0 ? 'A' : 'B', s.contact_node, 1e3 * m.contact.x(), 1e3 * m.contact.y(), 1e3 * m.contact.z(),
-                spaces[static_cast<std::size_t>(k)]->grid.size(),
-                spaces[static_cast<std::size_t>(k)]->grid.size() -
-                    spaces[static_cast<std::size_t>(k)]->count(pc::PointStatus::solved),
-                st.wall_seconds);
+    const double w = pc::build_local(space, factory(ma, level), bo).wall_seconds;
+    if (levels.size() < 2)
+      std::printf("twopoint: point %c (node %d at (%.1f, %.1f, %.1f) mm) alone: %zu points, %zu not solved, %.1f s "
+                  "wall\n",
+                  levels.empty() ? 'A' : 'B', level.contact_node, 1e3 * (levels.empty() ? rest_a : rest_b).x(),
+                  1e3 * (levels.empty() ? rest_a : rest_b).y(), 1e3 * (levels.empty() ? rest_a : rest_b).z(),
+                  space.grid.size(), space.grid.size() - space.count(pc::PointStatus::solved), w);
+    else {
+      points += space.grid.size();
+      solved += space.count(pc::PointStatus::solved);
+      wall += w;
+    }
+    levels.push_back(std::make_shared<const pc::Space>(std::move(space)));
   }
-  // The pair spaces: A's force over B's grid of levels, and B's over A's.
-  const PairSpace pair_a = build_pair(ma, b, spaces[1]->grid, o);
-  const PairSpace pair_b = build_pair(mb, a, spaces[0]->grid, o);
-  std::printf("  pair spaces: %zu + %zu configurations (%zu levels of %zu), %zu + %zu solved, %.1f s wall\n",
-              pair_a.points, pair_b.points, pair_a.levels.size(), spaces[0]->grid.size(), pair_a.solved,
-              pair_b.solved, pair_a.wall + pair_b.wall);
-  TwoPointSolver both(ma.body, a, b);
-  const Mat3 k_ab = both.coupling(0, 1), k_ba = both.coupling(1, 0);
+  const pc::PairInterpolator pair(levels, pc::Interpolation::tricubic_hermite);
+  const std::array<const pc::Space*, 2> spaces{levels[0].get(), levels[1].get()};
+  std::printf("  held levels: %zu + %zu, %zu configurations, %zu solved, %.1f s wall on %u threads\n",
+              spaces[1]->grid.size(), spaces[0]->grid.size(), points, solved, wall, o.threads);
+  const Eigen::Matrix<double, 6, 6> k = rest_coupling(ma.body, a, b);
+  const Mat3 k_ab = k.block<3, 3>(0, 3), k_ba = k.block<3, 3>(3, 0);
   std::printf("  rest coupling: |K_AB| %.4g N/m, |K_AA| %.4g N/m (Frobenius); K_BA = K_ABᵀ to %.2g\n", k_ab.norm(),
-              both.coupling(0, 0).norm(), (k_ba - k_ab.transpose()).norm() / k_ab.norm());
-  const pc::Interpolator ia(spaces[0], pc::Interpolation::tricubic_hermite);
-  const pc::Interpolator ib(spaces[1], pc::Interpolation::tricubic_hermite);
+              k.block<3, 3>(0, 0).norm(), (k_ba - k_ab.transpose()).norm() / k_ab.norm());
+  // The references: each point's force with both held, walked straight from rest.
+  std::array<pc::SpaceSettings, 2> held{pc::pair_point(s, 0), pc::pair_point(s, 1)};
+  for (auto& h : held) {
+    h.held_node = h.pair.node;
+    h.held_patch = h.pair.patch_nodes;
+  }
+  const pc::Interpolator ia(levels[0], pc::Interpolation::tricubic_hermite);
+  const pc::Interpolator ib(levels[1], pc::Interpolation::tricubic_hermite);
   std::mt19937 rng(o.seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   struct Errors {
@@ -839,24 +750,32 @@ int twopoint(const Options& o) {
     const Vec3 pa = rest_a + Vec3(u(rng), u(rng), u(rng) - 1.0) * o.box;
     const Vec3 pb = rest_b + Vec3(u(rng), u(rng), u(rng) - 1.0) * o.box;
     if (!cell_solved(*spaces[0], pa) || !cell_solved(*spaces[1], pb)) continue;
-    if (!pair_a.force(pa, pb) || !pair_b.force(pb, pa)) continue;  // the pair spaces have a value there
+    if (!pair.force(0, pa, &pb).valid || !pair.force(1, pb, &pa).valid) continue;  // the levels have a value there
     const double step = o.spacing / 6.0;
     const int steps = std::max(2, static_cast<int>(std::ceil(std::max((pa - rest_a).norm(), (pb - rest_b).norm()) / step)));
-    const auto f = both.solve(pa, pb, steps, ma.settings.max_iterations, ma.settings.tolerance);
-    if (!f) {
+    std::array<Vec3, 2> f;
+    bool ok = true;
+    for (std::size_t finger = 0; finger < 2 && ok; ++finger) {
+      held[finger].held_at = finger == 0 ? pb : pa;
+      pc::ConfigurationSolver solver(ma.body, held[finger]);
+      const pc::PointResult r = solver.solve_direct(finger == 0 ? pa : pb, steps);
+      ok = r.status == pc::PointStatus::solved;
+      f[finger] = r.force;
+    }
+    if (!ok) {
       std::printf("  reference at A (%.4f, %.4f, %.4f), B (%.4f, %.4f, %.4f) failed\n", pa.x(), pa.y(), pa.z(), pb.x(),
                   pb.y(), pb.z());
       continue;
     }
     where.push_back({pa, pb});
-    truth.push_back({f->first, f->second});
+    truth.push_back(f);
   }
   const std::size_t n = where.size();
-  Errors alone, corrected, at_configuration, paired, paired_quadratic;
+  Errors alone, corrected, at_configuration, paired;
   // Also against the sample's mean force: a finger barely loaded makes the relative error
   // large where the newtons are few.
-  Errors alone_n, corrected_n, at_configuration_n, paired_n, paired_quadratic_n;
-  int quadratic_fallbacks = 0;
+  Errors alone_n, corrected_n, at_configuration_n, paired_n;
+  int fallbacks = 0;
   double mean_force = 0.0, mean_change = 0.0;
   for (const auto& t : truth) mean_force += (t[0].norm() + t[1].norm()) / static_cast<double>(2 * n);
   VecX ua, ub;
@@ -878,24 +797,19 @@ int twopoint(const Options& o) {
     const Mat3 k_aa = spaces[0]->force_gradient[na] * (Mat3::Identity() - g_ab * g_ba).inverse();
     const Mat3 k_bb = spaces[1]->force_gradient[nb] * (Mat3::Identity() - g_ba * g_ab).inverse();
     const std::array<Vec3, 2> local{qa.force - k_aa * g_ab * (pb - b_in_a), qb.force - k_bb * g_ba * (pa - a_in_b)};
-    const std::array<Vec3, 2> pair{*pair_a.force(pa, pb), *pair_b.force(pb, pa)};
-    // Triquadratic where its 27 levels have a value at the point, else trilinear (counted).
-    const auto qa2 = pair_a.force_quadratic(pa, pb), qb2 = pair_b.force_quadratic(pb, pa);
-    quadratic_fallbacks += (qa2 ? 0 : 1) + (qb2 ? 0 : 1);
-    const std::array<Vec3, 2> quadratic{qa2 ? *qa2 : pair[0], qb2 ? *qb2 : pair[1]};
-    for (std::size_t k = 0; k < 2; ++k) {
-      const double scale = truth[i][k].norm();
-      paired.add((pair[k] - truth[i][k]).norm() / scale, 2 * n);
-      paired_n.add((pair[k] - truth[i][k]).norm() / mean_force, 2 * n);
-      paired_quadratic.add((quadratic[k] - truth[i][k]).norm() / scale, 2 * n);
-      paired_quadratic_n.add((quadratic[k] - truth[i][k]).norm() / mean_force, 2 * n);
-      alone.add((own[k] - truth[i][k]).norm() / scale, 2 * n);
-      corrected.add((fixed[k] - truth[i][k]).norm() / scale, 2 * n);
-      at_configuration.add((local[k] - truth[i][k]).norm() / scale, 2 * n);
-      alone_n.add((own[k] - truth[i][k]).norm() / mean_force, 2 * n);
-      corrected_n.add((fixed[k] - truth[i][k]).norm() / mean_force, 2 * n);
-      at_configuration_n.add((local[k] - truth[i][k]).norm() / mean_force, 2 * n);
-      mean_change += (own[k] - truth[i][k]).norm() / static_cast<double>(2 * n);
+    const std::array<pc::Query, 2> from_pair{pair.force(0, pa, &pb), pair.force(1, pb, &pa)};
+    for (std::size_t k2 = 0; k2 < 2; ++k2) {
+      fallbacks += from_pair[k2].fallback ? 1 : 0;
+      const double scale = truth[i][k2].norm();
+      paired.add((from_pair[k2].force - truth[i][k2]).norm() / scale, 2 * n);
+      paired_n.add((from_pair[k2].force - truth[i][k2]).norm() / mean_force, 2 * n);
+      alone.add((own[k2] - truth[i][k2]).norm() / scale, 2 * n);
+      corrected.add((fixed[k2] - truth[i][k2]).norm() / scale, 2 * n);
+      at_configuration.add((local[k2] - truth[i][k2]).norm() / scale, 2 * n);
+      alone_n.add((own[k2] - truth[i][k2]).norm() / mean_force, 2 * n);
+      corrected_n.add((fixed[k2] - truth[i][k2]).norm() / mean_force, 2 * n);
+      at_configuration_n.add((local[k2] - truth[i][k2]).norm() / mean_force, 2 * n);
+      mean_change += (own[k2] - truth[i][k2]).norm() / static_cast<double>(2 * n);
     }
   }
   std::printf("  %zu reference pairs (mean |force| %.4g N; the other finger changes a finger's force by %.4g N on "
@@ -909,10 +823,10 @@ int twopoint(const Options& o) {
   row("each point's space alone", alone, alone_n);
   row("corrected by the rest coupling", corrected, corrected_n);
   row("corrected by the coupling at the configurations", at_configuration, at_configuration_n);
-  row("pair space, trilinear across levels", paired, paired_n);
-  row("pair space, triquadratic across levels", paired_quadratic, paired_quadratic_n);
-  std::printf("  (triquadratic fell back to trilinear for %d of %zu forces: a level it needs has no value there)\n",
-              quadratic_fallbacks, 2 * n);
+  row("two-point space", paired, paired_n);
+  std::printf("  (the two-point space fell back to trilinear across levels for %d of %zu forces: a level it needs has "
+              "no value there)\n",
+              fallbacks, 2 * n);
   return 0;
 }
 

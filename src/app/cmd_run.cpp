@@ -84,10 +84,24 @@ LoadedScene with_cspace(const LoadedScene& scene, const std::string& flag, const
   return {scene::parse_scene(text, scene.source), text, scene.source};
 }
 
-LoadedScene with_space(const LoadedScene& scene, const std::string& space, const std::string& interpolation) {
+LoadedScene with_space(const LoadedScene& scene, const std::string& space, std::string interpolation) {
+  const auto& settings = scene.model.precompute;
+  // By default the method the [precompute] table names (the one the space was built for).
+  if (interpolation.empty())
+    interpolation = settings ? std::string(precompute::to_string(settings->interpolation)) : "trilinear";
+  // A two-point space is felt by the two tools its [precompute] table names.
+  std::string tools;
+  if (settings && settings->pair.enabled()) {
+    if (scene.model.precompute_tools.size() != 2)
+      throw InputError(SourceLocation{scene.source, {}, {}, {}},
+                       "--space: the [precompute] table has a second point; name the tools that feel the two points "
+                       "there, tools = [\"first\", \"second\"]");
+    tools = fmt::format("tools = [\"{}\", \"{}\"]\n", scene.model.tools[scene.model.precompute_tools[0]].name,
+                        scene.model.tools[scene.model.precompute_tools[1]].name);
+  }
   return with_cspace(scene, "--space", space,
-                     fmt::format("space = \"{}\"\ninterpolation = \"{}\"\n",
-                                 std::filesystem::absolute(space).string(), interpolation));
+                     fmt::format("space = \"{}\"\ninterpolation = \"{}\"\n{}",
+                                 std::filesystem::absolute(space).string(), interpolation, tools));
 }
 
 LoadedScene with_online_space(const LoadedScene& scene, int threads) {
@@ -151,8 +165,8 @@ void add_run_flags(CLI::App& app, RunFlags& f, bool bench) {
                      "precompute's file) instead of simulating it")
           ->check(CLI::ExistingFile);
   app.add_option("--interpolation", f.interpolation,
-                 "With --space: trilinear, rbf_cubic, rbf_thin_plate, polynomial, tricubic_hermite or rbf_hermite")
-      ->default_val("trilinear")
+                 "With --space: trilinear, rbf_cubic, rbf_thin_plate, polynomial, tricubic_hermite or rbf_hermite "
+                 "(default: the [precompute] table's interpolation)")
       ->check(CLI::IsMember(
           {"trilinear", "rbf_cubic", "rbf_thin_plate", "polynomial", "tricubic_hermite", "rbf_hermite"}))
       ->needs(space);

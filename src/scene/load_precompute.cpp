@@ -21,7 +21,7 @@ precompute::Interpolation read_interpolation(Reader& r, std::string_view key) {
                                              precompute::Interpolation::trilinear);
 }
 
-precompute::SpaceSettings read_precompute(Reader& r, const Model& model) {
+precompute::SpaceSettings read_precompute(Reader& r, Model& model) {
   precompute::SpaceSettings s;
   std::optional<std::size_t> index;
   if (const auto name = r.string("body")) {
@@ -110,12 +110,20 @@ precompute::SpaceSettings read_precompute(Reader& r, const Model& model) {
                                            "second_point is {}); put the points farther apart than twice "
                                            "patch_radius",
                                            n, s.pair.node));
+    // The tools that feel the two points when `tactus run --space` renders the space.
+    if (r.has("tools")) {
+      const std::vector<std::string> names = r.string_list("tools", {});
+      if (names.size() != 2) r.fail("tools", "name the tools at the first and the second point: tools = [A, B]");
+      for (const auto& name : names) model.precompute_tools.push_back(resolve_name(r, "tools", name, model.tools, "tool"));
+      if (model.precompute_tools[0] == model.precompute_tools[1])
+        r.fail("tools", "the two points are felt by two different tools");
+    }
     s.pair.bounds_min = r.required_vec3("second_min");
     s.pair.bounds_max = r.required_vec3("second_max");
     if (!(s.pair.bounds_min.array() < s.pair.bounds_max.array()).all())
       r.fail("second_max", "second_max must exceed second_min on every axis");
   } else {
-    for (const char* key : {"second_min", "second_max"})
+    for (const char* key : {"second_min", "second_max", "tools"})
       if (r.has(key)) r.fail(key, "a two-point space also needs second_point (where the second point rests)");
   }
   auto check_grid = [&](const Vec3& anchor, const Vec3& lo, const Vec3& hi, const char* min_key, const char* what) {

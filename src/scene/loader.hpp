@@ -21,7 +21,7 @@ Algorithm read_algorithm(Reader& r, const std::string& name, const Model& model)
 /// Once every tool is read: a cspace body's `tools` (a two-point space's two tools).
 void read_cspace_tools(Reader& r, Model& model, std::size_t body);
 void check_partner(const Reader& r, const Model& model, std::size_t algorithm);
-precompute::SpaceSettings read_precompute(Reader& r, const Model& model);
+precompute::SpaceSettings read_precompute(Reader& r, Model& model);
 /// An interpolation method by name (`trilinear`, default, `rbf_cubic`, `rbf_thin_plate`, `polynomial`).
 precompute::Interpolation read_interpolation(Reader& r, std::string_view key);
 /// bodies.<name>.nodules of a body whose mesh and fixed regions are read (load_nodules.cpp).

@@ -543,6 +543,9 @@ struct Model {
   StaticSolve static_solve;
   /// [precompute]: the configuration space `tactus precompute` builds (absent: none).
   std::optional<precompute::SpaceSettings> precompute;
+  /// [precompute] `tools` of a two-point space: the tools (indices into `tools`) at its first
+  /// and second point, which `tactus run --space` names as the cspace body's `tools`.
+  std::vector<std::size_t> precompute_tools;
   /// [lod]: how the haptic loop chooses among the bodies' impostor levels.
   LevelSelection level_selection;
 

@@ -293,6 +293,34 @@ TEST_F(CspaceRuntime, ATwoPointSpaceNeedsItsTwoToolsNamed) {
   EXPECT_NE(unknown.find("thumb"), std::string::npos) << unknown;
 }
 
+TEST_F(CspaceRuntime, RunWithSpaceFlagHandsATwoPointSpaceToTheToolsItsTableNames) {
+  // The scene the two-point space is built from, its [precompute] table naming the tools at
+  // the two points, and the two fingers of pair_run_scene.
+  std::string fingers = pair_run_scene("unused.h5", "");
+  fingers = fingers.substr(fingers.find("[devices.first]"));
+  std::ofstream(dir_ / "pair.toml") << testing::pair_block_scene()
+                                    << "interpolation = \"tricubic_hermite\"\ntools = [\"first_tip\", "
+                                       "\"second_tip\"]\n\n"
+                                    << fingers;
+  ASSERT_EQ(tactus("precompute pair.toml -o pair.h5 --threads 2"), 0) << log();
+  ASSERT_EQ(tactus("run pair.toml --space pair.h5 --lockstep -d 0.3"), 0) << log();
+  // The table's method by default, and both fingers touching.
+  EXPECT_NE(log().find("rendered from the configuration space"), std::string::npos) << log();
+  EXPECT_NE(log().find("(tricubic_hermite interpolation)"), std::string::npos) << log();
+  const std::string text = log();
+  for (const char* device : {"first (scripted): max force sent", "second (scripted): max force sent"}) {
+    const auto at = text.find(device);
+    ASSERT_NE(at, std::string::npos) << text;
+    const std::string line = text.substr(at, text.find('\n', at) - at);
+    EXPECT_EQ(line.find(" 0 frames in contact"), std::string::npos) << line;
+    EXPECT_NE(line.find("clamped 0, non-finite 0"), std::string::npos) << line;
+  }
+  // Without the table's tools the run names what is missing.
+  std::ofstream(dir_ / "unnamed.toml") << testing::pair_block_scene() << "\n" << fingers;
+  EXPECT_EQ(tactus("run unnamed.toml --space pair.h5 --lockstep -d 0.1"), 1) << log();
+  EXPECT_NE(log().find("name the tools that feel the two points"), std::string::npos) << log();
+}
+
 TEST_F(CspaceRuntime, ShapeFollowsTheToolAndForceIsZeroOutsideTheGrid) {
   const scene::Model m = model(run_scene("trilinear"));
   const auto body = compile::CspaceBody::load(m, 0);

@@ -156,7 +156,7 @@ const std::vector<std::string> kScenarios = {"default",         "nodule",       
                                              "needle_block",    "pulse_demo",       "skin_patch",
                                              "femoral",         "femoral_s1_idle",  "femoral_s2_palpation",
                                              "femoral_s3_needle", "femoral_labels",  "liver_cspace",
-                                             "liver_probe",     "fabric",           "room"};
+                                             "fabric",          "room"};
 
 INSTANTIATE_TEST_SUITE_P(Bundled, ScenarioSmoothness, ::testing::ValuesIn(kScenarios),
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
@@ -193,6 +193,10 @@ TEST(ScenarioSmoothness, LiverRunsPastTheStepThatTurnedItsElementsInsideOut) {
 TEST(ScenarioSmoothness, CoversEveryBundledSceneWithADevice) {
   std::vector<std::string> listed = kScenarios;
   listed.push_back("liver");  // left out above, and why
+  // Felt from their spaces, which probe_scene_test.cpp and pair_scene_test.cpp build and run,
+  // bounding the largest step as here. Simulated, with the weight their spaces leave out, the
+  // organ sags below the tools' reach and no frame touches it.
+  listed.insert(listed.end(), {"liver_probe", "liver_pair"});
   for (const auto& entry : fs::directory_iterator(fs::path(TACTUS_SOURCE_DIR) / "scenes")) {
     if (entry.path().extension() != ".toml") continue;
     if (scene::load_scene(entry.path()).devices.empty()) continue;
