@@ -276,6 +276,18 @@ const Interpolator::Mixed* Interpolator::mixed(std::size_t point, int level) con
 }
 
 bool Interpolator::corners(const LatticeIndex& cell, std::array<std::size_t, 8>& points) const noexcept {
+  if (cell.level == 0) {  // a grid cell (the common case): its corners' indices directly
+    const Grid& g = space_->grid;
+    const auto& [i, j, k] = cell.ijk;
+    if (!g.contains(i, j, k) || !g.contains(i + 1, j + 1, k + 1)) return false;
+    for (int c = 0; c < 8; ++c) {
+      const auto& o = offsets_[static_cast<std::size_t>(c)];
+      const std::size_t p = g.index(i + o[0], j + o[1], k + o[2]);
+      if (!space_->solved(p) || p >= mixed_.size()) return false;
+      points[static_cast<std::size_t>(c)] = p;
+    }
+    return true;
+  }
   for (int c = 0; c < 8; ++c) {
     const auto& o = offsets_[static_cast<std::size_t>(c)];
     const auto p = space_->find({cell.level, {cell.ijk[0] + o[0], cell.ijk[1] + o[1], cell.ijk[2] + o[2]}});

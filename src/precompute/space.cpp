@@ -53,6 +53,10 @@ std::uint64_t Space::key(const LatticeIndex& at) {
 }
 
 std::optional<std::size_t> Space::find(const LatticeIndex& at) const {
+  if (at.level == 0) {  // the grid itself (the force query's common case: no division)
+    if (!grid.contains(at.ijk[0], at.ijk[1], at.ijk[2])) return std::nullopt;
+    return grid.index(at.ijk[0], at.ijk[1], at.ijk[2]);
+  }
   const int scale = 1 << at.level;
   if (at.ijk[0] % scale == 0 && at.ijk[1] % scale == 0 && at.ijk[2] % scale == 0) {
     const int i = at.ijk[0] / scale, j = at.ijk[1] / scale, k = at.ijk[2] / scale;
