@@ -187,17 +187,16 @@ Query PairInterpolator::shape(int finger, const Vec3& p, const Vec3* other, VecX
     if (q.valid) displacement += weight * scratch_;
     return q;
   };
-  for (bool quadratic : {true, false}) {
-    displacement.setZero();
-    const Combined c = combine(stencil(finger, other, quadratic), !quadratic, level_shape);
-    if (!c.query.valid) continue;
-    if (!quadratic) displacement /= c.kept;
-    Query q = c.query;
-    q.fallback = q.fallback || !quadratic;
-    return q;
-  }
+  // Trilinear across levels: 8 levels' shapes, not 27 (the shape is drawn, not felt; 27
+  // Hermite shapes of the organ took 1.5 ms a simulation step and crowded the haptic loops).
   displacement.setZero();
-  return {};
+  const Combined c = combine(stencil(finger, other, false), true, level_shape);
+  if (!c.query.valid) {
+    displacement.setZero();
+    return c.query;
+  }
+  displacement /= c.kept;
+  return c.query;
 }
 
 }  // namespace tactus::precompute

@@ -54,7 +54,9 @@ class PairInterpolator {
   /// free. Valid where at least one level around the other has a value at p; fallback where
   /// a level had none (trilinear then, its weight going to the others) or fell back itself.
   [[nodiscard]] Query force(int finger, const Vec3& p, const Vec3* other) const noexcept;
-  /// The same with the nodal displacements (3N). One thread at a time (a scratch vector).
+  /// The same with the nodal displacements (3N), trilinear across levels (the 8 around the
+  /// other point; the force is that of the same levels). One thread at a time (a scratch
+  /// vector).
   Query shape(int finger, const Vec3& p, const Vec3* other, VecX& displacement) const;
 
   /// Point `finger`'s grid (that of its levels).
