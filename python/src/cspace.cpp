@@ -1,6 +1,7 @@
 // tactus.ConfigurationSpace: a configuration space built by `tactus precompute`
 // (precompute/space_file.hpp), read once and queried for the force (and the body's shape)
 // at any tool position with the same interpolators the haptic loop uses.
+#include <fmt/format.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
@@ -146,6 +147,13 @@ void bind_cspace(py::module_& m) {
           throw InputError(SourceLocation{model->source, {}, {}, {}},
                            "the scene has no [precompute] table (docs/scene-format.md)");
         const precompute::SpaceSettings& settings = *model->precompute;
+        // build_space writes a space of one level; a probe's or a second point's levels are
+        // built by the command.
+        if (settings.probe.enabled() || settings.pair.enabled())
+          throw InputError(SourceLocation{model->source, {}, {}, {}},
+                           fmt::format("the [precompute] table has {}: build_space builds point spaces; build this "
+                                       "one with `tactus precompute`",
+                                       settings.probe.enabled() ? "a probe" : "a second point"));
         std::size_t index = 0;
         while (model->bodies[index].name != settings.body) ++index;
         py::dict out;

@@ -124,6 +124,27 @@ def test_build_space_needs_a_precompute_table(tmp_path):
         tactus.build_space(tactus.default_scene(), tmp_path / "x.h5")
 
 
+def test_probe_and_two_point_spaces_are_left_to_the_command(space_file, tmp_path):
+    # build_space writes one level: a table with a probe or a second point is refused by name,
+    # and so is such a file in ConfigurationSpace.
+    probe = SCENE.replace("max = [0.003, 0.003, 0.013]\n", "max = [0.003, 0.003, 0.013]\npatch_radius = 0.0105\n"
+                          "probe_axis = [0.0, 0.0, -1.0]\nprobe_tilt = 12.0\n")
+    with pytest.raises(tactus.InputError, match="has a probe: build_space builds point spaces"):
+        tactus.build_space(tactus.parse_scene(probe, str(tmp_path / "probe.toml")), tmp_path / "p.h5")
+    pair = SCENE.replace("max = [0.003, 0.003, 0.013]\n", "max = [0.003, 0.003, 0.013]\n"
+                         "second_point = [0.02, 0.0, 0.01]\nsecond_min = [0.017, -0.003, 0.004]\n"
+                         "second_max = [0.023, 0.003, 0.0101]\n")
+    with pytest.raises(tactus.InputError, match="has a second point: build_space builds point spaces"):
+        tactus.build_space(tactus.parse_scene(pair, str(tmp_path / "pair.toml")), tmp_path / "q.h5")
+    assert not (tmp_path / "p.h5").exists() and not (tmp_path / "q.h5").exists()
+    binary = os.environ["TACTUS_BINARY"]
+    (tmp_path / "pair.toml").write_text(pair)
+    subprocess.run([binary, "-q", "precompute", "pair.toml", "-o", "pair.h5", "--threads", "2"],
+                   cwd=tmp_path, check=True, capture_output=True, env={**os.environ, "CI": "1"})
+    with pytest.raises(tactus.InputError, match="a two-point space"):
+        tactus.ConfigurationSpace(tmp_path / "pair.h5")
+
+
 def test_stiffness_is_the_slope_of_the_hermite_force(space_file):
     # The stored ∂F/∂x against central differences of the tricubic Hermite force 1 µm either
     # side of an interior grid point: the Hermite interpolant takes the stored slope there.
