@@ -31,7 +31,7 @@
 //            per method, at the same positions with the nearest level's lean (the position's
 //            interpolation alone), and with the lean ignored (the upright level alone); the
 //            cost per point and the force query's latency.
-//   twopoint --nodes N --law L --spacing S --separation MM --positions M [--box MM]
+//   twopoint --nodes N --law L --spacing S --separation MM --positions M [--box MM] [--patch MM]
 //            two interaction points (two fingers): the top centre's node and the surface
 //            node MM further along +x, each with its own point space (a box of MM along +x
 //            and +y and MM down from it), against direct solves with both held at M random
@@ -39,6 +39,8 @@
 //            coupling of the two points (the rest stiffness condensed onto them); and from
 //            the two-point space `tactus precompute` builds (precompute/pair.hpp): per point
 //            of the other's grid a level, the point's own space with the other held there.
+//            With --patch, each point moves the nodes within MM of it (then the couplings,
+//            the two nodes', are not printed).
 //   online   --nodes N --law L --spacing S --threads W [--first V]
 //            on-line construction: the largest tool speed at which at least 99 % of the
 //            1 kHz force queries find their cell complete, with W solver threads, on the
@@ -116,6 +118,7 @@ struct Options {
   double tilt = 15.0;  ///< probe: largest lean [degrees]
   double patch = 0.016;  ///< probe: the patch's radius [m] (--patch, in mm): the probe's end
   double separation = 0.03;  ///< twopoint: from the first point to the second along +x [m] (mm)
+  double pair_patch = 0.0;   ///< twopoint: each point's patch radius [m] (--patch, in mm; 0: the node alone)
   int levels = 3;      ///< probe: leans per tangent axis
 };
 
@@ -689,13 +692,24 @@ int twopoint(const Options& o) {
   const Model mb = load_model(o.nodes, o.law, Vec3(o.separation, 0.0, 0.05));
   const std::int32_t a = ma.settings.contact_node, b = mb.settings.contact_node;
   const Vec3 rest_a = ma.contact, rest_b = mb.contact;
-  // Each point a single node with its own grid (a box of --box along +x and +y and down).
+  // Each point a single node, or with --patch the nodes within that radius of it, with its
+  // own grid (a box of --box along +x and +y and down).
+  const VecX& rest = ma.body.model->rest_positions();
+  auto patch_of = [&](std::int32_t node) {
+    std::vector<std::int32_t> patch;
+    for (Eigen::Index n = 0; n < rest.size() / 3; ++n)
+      if (n == node || (rest.segment<3>(3 * n) - rest.segment<3>(3 * node)).norm() <= o.pair_patch)
+        patch.push_back(static_cast<std::int32_t>(n));
+    return patch;
+  };
   pc::SpaceSettings s = accuracy_grid(ma, o.spacing, o.box);
-  s.patch_nodes = {a};
-  s.patch_radius = 0.0;
+  s.patch_nodes = patch_of(a);
+  s.patch_radius = o.pair_patch;
   const pc::SpaceSettings sb = accuracy_grid(mb, o.spacing, o.box);
   s.pair.node = b;
-  s.pair.patch_nodes = {b};
+  s.pair.patch_nodes = patch_of(b);
+  std::printf("twopoint: patches of %zu and %zu nodes (--patch %.1f mm)\n", s.patch_nodes.size(),
+              s.pair.patch_nodes.size(), 1e3 * o.pair_patch);
   s.pair.bounds_min = sb.bounds_min;
   s.pair.bounds_max = sb.bounds_max;
   const std::vector<pc::SpaceSettings> settings = pc::space_levels(s, ma.body.model->rest_positions());
@@ -821,8 +835,11 @@ int twopoint(const Options& o) {
                 100 * en.max);
   };
   row("each point's space alone", alone, alone_n);
-  row("corrected by the rest coupling", corrected, corrected_n);
-  row("corrected by the coupling at the configurations", at_configuration, at_configuration_n);
+  // The couplings are those of the two nodes: with patches they are not the fingers'.
+  if (o.pair_patch <= 0.0) {
+    row("corrected by the rest coupling", corrected, corrected_n);
+    row("corrected by the coupling at the configurations", at_configuration, at_configuration_n);
+  }
   row("two-point space", paired, paired_n);
   std::printf("  (the two-point space fell back for %d of %zu forces: trilinear across levels, where one of the 27 "
               "levels around the other point had no value, or within a level, where a Hermite cell lacked a point)\n",
@@ -834,8 +851,10 @@ int twopoint(const Options& o) {
   Vec3 sink = Vec3::Zero();
   for (int i = 0; i < 100'000; ++i) {
     const double t = 1e-4 * i;
-    const Vec3 pa = rest_a + o.box * Vec3(0.5 + 0.4 * std::sin(t), 0.5 + 0.4 * std::cos(1.3 * t), -0.5 + 0.4 * std::sin(0.7 * t));
-    const Vec3 pb = rest_b + o.box * Vec3(0.5 + 0.4 * std::cos(0.9 * t), 0.5 + 0.4 * std::sin(1.1 * t), -0.5 + 0.4 * std::cos(0.6 * t));
+    const Vec3 pa =
+        rest_a + o.box * Vec3(0.5 + 0.4 * std::sin(t), 0.5 + 0.4 * std::cos(1.3 * t), -0.5 + 0.4 * std::sin(0.7 * t));
+    const Vec3 pb = rest_b + o.box * Vec3(0.5 + 0.4 * std::cos(0.9 * t), 0.5 + 0.4 * std::sin(1.1 * t),
+                                          -0.5 + 0.4 * std::cos(0.6 * t));
     const auto t0 = std::chrono::steady_clock::now();
     sink += pair.force(0, pa, &pb).force;
     ns.push_back(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
@@ -971,7 +990,7 @@ int main(int argc, char** argv) {
       else if (key == "--refine") o.refine = std::stoul(value);
       else if (key == "--worst") o.worst = std::stoul(value);
       else if (key == "--tilt") o.tilt = std::stod(value);
-      else if (key == "--patch") o.patch = 1e-3 * std::stod(value);
+      else if (key == "--patch") o.patch = o.pair_patch = 1e-3 * std::stod(value);
       else if (key == "--separation") o.separation = 1e-3 * std::stod(value);
       else if (key == "--levels") o.levels = std::stoi(value);
       else if (key == "--spacings") {

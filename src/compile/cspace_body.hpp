@@ -56,7 +56,7 @@ class CspaceBody final : public haptics::ForceField {
   void positions(const Vec3& p, const Quat& orientation, VecX& x) const;
   /// A two-point space's shape with its points at `first` and `second` (null: not known):
   /// the first point's levels while it lies in its box, else the second's; the rest shape
-  /// when neither does.
+  /// when neither does. A space of one point: its shape at `first` (x unchanged when null).
   void positions(const Vec3* first, const Vec3* second, VecX& x) const;
 
   [[nodiscard]] std::size_t body() const { return body_; }

@@ -194,7 +194,7 @@ Vec3 lookup_offset(const scene::Tool& tool) {
 /// A tool on a two-point space: which of its points it is (the body's `tools`), and its
 /// partner, the other point's tool, whose frames its loop reads (HapticModel::partner).
 haptics::FieldPoint field_point_of(const scene::Model& m, const CspaceBody& cspace, const scene::Tool& tool,
-                               const std::string& algorithm, haptics::HapticModel& model) {
+                                   const std::string& algorithm, haptics::HapticModel& model) {
   const std::array<std::size_t, 2>& tools = cspace.pair_tools();
   const scene::Body& body = m.bodies[cspace.body()];
   int finger = -1;
@@ -424,8 +424,8 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
     if (multi) {
       model.algorithms.push_back(std::make_shared<haptics::MultiSurfaceAlgorithm>(*multi, s.bodies, first.offset));
     } else if (cspace && cspace->pair()) {
-      model.algorithms.push_back(
-          std::make_shared<haptics::FieldLookup>(cspace, first.offset, field_point_of(m, *cspace, tool, a->name, model)));
+      const haptics::FieldPoint point = field_point_of(m, *cspace, tool, a->name, model);
+      model.algorithms.push_back(std::make_shared<haptics::FieldLookup>(cspace, first.offset, point));
     } else if (cspace) {
       model.algorithms.push_back(std::make_shared<haptics::FieldLookup>(cspace, first.offset));
     } else if (fabric) {

@@ -68,7 +68,7 @@ PairInterpolator::PairInterpolator(std::vector<std::shared_ptr<const Space>> lev
   const std::array<const Space*, 2> own{levels[0].get(), levels[1].get()};
   const std::size_t expected = 2 + own[0]->grid.size() + own[1]->grid.size();
   if (levels.size() != expected)
-    throw InputError(fmt::format("a two-point space of {} + {} grid points has {} levels, not {}",
+    throw InputError(fmt::format("a two-point space of {} + {} grid points has {} levels; these are {}",
                                  own[0]->grid.size(), own[1]->grid.size(), expected, levels.size()));
   for (std::size_t k = 0; k < levels.size(); ++k) {
     const Space& s = *levels[k];
@@ -88,7 +88,8 @@ PairInterpolator::PairInterpolator(std::vector<std::shared_ptr<const Space>> lev
                          !(s.settings.held_at - theirs.grid.point(held)).isZero(1e-12))
       differs = "held point";
     if (differs)
-      throw InputError(fmt::format("level {} of the two-point space does not belong to it (its {} differ)", k, differs));
+      throw InputError(
+          fmt::format("level {} of the two-point space does not belong to it (its {} differ)", k, differs));
   }
   levels_.reserve(levels.size());
   for (auto& level : levels) levels_.emplace_back(std::move(level), method);

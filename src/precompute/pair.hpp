@@ -14,8 +14,9 @@
 // position, where the force changes fastest) and across them in the other point's position
 // by triquadratic Lagrange over the 3 × 3 × 3 levels around it (exact where the force is
 // quadratic in the other's position), or trilinearly over the 8 around it where one of the
-// 27 has no value at the point. A configuration with both points at grid points is solved twice (once
-// in each point's levels), since each point's force needs its own position's derivatives.
+// 27 has no value at the point. A configuration with both points at grid points is solved
+// twice (once in each point's levels), since each point's force needs its own position's
+// derivatives.
 // precompute_bench twopoint measures the route against direct two-point solves and against
 // superposing two point spaces (docs/validation.md).
 #include <array>

@@ -1,9 +1,9 @@
 #include "runtime/simulation_step.hpp"
 
-#include <array>
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 

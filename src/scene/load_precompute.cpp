@@ -114,7 +114,8 @@ precompute::SpaceSettings read_precompute(Reader& r, Model& model) {
     if (r.has("tools")) {
       const std::vector<std::string> names = r.string_list("tools", {});
       if (names.size() != 2) r.fail("tools", "name the tools at the first and the second point: tools = [A, B]");
-      for (const auto& name : names) model.precompute_tools.push_back(resolve_name(r, "tools", name, model.tools, "tool"));
+      for (const auto& name : names)
+        model.precompute_tools.push_back(resolve_name(r, "tools", name, model.tools, "tool"));
       if (model.precompute_tools[0] == model.precompute_tools[1])
         r.fail("tools", "the two points are felt by two different tools");
     }

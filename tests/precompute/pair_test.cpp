@@ -107,7 +107,9 @@ std::pair<double, double> errors_against_direct(const physics::Body& body, const
   const std::array<Grid, 2> grids{pair_grid(s, 0, rest), pair_grid(s, 1, rest)};
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  auto draw = [&](const Grid& g) { return Vec3(g.lower() + (g.upper() - g.lower()).cwiseProduct(Vec3(u(rng), u(rng), u(rng)))); };
+  auto draw = [&](const Grid& g) {
+    return Vec3(g.lower() + (g.upper() - g.lower()).cwiseProduct(Vec3(u(rng), u(rng), u(rng))));
+  };
   std::vector<Vec3> truth, guess;
   for (int i = 0; i < samples; ++i) {
     const std::array<Vec3, 2> at{draw(grids[0]), draw(grids[1])};
@@ -123,14 +125,7 @@ std::pair<double, double> errors_against_direct(const physics::Body& body, const
       guess.push_back(predict(finger, at[static_cast<std::size_t>(finger)], at[static_cast<std::size_t>(1 - finger)]));
     }
   }
-  double scale = 0.0, sum = 0.0, worst = 0.0;
-  for (const Vec3& f : truth) scale = std::max(scale, f.norm());
-  for (std::size_t i = 0; i < truth.size(); ++i) {
-    const double e = (guess[i] - truth[i]).norm() / scale;
-    sum += e;
-    worst = std::max(worst, e);
-  }
-  return {sum / static_cast<double>(truth.size()), worst};
+  return testing::relative_errors(truth, guess);
 }
 
 TEST(PairSpace, EachPointsForceFollowsDirectSolvesWithBothPointsHeld) {
@@ -162,8 +157,8 @@ TEST(PairSpace, EachPointsForceFollowsDirectSolvesWithBothPointsHeld) {
       body, s, [&](int f, const Vec3& p, const Vec3& other) { return pair.force(f, p, &other).force; }, 20);
   // The same positions with the other point ignored (each point's space alone).
   const auto [mean_alone, worst_alone] = errors_against_direct(
-      body, s, [&](int f, const Vec3& p, const Vec3&) { return pair.level(static_cast<std::size_t>(f)).force(p).force; },
-      20);
+      body, s,
+      [&](int f, const Vec3& p, const Vec3&) { return pair.level(static_cast<std::size_t>(f)).force(p).force; }, 20);
   std::printf("two-point space: mean %.3f %%, max %.3f %%; each point alone: mean %.3f %%, max %.3f %%\n", 100 * mean,
               100 * worst, 100 * mean_alone, 100 * worst_alone);
   EXPECT_LT(mean, 0.005);

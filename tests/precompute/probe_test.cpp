@@ -148,14 +148,7 @@ std::pair<double, double> errors_against_direct(const physics::Body& body, const
     truth.push_back(r.force);
     guess.push_back(predict(p, frame.direction(t)));
   }
-  double scale = 0.0, sum = 0.0, worst = 0.0;
-  for (const Vec3& f : truth) scale = std::max(scale, f.norm());
-  for (std::size_t i = 0; i < truth.size(); ++i) {
-    const double e = (guess[i] - truth[i]).norm() / scale;
-    sum += e;
-    worst = std::max(worst, e);
-  }
-  return {sum / static_cast<double>(truth.size()), worst};
+  return testing::relative_errors(truth, guess);
 }
 
 TEST(ProbeSpace, BetweenLeansTheForceFollowsDirectSolvesOfTheLeaningProbe) {

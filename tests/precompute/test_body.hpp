@@ -1,8 +1,11 @@
 #pragma once
 // A small StVK block held at its base, its top centre node the contact node: spaces of a few
 // dozen points solve in well under a second.
+#include <algorithm>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "mesh/generators.hpp"
 #include "physics/body.hpp"
@@ -10,6 +13,19 @@
 #include "precompute/settings.hpp"
 
 namespace tactus::precompute::testing {
+
+/// The mean and largest error of the forces `guess` against `truth`, each relative to the
+/// largest force of `truth` (the accuracy study's measure, docs/validation.md).
+inline std::pair<double, double> relative_errors(const std::vector<Vec3>& truth, const std::vector<Vec3>& guess) {
+  double scale = 0.0, sum = 0.0, worst = 0.0;
+  for (const Vec3& f : truth) scale = std::max(scale, f.norm());
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const double e = (guess[i] - truth[i]).norm() / scale;
+    sum += e;
+    worst = std::max(worst, e);
+  }
+  return {sum / static_cast<double>(truth.size()), worst};
+}
 
 inline physics::Body block_body(double young = 5.0e3, double poisson = 0.3) {
   const mesh::TetMesh mesh = mesh::box_volume(Vec3(0.04, 0.04, 0.02), 4, 4, 2);

@@ -32,7 +32,8 @@ TEST(PairScene, TheBuiltTwoPointSpaceRendersEachFingerWithTheOthersPress) {
   // The scene with its organ rendered from the space, as `tactus run --space` makes it.
   std::ofstream(dir / "run.toml") << "[scene]\nbase = \"" << scene.string() << "\"\n\n[bodies.liver]\nkind = "
                                   << "\"cspace\"\nspace = \"" << (dir / "liver_pair.h5").string()
-                                  << "\"\ninterpolation = \"tricubic_hermite\"\ntools = [\"index_tip\", \"thumb_tip\"]\n";
+                                  << "\"\ninterpolation = \"tricubic_hermite\"\n"
+                                  << "tools = [\"index_tip\", \"thumb_tip\"]\n";
   const scene::Model m = scene::load_scene(dir / "run.toml");
   const auto body = compile::CspaceBody::load(m, 0);
   ASSERT_NE(body->pair(), nullptr);
