@@ -106,8 +106,10 @@ std::string duration_text(double seconds) {
 /// time_left.hpp) once it has one, from the mean rate until then.
 class ProgressLine {
  public:
-  ProgressLine(std::size_t total, std::size_t already, const pc::TimeLeftEstimate& estimate, const pc::Space& space)
-      : total_(total), already_(already), estimate_(estimate), space_(space) {}
+  /// `quiet`: no lines when not on a terminal (a level of many, which its summary reports).
+  ProgressLine(std::size_t total, std::size_t already, const pc::TimeLeftEstimate& estimate, const pc::Space& space,
+               bool quiet)
+      : total_(total), already_(already), estimate_(estimate), space_(space), quiet_(quiet) {}
   void update(std::size_t done) {
     const auto now = std::chrono::steady_clock::now();
     const double elapsed = std::chrono::duration<double>(now - start_).count();
@@ -121,7 +123,8 @@ class ProgressLine {
       last_ = now;
       std::fprintf(stderr, "\r%s   ", text.c_str());
       std::fflush(stderr);
-    } else if (10 * done / std::max<std::size_t>(total_, 1) > 10 * reported_ / std::max<std::size_t>(total_, 1)) {
+    } else if (!quiet_ &&
+               10 * done / std::max<std::size_t>(total_, 1) > 10 * reported_ / std::max<std::size_t>(total_, 1)) {
       reported_ = done;
       log::info("{}", text);
     }
@@ -134,17 +137,23 @@ class ProgressLine {
   std::size_t total_, already_, reported_ = 0;
   const pc::TimeLeftEstimate& estimate_;
   const pc::Space& space_;
+  bool quiet_ = false;
   bool terminal_ = Progress::terminal_attached();
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
 };
 
+/// The build's outcome: points, failures grouped, time and efficiency; for a level of many
+/// (`compact`), its points and failures alone.
 void print_summary(const pc::Space& space, const pc::BuildStats& stats, double cpu_seconds, std::size_t resumed,
-                   const std::string& where) {
-  std::printf("configuration space: %zu points (%d x %d x %d, spacing %.4g m)\n", space.grid.size(),
-              space.grid.counts[0], space.grid.counts[1], space.grid.counts[2], space.grid.spacing);
-  std::printf("  solved %zu, failed %zu, unreachable %zu%s\n", space.count(pc::PointStatus::solved),
+                   const std::string& where, bool compact) {
+  if (!compact)
+    std::printf("configuration space: %zu points (%d x %d x %d, spacing %.4g m)\n", space.grid.size(),
+                space.grid.counts[0], space.grid.counts[1], space.grid.counts[2], space.grid.spacing);
+  std::printf("  %ssolved %zu, failed %zu, unreachable %zu%s%s\n",
+              compact ? fmt::format("{} points: ", space.grid.size()).c_str() : "", space.count(pc::PointStatus::solved),
               space.count(pc::PointStatus::failed), space.count(pc::PointStatus::unreachable),
-              resumed ? fmt::format(" ({} taken from the journal)", resumed).c_str() : "");
+              resumed ? fmt::format(" ({} taken from the journal)", resumed).c_str() : "",
+              compact ? fmt::format(", {:.2f} s wall", stats.wall_seconds).c_str() : "");
   // Failures that differ only in their numbers are one line: how many, then the first of
   // them in full with its grid point, so the numbers are never lost to the grouping.
   struct FailureGroup {
@@ -158,6 +167,7 @@ void print_summary(const pc::Space& space, const pc::BuildStats& stats, double c
       if (g.count++ == 0) g.first = p;
     }
   for (const auto& [pattern, g] : groups) std::printf("    %s\n", failure_line(space, g.first, g.count).c_str());
+  if (compact) return;
   const double per_point = stats.computed ? stats.solve_seconds / static_cast<double>(stats.computed) : 0.0;
   std::printf("  %zu solves in %.2f s wall on %u %s: %.3f solver-seconds per point (wall time of a solve), %.3f "
               "CPU-seconds per point (getrusage, %s)\n",
@@ -214,12 +224,14 @@ struct BuiltSpace {
   int unresponsive = 0;  ///< MPI ranks that never answered
 };
 
-/// Builds one space (a point space, or one level of a probe or two-point space) with its checkpoint
-/// journal, and refines it where the settings ask. Nothing when --stop-after cut it short.
-/// Solver ranks serve the scheduler and return their (empty) space.
+/// Builds one space (a point space, or one level of a probe or two-point space: `one_of_many`,
+/// reported in a line and its failures) with its checkpoint journal, and refines it where the
+/// settings ask. Nothing when --stop-after cut it short. Solver ranks serve the scheduler and
+/// return their (empty) space.
 std::optional<BuiltSpace> build_space(const PrecomputeArgs& a, pc::distributed::Session& session,
                                       const physics::Body& body, const pc::SpaceSettings& settings,
-                                      const std::string& scene_text, const std::filesystem::path& journal_path);
+                                      const std::string& scene_text, const std::filesystem::path& journal_path,
+                                      bool one_of_many);
 int finish_output(const std::filesystem::path& output, pc::distributed::Session& session,
                   const std::vector<std::filesystem::path>& journals, int unresponsive);
 
@@ -266,6 +278,7 @@ int run_precompute(const PrecomputeArgs& a) {
   // written once all are built.
   const std::vector<pc::SpaceSettings> level_list = pc::space_levels(settings, body.model->rest_positions());
   const std::size_t count = level_list.size();
+  const auto started = std::chrono::steady_clock::now();
   std::vector<pc::Space> levels;
   std::vector<std::filesystem::path> journals;
   int unresponsive = 0;
@@ -275,7 +288,7 @@ int run_precompute(const PrecomputeArgs& a) {
     if (count > 1 && session.rank() == 0) std::printf("%s\n", level_title(level, k, count).c_str());
     const std::string journal =
         count == 1 ? output.string() + ".journal" : fmt::format("{}.level-{}.journal", a.output, k);
-    auto built = build_space(a, session, body, level, scene_text, journal);
+    auto built = build_space(a, session, body, level, scene_text, journal, count > 1);
     if (!built) {
       if (k + 1 < count) (void)session.decide(false);
       return 3;
@@ -293,6 +306,15 @@ int run_precompute(const PrecomputeArgs& a) {
     journals.push_back(built->journal_path);
   }
   if (session.rank() > 0) return 0;
+  if (count > 1) {
+    std::size_t points = 0, solved = 0;
+    for (const pc::Space& level : levels) {
+      points += level.point_count();
+      solved += level.count(pc::PointStatus::solved);
+    }
+    std::printf("%zu levels: %zu points, %zu solved, %zu failed or unreachable, %.1f s wall\n", count, points, solved,
+                points - solved, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  }
   pc::write_space_levels(output, levels);
   return finish_output(output, session, journals, unresponsive);
 }
@@ -315,7 +337,8 @@ int finish_output(const std::filesystem::path& output, pc::distributed::Session&
 
 std::optional<BuiltSpace> build_space(const PrecomputeArgs& a, pc::distributed::Session& session,
                                       const physics::Body& body, const pc::SpaceSettings& settings,
-                                      const std::string& scene_text, const std::filesystem::path& journal_path) {
+                                      const std::string& scene_text, const std::filesystem::path& journal_path,
+                                      bool one_of_many) {
   pc::Space space = pc::make_space(body, settings, scene_text);
   auto make_solver = [&] { return std::make_unique<pc::ConfigurationSolver>(body, settings); };
 
@@ -340,7 +363,7 @@ std::optional<BuiltSpace> build_space(const PrecomputeArgs& a, pc::distributed::
   const std::size_t resumed = journal->recovered();
 
   pc::TimeLeftEstimate estimate(space.grid, space.start);
-  ProgressLine progress(space.grid.size(), resumed, estimate, space);
+  ProgressLine progress(space.grid.size(), resumed, estimate, space, one_of_many);
   pc::BuildOptions options;
   options.threads = a.threads ? a.threads : std::max(1u, std::thread::hardware_concurrency());
   options.stop_after = a.stop_after;
@@ -365,7 +388,7 @@ std::optional<BuiltSpace> build_space(const PrecomputeArgs& a, pc::distributed::
   progress.finish();
   // Under MPI the solves ran on the other ranks: each reports its own CPU time at the stop.
   const double cpu = process_cpu_seconds() - cpu0 + stats.solver_cpu_seconds;
-  print_summary(space, stats, cpu, resumed, where);
+  print_summary(space, stats, cpu, resumed, where, one_of_many);
   if (stats.reissued || stats.late || stats.unresponsive)
     std::printf("  reissued %zu transitions after a timeout; ignored %zu late answers; %d ranks unresponsive\n",
                 stats.reissued, stats.late, stats.unresponsive);
