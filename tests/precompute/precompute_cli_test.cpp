@@ -168,6 +168,10 @@ TEST_F(PrecomputeCli, ATwoPointSpaceIsBuiltAsEachPointsLevels) {
       << log();
   EXPECT_NE(log().find("level 56 of 56: the second point, the other held at (-7.0, 3.0, 10.0) mm"), std::string::npos)
       << log();
+  // A line per level and a total, not each level's full summary.
+  EXPECT_NE(log().find("\n  27 points: solved 27, failed 0, unreachable 0, "), std::string::npos) << log();
+  EXPECT_NE(log().find("56 levels: 1512 points, 1512 solved, 0 failed or unreachable, "), std::string::npos) << log();
+  EXPECT_EQ(log().find("parallel efficiency"), std::string::npos) << log();
   const std::vector<Space> levels = read_space_levels(dir_ / "pair.h5");
   ASSERT_EQ(levels.size(), 56u);
   for (std::size_t k = 0; k < levels.size(); ++k) {
