@@ -414,6 +414,7 @@ DeviceSetup setup_device(const scene::Model& m, std::size_t index, const CspaceB
     }
   model.force_smoothing = a->force_smoothing;
   model.passivity_control = a->passivity_control;
+  model.max_damping = d.max_damping;
   model.spread_over_contact_disc = a->load_spread == scene::LoadSpread::contact_disc;
 
   // The contact algorithm: the layers' planes, a precomputed space, or the finger's law on the

@@ -126,7 +126,7 @@ const ForceAlgorithm* HapticModel::contact() const {
 }
 
 HapticState::HapticState(const HapticModel& model)
-    : smoother(model.force_smoothing), passivity(model.passivity_control), safety(model.safety) {
+    : smoother(model.force_smoothing), passivity(model.passivity_control, model.max_damping), safety(model.safety) {
   int contacts = 0;
   for (const auto& a : model.algorithms) {
     contacts += a->stage() == ForceAlgorithm::Stage::contact ? 1 : 0;

@@ -28,6 +28,8 @@ struct HapticModel {
   double force_smoothing = 0.0;
   /// Weaken a contact force that would return more energy to the hand than it put in.
   bool passivity_control = false;
+  /// The strongest damping the passivity controller may apply [N·s/m] (the device's).
+  double max_damping = 100.0;
   /// Spread the tissue's load over the contact disc instead of the contact triangle.
   bool spread_over_contact_disc = false;
   /// The device of the partner finger whose frames the contact algorithm reads (two-finger

@@ -31,13 +31,14 @@ Vec3 PassivityControl::apply(const Vec3& force, bool touching, const Vec3& posit
     return force;
   }
   free_time_ = 0.0;
-  // Controller: the part of the force along the motion does work |v|·dt per newton.
+  // Controller: the part of the force along the motion does work |v|·dt per newton; a
+  // damper of at most max_damping takes it away.
   const double speed = velocity.norm();
   if (work_ > 0.0 && speed > 0.0 && dt > 0.0 && force.allFinite() && std::isfinite(speed)) {
     const Vec3 direction = velocity / speed;
     const double along = force.dot(direction);
     if (along > 0.0) {
-      last_removed_ = std::min(along, work_ / (speed * dt)) * direction;
+      last_removed_ = std::min({along, work_ / (speed * dt), max_damping_ * speed}) * direction;
       ++frames_acted_;
     }
   }

@@ -6,8 +6,11 @@
 // than went in. The observer sums the work the contact force has done on the hand since
 // the contact began; while that is positive, the controller takes away as much of the
 // force's part along the hand's motion as would remove the excess within one frame. It
-// only ever weakens that part, never reverses it, so it adds nothing the device would have
-// to render stably (no stiffness, no damping beyond the force already there).
+// only ever weakens that part, never reverses it, and never by more than a damper of the
+// device's max_damping would at the hand's speed: near a standstill the measured velocity's
+// direction is noise, and taking the whole part along it away swung a 6 N press about by
+// up to 5.8 N from frame to frame; bounded by b·|v|, what it takes grows from zero with the
+// speed, and an excess it cannot take at once is taken over the next frames.
 #include <cstdint>
 
 #include "core/math.hpp"
@@ -16,7 +19,9 @@ namespace tactus::haptics {
 
 class PassivityControl {
  public:
-  explicit PassivityControl(bool enabled = false) : enabled_(enabled) {}
+  /// `max_damping` [N·s/m]: the strongest damping it may apply (the device's; > 0).
+  explicit PassivityControl(bool enabled = false, double max_damping = 100.0)
+      : enabled_(enabled), max_damping_(max_damping) {}
 
   [[nodiscard]] bool enabled() const { return enabled_; }
 
@@ -43,6 +48,7 @@ class PassivityControl {
 
  private:
   bool enabled_;
+  double max_damping_;  ///< [N·s/m]
   double work_ = 0.0;
   double removed_ = 0.0;
   std::uint64_t frames_acted_ = 0;

@@ -172,6 +172,7 @@ Device read_device(Reader& r, const std::string& name) {
   }
   d.max_force = r.number("max_force", d.max_force, Range::open_closed(0.0, 1000.0));
   d.max_stiffness = r.number("max_stiffness", d.max_stiffness, Range::positive());
+  d.max_damping = r.number("max_damping", d.max_damping, Range::positive());
   d.workspace.min = Vec3::Constant(-0.2);
   d.workspace.max = Vec3::Constant(0.2);
   if (auto w = r.table("workspace")) {

@@ -378,6 +378,8 @@ struct Device {
   DeviceSource source;
   double max_force = 10.0;        ///< [N]
   double max_stiffness = 2000.0;  ///< [N/m]
+  /// The strongest damping the device renders: the passivity controller damps no harder [N·s/m].
+  double max_damping = 100.0;
   Aabb workspace;                 ///< in device coordinates [m]
   double scale = 1.0;             ///< device → scene: p_scene = scale · p_device + offset
   Vec3 offset = Vec3::Zero();

@@ -153,8 +153,8 @@ std::string device_line(const Device& d) {
     s += " (" + rp->file.generic_string() + ")";
   else if (const auto* nw = std::get_if<NetworkDevice>(&d.source))
     s += fmt::format(" (udp {}:{})", nw->address, nw->port);
-  s += fmt::format(", max force {} N, max stiffness {} N/m, workspace {} .. {} m", g(d.max_force),
-                   g(d.max_stiffness), vec(d.workspace.min), vec(d.workspace.max));
+  s += fmt::format(", max force {} N, max stiffness {} N/m, max damping {} N*s/m, workspace {} .. {} m",
+                   g(d.max_force), g(d.max_stiffness), g(d.max_damping), vec(d.workspace.min), vec(d.workspace.max));
   if (d.scale != 1.0 || d.offset != Vec3::Zero() || !d.rotation.isApprox(Quat::Identity()))
     s += fmt::format(", to scene: scale {}, rotation {} deg, offset {} m", g(d.scale),
                      g(2.0 * std::acos(std::min(1.0, std::abs(d.rotation.w()))) * 180.0 / 3.141592653589793),

@@ -98,6 +98,39 @@ TEST(PassivityControl, OnlyWeakensThePartOfTheForceAlongTheMotion) {
   EXPECT_GT(acted, 100);  // random forces do net work on the hand, so it did act
 }
 
+TEST(PassivityControl, NearAStandstillItDampsNoHarderThanTheDevicesMaxDamping) {
+  // A 6 N press holding the hand still while the contact owes the hand energy (a debt of
+  // 10 mJ): the measured velocity is noise of about 1 mm/s in every direction. Taking the
+  // whole part of the force along it away swung the force about by up to 5.8 N a frame (the
+  // liver_cspace scene); a damper of at most max_damping takes b·|v|.
+  constexpr double kMaxDamping = 100.0;  // [N·s/m]
+  PassivityControl pc(true, kMaxDamping);
+  const Vec3 press(0.0, 0.0, 6.0);
+  (void)pc.apply(Vec3(0.0, 0.0, 10.0), true, Vec3::Zero(), Vec3::Zero(), kDt);
+  (void)pc.apply(press, true, Vec3(0.0, 0.0, 0.001), Vec3::Zero(), kDt);
+  ASSERT_NEAR(pc.observed_work(), 0.01, 1e-12);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0.0, 1e-3 / std::sqrt(3.0));
+  Vec3 position(0.0, 0.0, 0.001), last = press;
+  double largest_step = 0.0, largest_speed = 0.0;
+  int acted = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 velocity(n(rng), n(rng), n(rng));
+    position += 1e-7 * velocity.normalized();  // the hand all but still
+    const Vec3 out = pc.apply(press, true, position, velocity, kDt);
+    const double taken = (press - out).norm();
+    if (taken > 0.0) ++acted;
+    EXPECT_LE(taken, kMaxDamping * velocity.norm() * (1.0 + 1e-12));
+    largest_step = std::max(largest_step, (out - last).norm());
+    largest_speed = std::max(largest_speed, velocity.norm());
+    last = out;
+  }
+  EXPECT_GT(acted, 500);  // the debt stands, so it acts whenever the motion is along the press
+  // From frame to frame the force moves by at most twice b·|v|: under 1 N here.
+  EXPECT_LE(largest_step, 2.0 * kMaxDamping * largest_speed + 1e-12);
+  EXPECT_LT(largest_step, 1.0);
+}
+
 TEST(PassivityControl, ADebtOutlivesTheContactButACreditDoesNot) {
   PassivityControl pc(true);
   const Vec3 up(0.0, 0.0, 1.0), still = Vec3::Zero();
@@ -107,8 +140,9 @@ TEST(PassivityControl, ADebtOutlivesTheContactButACreditDoesNot) {
   EXPECT_NEAR(pc.observed_work(), 1e-3, 1e-12);
   for (int i = 0; i < 100; ++i) (void)pc.apply(Vec3::Zero(), false, Vec3(0.0, 0.0, 0.001), still, kDt);
   EXPECT_NEAR(pc.observed_work(), 1e-3, 1e-12);
-  // The next contact pushing the hand out is cut to nothing until the debt is paid.
-  const Vec3 out = pc.apply(up, true, Vec3(0.0, 0.0, 0.001), Vec3(0.0, 0.0, 0.01), kDt);
+  // The next contact pushing the hand out is cut to nothing until the debt is paid (1 N at
+  // 20 mm/s: a damper of 50 N·s/m, within the default max_damping of 100).
+  const Vec3 out = pc.apply(up, true, Vec3(0.0, 0.0, 0.001), Vec3(0.0, 0.0, 0.02), kDt);
   EXPECT_NEAR(out.z(), 0.0, 1e-12);
 
   // A credit: the hand pressed 1 mm against 1 N.

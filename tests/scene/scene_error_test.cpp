@@ -100,6 +100,13 @@ TEST(SceneErrors, PoissonRatioOutOfRange) {
             "dir/x.toml:4:17: materials.skin.poisson_ratio: -1 is out of range: must be in (-1, 0.5)");
 }
 
+TEST(SceneErrors, DeviceDampingMustBePositive) {
+  EXPECT_EQ(error_of(with_line(17, "type = \"scripted\"\nmax_damping = 0")),
+            "dir/x.toml:18:15: devices.hand.max_damping: 0 is out of range: must be > 0");
+  const Model m = parse_scene(with_line(17, "type = \"scripted\"\nmax_damping = 40"), "dir/x.toml");
+  EXPECT_EQ(m.devices.at(0).max_damping, 40.0);
+}
+
 TEST(SceneErrors, UnknownKeySuggestsTheClosest) {
   EXPECT_EQ(error_of(with_line(3, "youngs_modulus = 5e4")),
             "dir/x.toml:3:1: materials.skin.youngs_modulus: unknown key 'youngs_modulus'; did you mean "

@@ -67,6 +67,7 @@ TEST(SceneLoad, DefaultsAreApplied) {
   const Device& hand = m.devices[0];
   EXPECT_EQ(hand.max_force, 10.0);
   EXPECT_EQ(hand.max_stiffness, 2000.0);
+  EXPECT_EQ(hand.max_damping, 100.0);
   const auto& net = std::get<NetworkDevice>(hand.source);
   EXPECT_EQ(net.address, "127.0.0.1");  // loopback unless the scene says otherwise
 
