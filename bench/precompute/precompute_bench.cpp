@@ -789,7 +789,10 @@ int twopoint(const Options& o) {
   // Also against the sample's mean force: a finger barely loaded makes the relative error
   // large where the newtons are few.
   Errors alone_n, corrected_n, at_configuration_n, paired_n;
-  int fallbacks = 0;
+  int across_levels = 0, within_levels = 0;
+  // The two-point space's relative errors by route: all 27 levels and their Hermite cells
+  // whole, trilinear across levels, or a level that fell back within itself only.
+  std::array<std::vector<double>, 3> by_route;
   double mean_force = 0.0, mean_change = 0.0;
   for (const auto& t : truth) mean_force += (t[0].norm() + t[1].norm()) / static_cast<double>(2 * n);
   VecX ua, ub;
@@ -813,8 +816,11 @@ int twopoint(const Options& o) {
     const std::array<Vec3, 2> local{qa.force - k_aa * g_ab * (pb - b_in_a), qb.force - k_bb * g_ba * (pa - a_in_b)};
     const std::array<pc::Query, 2> from_pair{pair.force(0, pa, &pb), pair.force(1, pb, &pa)};
     for (std::size_t k2 = 0; k2 < 2; ++k2) {
-      fallbacks += from_pair[k2].fallback ? 1 : 0;
+      across_levels += from_pair[k2].across_levels ? 1 : 0;
+      within_levels += from_pair[k2].fallback ? 1 : 0;
       const double scale = truth[i][k2].norm();
+      by_route[from_pair[k2].across_levels ? 1 : from_pair[k2].fallback ? 2 : 0].push_back(
+          (from_pair[k2].force - truth[i][k2]).norm() / scale);
       paired.add((from_pair[k2].force - truth[i][k2]).norm() / scale, 2 * n);
       paired_n.add((from_pair[k2].force - truth[i][k2]).norm() / mean_force, 2 * n);
       alone.add((own[k2] - truth[i][k2]).norm() / scale, 2 * n);
@@ -841,9 +847,20 @@ int twopoint(const Options& o) {
     row("corrected by the coupling at the configurations", at_configuration, at_configuration_n);
   }
   row("two-point space", paired, paired_n);
-  std::printf("  (the two-point space fell back for %d of %zu forces: trilinear across levels, where one of the 27 "
-              "levels around the other point had no value, or within a level, where a Hermite cell lacked a point)\n",
-              fallbacks, 2 * n);
+  std::printf("  (of %zu forces, the two-point space combined %d trilinearly across levels, where one of the 27 "
+              "levels around the other point had no value, and %d used a level that fell back within itself, where "
+              "a Hermite cell lacked a point)\n",
+              2 * n, across_levels, within_levels);
+  const std::array<const char*, 3> route_names{"every level and cell whole", "trilinear across levels",
+                                               "a level fell back within itself only"};
+  for (std::size_t r = 0; r < by_route.size(); ++r) {
+    const auto& e = by_route[r];
+    if (e.empty()) continue;
+    double sum = 0.0;
+    for (double x : e) sum += x;
+    std::printf("  two-point space, %s: %zu forces, mean %.2f%%, max %.2f%%\n", route_names[r], e.size(),
+                100.0 * sum / static_cast<double>(e.size()), 100.0 * *std::max_element(e.begin(), e.end()));
+  }
   // Query latency: 100,000 queries of the first point's force, both points moving through
   // their boxes.
   std::vector<double> ns;

@@ -33,6 +33,9 @@ struct Query {
   bool valid = false;         ///< false: no solved point near p
   bool outside = false;       ///< p lay outside the grid and was clamped onto its box
   bool fallback = false;      ///< the method lacked points and trilinear was used
+  /// Two-point spaces: a level around the other point had no value at p, so the levels were
+  /// combined trilinearly instead of triquadratically (pair.hpp).
+  bool across_levels = false;
 };
 
 class Interpolator {

@@ -157,7 +157,7 @@ PairInterpolator::Combined PairInterpolator::combine(const Stencil& s, bool reno
     const Query q = query(s.level[e], s.weight[e]);
     out.query.outside = out.query.outside || q.outside;
     if (!q.valid) {
-      out.query.fallback = true;
+      out.query.across_levels = true;
       if (!renormalize) return {};
       continue;
     }
@@ -176,7 +176,7 @@ Query PairInterpolator::force(int finger, const Vec3& p, const Vec3* other) cons
   const Combined quadratic = combine(stencil(finger, other, true), false, level_force);
   if (quadratic.query.valid) return quadratic.query;
   Query q = combine(stencil(finger, other, false), true, level_force).query;
-  q.fallback = true;
+  q.across_levels = true;
   return q;
 }
 

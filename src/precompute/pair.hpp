@@ -52,8 +52,9 @@ class PairInterpolator {
 
   /// The force on point `finger` (0 or 1) at p [m], the other point at `other`; null, or
   /// outside the other point's grid box: the other is free (it does not touch). Allocation-
-  /// free. Valid where at least one level around the other has a value at p; fallback where
-  /// a level had none (trilinear then, its weight going to the others) or fell back itself.
+  /// free. Valid where at least one level around the other has a value at p; across_levels
+  /// where a level had none (trilinear across levels then, its weight going to the others),
+  /// fallback where a level used fell back within itself.
   [[nodiscard]] Query force(int finger, const Vec3& p, const Vec3* other) const noexcept;
   /// The same with the nodal displacements (3N), trilinear across levels (the 8 around the
   /// other point; the force is that of the same levels). One thread at a time (a scratch

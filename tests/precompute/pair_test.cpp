@@ -180,8 +180,9 @@ TEST(PairSpace, ALevelWithoutAValueHandsItsWeightToTheLevelsAroundIt) {
   const Vec3 pa = whole.grid(0).point(4), pb = b.point(1, 1, 1) + Vec3(0.0004, 0.0011, 0.0007);
   const Query q = holed.force(0, pa, &pb);
   ASSERT_TRUE(q.valid);
-  EXPECT_TRUE(q.fallback);
-  EXPECT_FALSE(whole.force(0, pa, &pb).fallback);
+  EXPECT_TRUE(q.across_levels);
+  EXPECT_FALSE(q.fallback);  // no level fell back within itself (trilinear levels cannot)
+  EXPECT_FALSE(whole.force(0, pa, &pb).across_levels);
   Vec3 expected = Vec3::Zero();
   double kept = 0.0;
   const Vec3 t = (pb - b.point(1, 1, 1)) / b.spacing;
