@@ -185,7 +185,8 @@ TEST(ScenarioSmoothness, LiverRunsPastTheStepThatTurnedItsElementsInsideOut) {
   // to frame by up to 1.47 N from t = 0.15 s on: the finger's load went to the contact
   // triangle's three corners, dug a pit in the 2 mm mesh, and the finger touched its rim here
   // and there. Shared over the Hertz disc (load_spread = "contact_disc") the largest step is
-  // 0.544 N, at the hand's landing (0.099 s).
+  // 0.544 N, at the hand's landing (0.099 s); 0.294 N at 2.13 s since the passivity
+  // controller damps no harder than the device's max_damping.
   EXPECT_LE(s.short_segments, 0);
   EXPECT_LE(s.max_jump, kMaxJump) << "at t = " << s.jump_time;
 }
