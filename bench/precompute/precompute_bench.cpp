@@ -789,10 +789,11 @@ int twopoint(const Options& o) {
   // Also against the sample's mean force: a finger barely loaded makes the relative error
   // large where the newtons are few.
   Errors alone_n, corrected_n, at_configuration_n, paired_n;
-  int across_levels = 0, within_levels = 0;
+  int across_levels = 0, lowered_levels = 0, within_levels = 0;
   // The two-point space's relative errors by route: all 27 levels and their Hermite cells
-  // whole, trilinear across levels, or a level that fell back within itself only.
-  std::array<std::vector<double>, 3> by_route;
+  // whole, trilinear across levels, a level that fell back within itself only, or a stencil
+  // of levels linear along one or two axes.
+  std::array<std::vector<double>, 4> by_route;
   double mean_force = 0.0, mean_change = 0.0;
   for (const auto& t : truth) mean_force += (t[0].norm() + t[1].norm()) / static_cast<double>(2 * n);
   VecX ua, ub;
@@ -817,9 +818,11 @@ int twopoint(const Options& o) {
     const std::array<pc::Query, 2> from_pair{pair.force(0, pa, &pb), pair.force(1, pb, &pa)};
     for (std::size_t k2 = 0; k2 < 2; ++k2) {
       across_levels += from_pair[k2].across_levels ? 1 : 0;
+      lowered_levels += from_pair[k2].levels_lowered ? 1 : 0;
       within_levels += from_pair[k2].fallback ? 1 : 0;
       const double scale = truth[i][k2].norm();
-      by_route[from_pair[k2].across_levels ? 1 : from_pair[k2].fallback ? 2 : 0].push_back(
+      const pc::Query& qp = from_pair[k2];
+      by_route[qp.across_levels ? 1 : qp.levels_lowered ? 3 : qp.fallback ? 2 : 0].push_back(
           (from_pair[k2].force - truth[i][k2]).norm() / scale);
       paired.add((from_pair[k2].force - truth[i][k2]).norm() / scale, 2 * n);
       paired_n.add((from_pair[k2].force - truth[i][k2]).norm() / mean_force, 2 * n);
@@ -847,12 +850,12 @@ int twopoint(const Options& o) {
     row("corrected by the coupling at the configurations", at_configuration, at_configuration_n);
   }
   row("two-point space", paired, paired_n);
-  std::printf("  (of %zu forces, the two-point space combined %d trilinearly across levels, where one of the 27 "
-              "levels around the other point had no value, and %d used a level that fell back within itself, where "
-              "a Hermite cell lacked a point)\n",
-              2 * n, across_levels, within_levels);
-  const std::array<const char*, 3> route_names{"every level and cell whole", "trilinear across levels",
-                                               "a level fell back within itself only"};
+  std::printf("  (of %zu forces, where one of the 27 levels around the other point had no value, the two-point "
+              "space made its stencil linear along one or two axes for %d and combined %d trilinearly across levels; "
+              "%d used a level that fell back within itself, where a Hermite cell lacked a point)\n",
+              2 * n, lowered_levels, across_levels, within_levels);
+  const std::array<const char*, 4> route_names{"every level and cell whole", "trilinear across levels",
+                                               "a level fell back within itself only", "stencil linear along one or two axes"};
   for (std::size_t r = 0; r < by_route.size(); ++r) {
     const auto& e = by_route[r];
     if (e.empty()) continue;

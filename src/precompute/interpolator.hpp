@@ -36,6 +36,9 @@ struct Query {
   /// Two-point spaces: a level around the other point had no value at p, so the levels were
   /// combined trilinearly instead of triquadratically (pair.hpp).
   bool across_levels = false;
+  /// Two-point spaces: a level around the other point had no value at p, and a stencil
+  /// linear along one or two axes (quadratic along the rest) left it out (pair.hpp).
+  bool levels_lowered = false;
 };
 
 class Interpolator {

@@ -100,7 +100,8 @@ bool PairInterpolator::in_box(int finger, const Vec3& p) const {
   return (p.array() >= g.lower().array()).all() && (p.array() <= g.upper().array()).all();
 }
 
-PairInterpolator::Stencil PairInterpolator::stencil(int finger, const Vec3* other, bool quadratic) const noexcept {
+PairInterpolator::Stencil PairInterpolator::stencil(int finger, const Vec3* other,
+                                                    std::array<bool, 3> quadratic) const noexcept {
   Stencil out;
   if (!other || !other->allFinite() || !in_box(1 - finger, *other)) {
     out.level[0] = static_cast<std::size_t>(finger);
@@ -113,16 +114,17 @@ PairInterpolator::Stencil PairInterpolator::stencil(int finger, const Vec3* othe
   const Vec3 u = (*other - g.origin) / g.spacing;
   // Per axis the first level index and the weights: the 3 levels around the nearest interior
   // one (Lagrange), or the 2 of the cell (linear); a single level where the grid has one.
-  std::array<int, 3> first{}, count{};
+  std::array<int, 3> first{}, count{}, block{};  // block: the first level of the 3 × 3 × 3 block
   std::array<std::array<double, 3>, 3> w{};
   for (std::size_t a = 0; a < 3; ++a) {
     const double x = u[static_cast<Eigen::Index>(a)];
     const int n = g.counts[a];
+    block[a] = n >= 3 ? std::clamp(static_cast<int>(std::lround(x)), 1, n - 2) - 1 : 0;
     if (n == 1) {
       first[a] = 0;
       count[a] = 1;
       w[a] = {1.0, 0.0, 0.0};
-    } else if (quadratic && n >= 3) {
+    } else if (quadratic[a] && n >= 3) {
       const int c = std::clamp(static_cast<int>(std::lround(x)), 1, n - 2);
       const double t = x - c;
       first[a] = c - 1;
@@ -145,6 +147,7 @@ PairInterpolator::Stencil PairInterpolator::stencil(int finger, const Vec3* othe
         const auto e = static_cast<std::size_t>(out.count++);
         out.level[e] = base + g.index(first[0] + i, first[1] + j, first[2] + k);
         out.weight[e] = weight;
+        out.slot[e] = (first[0] + i - block[0]) + 3 * (first[1] + j - block[1]) + 9 * (first[2] + k - block[2]);
       }
   return out;
 }
@@ -154,7 +157,7 @@ PairInterpolator::Combined PairInterpolator::combine(const Stencil& s, bool reno
   Combined out;
   for (int i = 0; i < s.count; ++i) {
     const auto e = static_cast<std::size_t>(i);
-    const Query q = query(s.level[e], s.weight[e]);
+    const Query q = query(s, e);
     out.query.outside = out.query.outside || q.outside;
     if (!q.valid) {
       out.query.across_levels = true;
@@ -172,10 +175,33 @@ PairInterpolator::Combined PairInterpolator::combine(const Stencil& s, bool reno
 }
 
 Query PairInterpolator::force(int finger, const Vec3& p, const Vec3* other) const noexcept {
-  auto level_force = [&](std::size_t level, double) { return levels_[level].force(p); };
-  const Combined quadratic = combine(stencil(finger, other, true), false, level_force);
+  // Each level's query at p is made at most once: every stencil tried below draws on the same
+  // 3 × 3 × 3 levels around the other point.
+  std::array<Query, 27> asked;
+  std::array<bool, 27> done{};
+  auto level_force = [&](const Stencil& s, std::size_t e) {
+    const auto slot = static_cast<std::size_t>(s.slot[e]);
+    if (!done[slot]) {
+      asked[slot] = levels_[s.level[e]].force(p);
+      done[slot] = true;
+    }
+    return asked[slot];
+  };
+  const Combined quadratic = combine(stencil(finger, other, kQuadratic), false, level_force);
   if (quadratic.query.valid) return quadratic.query;
-  Query q = combine(stencil(finger, other, false), true, level_force).query;
+  // A level around the other point has no value at p. Before trilinear across levels: the
+  // stencil linear along one axis (the two levels of the other point's cell there), then
+  // along two, quadratic along the rest, where every level of it has a value.
+  constexpr std::array<std::array<bool, 3>, 6> kLowered{
+      {{false, true, true}, {true, false, true}, {true, true, false}, {false, false, true}, {false, true, false},
+       {true, false, false}}};
+  for (const auto& orders : kLowered) {
+    Combined lowered = combine(stencil(finger, other, orders), false, level_force);
+    if (!lowered.query.valid) continue;
+    lowered.query.levels_lowered = true;
+    return lowered.query;
+  }
+  Query q = combine(stencil(finger, other, kLinear), true, level_force).query;
   q.across_levels = true;
   return q;
 }
@@ -183,15 +209,15 @@ Query PairInterpolator::force(int finger, const Vec3& p, const Vec3* other) cons
 Query PairInterpolator::shape(int finger, const Vec3& p, const Vec3* other, VecX& displacement) const {
   const auto dofs = levels_.front().space().displacement.rows();
   if (displacement.size() != dofs) displacement.resize(dofs);
-  auto level_shape = [&](std::size_t level, double weight) {
-    const Query q = levels_[level].shape(p, scratch_);
-    if (q.valid) displacement += weight * scratch_;
+  auto level_shape = [&](const Stencil& s, std::size_t e) {
+    const Query q = levels_[s.level[e]].shape(p, scratch_);
+    if (q.valid) displacement += s.weight[e] * scratch_;
     return q;
   };
   // Trilinear across levels: 8 levels' shapes, not 27 (the shape is drawn, not felt; 27
   // Hermite shapes of the organ took 1.5 ms a simulation step and crowded the haptic loops).
   displacement.setZero();
-  const Combined c = combine(stencil(finger, other, false), true, level_shape);
+  const Combined c = combine(stencil(finger, other, kLinear), true, level_shape);
   if (!c.query.valid) {
     displacement.setZero();
     return c.query;

@@ -52,9 +52,11 @@ class PairInterpolator {
 
   /// The force on point `finger` (0 or 1) at p [m], the other point at `other`; null, or
   /// outside the other point's grid box: the other is free (it does not touch). Allocation-
-  /// free. Valid where at least one level around the other has a value at p; across_levels
-  /// where a level had none (trilinear across levels then, its weight going to the others),
-  /// fallback where a level used fell back within itself.
+  /// free. Valid where at least one level around the other has a value at p. Where one of
+  /// the 27 levels around the other point has none, the stencil made linear along one axis,
+  /// then two, where that leaves it out (levels_lowered); else trilinear across levels, its
+  /// weight going to the others (across_levels). fallback: a level used fell back within
+  /// itself.
   [[nodiscard]] Query force(int finger, const Vec3& p, const Vec3* other) const noexcept;
   /// The same with the nodal displacements (3N), trilinear across levels (the 8 around the
   /// other point; the force is that of the same levels). One thread at a time (a scratch
@@ -72,14 +74,18 @@ class PairInterpolator {
   struct Stencil {
     std::array<std::size_t, 27> level{};
     std::array<double, 27> weight{};
+    /// Each level's place in the 3 × 3 × 3 block of levels around the other point's nearest
+    /// interior grid point (i + 3j + 9k): every stencil draws on that block.
+    std::array<int, 27> slot{};
     int count = 0;
   };
   [[nodiscard]] const Interpolator& alone(int finger) const { return levels_[static_cast<std::size_t>(finger)]; }
-  /// The levels of `finger` around the other point's place (triquadratic, or trilinear), or
-  /// its free level.
-  [[nodiscard]] Stencil stencil(int finger, const Vec3* other, bool quadratic) const noexcept;
-  /// Σ weight · (a level's query), through `query(level)`; with `renormalize`, the levels
-  /// without a value are left out and the others' weights scaled to sum to one.
+  /// The levels of `finger` around the other point's place, per axis quadratic (the 3 levels
+  /// around the nearest interior one) or linear (the 2 of its cell), or its free level.
+  [[nodiscard]] Stencil stencil(int finger, const Vec3* other, std::array<bool, 3> quadratic) const noexcept;
+  static constexpr std::array<bool, 3> kQuadratic{true, true, true}, kLinear{false, false, false};
+  /// Σ weight · (a level's query), through `query(stencil, entry)`; with `renormalize`, the
+  /// levels without a value are left out and the others' weights scaled to sum to one.
   struct Combined {
     Query query;
     double kept = 0.0;  ///< the weight of the levels that had a value

@@ -195,6 +195,38 @@ TEST(PairSpace, ALevelWithoutAValueHandsItsWeightToTheLevelsAroundIt) {
   EXPECT_LT((q.force - expected / kept).norm(), 1e-12 * expected.norm());
 }
 
+TEST(PairSpace, ALevelWithoutAValueAtAnEndIsLeftOutByAStencilLinearAlongItsAxis) {
+  const physics::Body body = testing::block_body();
+  const SpaceSettings s = pair_settings(body);
+  std::vector<Space> levels = build_levels(body, s);
+  // The first point's level with the second at B's grid point (0, 1, 1) fails everywhere.
+  // The second sits in B's cell between x-levels 1 and 2, so a stencil linear along x
+  // (levels 1 and 2) and quadratic along y and z (levels 0, 1, 2) leaves the failed one out.
+  const Grid b = PairInterpolator(shared(levels), Interpolation::trilinear).grid(1);
+  for (auto& status : levels[2 + b.index(0, 1, 1)].status) status = PointStatus::failed;
+  const PairInterpolator holed(shared(levels), Interpolation::trilinear);
+  const Vec3 pa = holed.grid(0).point(4), pb = b.point(1, 1, 1) + Vec3(0.0004, 0.0011, -0.0007);
+  const Query q = holed.force(0, pa, &pb);
+  ASSERT_TRUE(q.valid);
+  EXPECT_TRUE(q.levels_lowered);
+  EXPECT_FALSE(q.across_levels);
+  const Vec3 t = (pb - b.point(1, 1, 1)) / b.spacing;
+  auto quadratic = [](double x, int m) { return m == 0 ? 0.5 * x * (x - 1.0) : m == 1 ? 1.0 - x * x : 0.5 * x * (x + 1.0); };
+  Vec3 expected = Vec3::Zero();
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) {
+        const double w = (i ? t.x() : 1.0 - t.x()) * quadratic(t.y(), j) * quadratic(t.z(), k);
+        expected += w * levels[2 + b.index(1 + i, j, k)].force[4];
+      }
+  EXPECT_LT((q.force - expected).norm(), 1e-12 * expected.norm());
+  // With the centre failed instead, every lowered stencil holds it: trilinear across levels.
+  for (auto& status : levels[2 + b.index(1, 1, 1)].status) status = PointStatus::failed;
+  const Query centre = PairInterpolator(shared(levels), Interpolation::trilinear).force(0, pa, &pb);
+  EXPECT_TRUE(centre.across_levels);
+  EXPECT_FALSE(centre.levels_lowered);
+}
+
 TEST(PairSpace, AFileHoldsEveryLevelAndRefusesOnesThatDoNotBelong) {
   const physics::Body body = testing::block_body();
   const SpaceSettings s = pair_settings(body);
