@@ -855,7 +855,8 @@ int twopoint(const Options& o) {
               "%d used a level that fell back within itself, where a Hermite cell lacked a point)\n",
               2 * n, lowered_levels, across_levels, within_levels);
   const std::array<const char*, 4> route_names{"every level and cell whole", "trilinear across levels",
-                                               "a level fell back within itself only", "stencil linear along one or two axes"};
+                                               "a level fell back within itself only",
+                                               "stencil linear along one or two axes"};
   for (std::size_t r = 0; r < by_route.size(); ++r) {
     const auto& e = by_route[r];
     if (e.empty()) continue;

@@ -211,7 +211,9 @@ TEST(PairSpace, ALevelWithoutAValueAtAnEndIsLeftOutByAStencilLinearAlongItsAxis)
   EXPECT_TRUE(q.levels_lowered);
   EXPECT_FALSE(q.across_levels);
   const Vec3 t = (pb - b.point(1, 1, 1)) / b.spacing;
-  auto quadratic = [](double x, int m) { return m == 0 ? 0.5 * x * (x - 1.0) : m == 1 ? 1.0 - x * x : 0.5 * x * (x + 1.0); };
+  auto quadratic = [](double x, int m) {
+    return m == 0 ? 0.5 * x * (x - 1.0) : m == 1 ? 1.0 - x * x : 0.5 * x * (x + 1.0);
+  };
   Vec3 expected = Vec3::Zero();
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 3; ++j)
