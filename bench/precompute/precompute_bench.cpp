@@ -40,7 +40,8 @@
 //            the two-point space `tactus precompute` builds (precompute/pair.hpp): per point
 //            of the other's grid a level, the point's own space with the other held there.
 //            With --patch, each point moves the nodes within MM of it (then the couplings,
-//            the two nodes', are not printed).
+//            the two nodes', are not printed). With --space FILE the levels are written
+//            there, or read from there where an earlier run of the same command wrote them.
 //   online   --nodes N --law L --spacing S --threads W [--first V]
 //            on-line construction: the largest tool speed at which at least 99 % of the
 //            1 kHz force queries find their cell complete, with W solver threads, on the
@@ -64,6 +65,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <numbers>
@@ -716,11 +718,28 @@ int twopoint(const Options& o) {
   std::vector<std::shared_ptr<const pc::Space>> levels;
   std::size_t points = 0, solved = 0;
   double wall = 0.0;
-  for (const pc::SpaceSettings& level : settings) {
-    pc::Space space = pc::make_space(ma.body, level, "");
+  // --space FILE: the levels built by an earlier run of the same command, where its levels
+  // are this space's (the same models, grids and held places); else built and written there.
+  std::vector<pc::Space> saved;
+  if (!o.space.empty() && std::filesystem::exists(o.space)) {
+    saved = pc::read_space_levels(o.space);
+    bool same = saved.size() == settings.size();
+    for (std::size_t k = 0; same && k < settings.size(); ++k)
+      same = saved[k].identity.model_hash == pc::make_space(ma.body, settings[k], "").identity.model_hash;
+    if (!same) {
+      std::fprintf(stderr, "twopoint: %s holds other levels than this command's\n", o.space.c_str());
+      return 2;
+    }
+    std::printf("twopoint: %zu levels read from %s (their build times are those of the run that wrote them)\n",
+                saved.size(), o.space.c_str());
+  }
+  for (std::size_t k = 0; k < settings.size(); ++k) {
+    const pc::SpaceSettings& level = settings[k];
+    pc::Space space = saved.empty() ? pc::make_space(ma.body, level, "") : std::move(saved[k]);
     pc::BuildOptions bo;
     bo.threads = o.threads;
-    const double w = pc::build_local(space, factory(ma, level), bo).wall_seconds;
+    double w = 0.0;
+    if (saved.empty()) w = pc::build_local(space, factory(ma, level), bo).wall_seconds;
     if (levels.size() < 2)
       std::printf("twopoint: point %c (node %d at (%.1f, %.1f, %.1f) mm) alone: %zu points, %zu not solved, %.1f s "
                   "wall\n",
@@ -733,6 +752,11 @@ int twopoint(const Options& o) {
       wall += w;
     }
     levels.push_back(std::make_shared<const pc::Space>(std::move(space)));
+  }
+  if (!o.space.empty() && saved.empty()) {
+    std::vector<pc::Space> copies;
+    for (const auto& l : levels) copies.push_back(*l);
+    pc::write_space_levels(o.space, copies);
   }
   const pc::PairInterpolator pair(levels, pc::Interpolation::tricubic_hermite);
   const std::array<const pc::Space*, 2> spaces{levels[0].get(), levels[1].get()};

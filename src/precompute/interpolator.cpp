@@ -68,13 +68,7 @@ double hermite_slope(int side, double t) { return side ? t * t * (t - 1.0) : t *
 /// The mixed derivatives a tricubic Hermite corner carries, as derivative orders.
 constexpr std::array<std::array<int, 3>, 4> kMixed{{{1, 1, 0}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}}};
 
-/// A corner's weights in the tricubic Hermite at t: of its value, its gradient (per metre:
-/// times the spacing h) and its mixed derivatives (in kMixed's order).
-struct CornerBasis {
-  double value = 0.0;
-  Vec3 gradient = Vec3::Zero();
-  std::array<double, 4> mixed{};
-};
+using CornerBasis = Interpolator::CornerBasis;
 CornerBasis corner_basis(const std::array<int, 3>& corner, const Vec3& t, double h) {
   const Vec3 v(hermite_value(corner[0], t.x()), hermite_value(corner[1], t.y()), hermite_value(corner[2], t.z()));
   const Vec3 d =
@@ -562,6 +556,38 @@ void Interpolator::weights(const Vec3& p, Weights& out) const noexcept {
   out.query.valid = ok;
   if (!ok) out.count = 0;
   if (!ok || out.query.fallback) out.with_gradients = false;
+}
+
+Interpolator::Located Interpolator::locate(const Vec3& p) const noexcept {
+  Located at;
+  Query q;
+  locate(p, at.cell, at.t, q);
+  at.outside = q.outside;
+  if (method_ == Interpolation::tricubic_hermite)
+    for (std::size_t c = 0; c < 8; ++c) at.basis[c] = corner_basis(offsets_[c], at.t, space_->grid.spacing);
+  return at;
+}
+
+Query Interpolator::force(const Vec3& p, const Located& at) const noexcept {
+  // A grid cell without refinement (the common case): tricubic_force with the basis given.
+  if (method_ == Interpolation::tricubic_hermite && !space_->is_refined({0, at.cell})) {
+    std::array<std::size_t, 8> points{};
+    if (corners({0, at.cell}, points)) {
+      Query q;
+      q.outside = at.outside;
+      q.valid = true;
+      for (std::size_t c = 0; c < 8; ++c) {
+        const std::size_t point = points[c];
+        const CornerBasis& b = at.basis[c];
+        q.force += b.value * space_->force[point];
+        q.force.noalias() += space_->force_gradient[point] * b.gradient;
+        const Mixed& m = mixed_[point];
+        for (std::size_t d = 0; d < b.mixed.size(); ++d) q.force += b.mixed[d] * m.force[d];
+      }
+      return q;
+    }
+  }
+  return force(p);
 }
 
 Query Interpolator::force(const Vec3& p) const noexcept {

@@ -50,6 +50,26 @@ class Interpolator {
 
   /// The force at interaction point p [m]. Allocation-free.
   [[nodiscard]] Query force(const Vec3& p) const noexcept;
+
+  /// A corner's weights in the tricubic Hermite at a place in its cell: of its value, its
+  /// gradient (per metre: times the spacing) and its mixed derivatives ∂xy, ∂xz, ∂yz, ∂xyz.
+  struct CornerBasis {
+    double value = 0.0;
+    Vec3 gradient = Vec3::Zero();
+    std::array<double, 4> mixed{};
+  };
+  /// A point located on the grid, with the Hermite weights of its cell's corners: made once
+  /// for several spaces on the same grid (a two-point space's levels query each at one p).
+  struct Located {
+    std::array<int, 3> cell{};
+    Vec3 t = Vec3::Zero();
+    bool outside = false;
+    std::array<CornerBasis, 8> basis{};  ///< tricubic_hermite only
+  };
+  [[nodiscard]] Located locate(const Vec3& p) const noexcept;
+  /// force(p), bit for bit, with p located by `at` (from locate(p) on this space or one on
+  /// the same grid): a grid cell whose corners are solved costs no basis and no search.
+  [[nodiscard]] Query force(const Vec3& p, const Located& at) const noexcept;
   /// The force and the nodal displacements (3N) at p. `displacement` is resized only when its
   /// size differs (size it once: then this allocates nothing either).
   Query shape(const Vec3& p, VecX& displacement) const;

@@ -176,13 +176,15 @@ PairInterpolator::Combined PairInterpolator::combine(const Stencil& s, bool reno
 
 Query PairInterpolator::force(int finger, const Vec3& p, const Vec3* other) const noexcept {
   // Each level's query at p is made at most once: every stencil tried below draws on the same
-  // 3 × 3 × 3 levels around the other point.
+  // 3 × 3 × 3 levels around the other point. The point's levels share its grid: p is located
+  // and its cell's Hermite weights made once for all of them.
+  const Interpolator::Located at = alone(finger).locate(p);
   std::array<Query, 27> asked;
   std::array<bool, 27> done{};
   auto level_force = [&](const Stencil& s, std::size_t e) {
     const auto slot = static_cast<std::size_t>(s.slot[e]);
     if (!done[slot]) {
-      asked[slot] = levels_[s.level[e]].force(p);
+      asked[slot] = levels_[s.level[e]].force(p, at);
       done[slot] = true;
     }
     return asked[slot];

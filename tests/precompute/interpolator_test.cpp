@@ -201,6 +201,29 @@ TEST(Interpolator, LeavesOutPointsNotSolved) {
   EXPECT_FALSE(Interpolator(empty, Interpolation::rbf_cubic).force(Vec3::Zero()).valid);
 }
 
+TEST(Interpolator, LocatedOnceTheForceIsThePlainQueryBitForBit) {
+  // As a two-point space's levels are queried: p located on one space, the force taken from
+  // another on the same grid, here with a hole and points outside the grid.
+  auto space = synthetic(smooth_field);
+  space->status[space->grid.index(2, 3, 2)] = PointStatus::failed;
+  const auto other = synthetic(cubic_field);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.1, 1.1);
+  const Vec3 lower = space->grid.origin, size = space->grid.upper() - lower;
+  for (auto m : kAll) {
+    const Interpolator in(space, m), on_same_grid(other, m);
+    for (int i = 0; i < 300; ++i) {
+      const Vec3 p = lower + size.cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+      const Interpolator::Located at = on_same_grid.locate(p);
+      const Query plain = in.force(p), located = in.force(p, at);
+      ASSERT_EQ(plain.force, located.force) << to_string(m) << " at " << p.transpose();
+      EXPECT_EQ(plain.valid, located.valid);
+      EXPECT_EQ(plain.outside, located.outside);
+      EXPECT_EQ(plain.fallback, located.fallback);
+    }
+  }
+}
+
 TEST(Interpolator, TricubicHermiteReproducesCubicsWhereItsDifferencesAreCentral) {
   // Mixed derivatives come from central differences of the stored gradients in the interior,
   // exact for the gradients of a cubic (quadratics): the tricubic Hermite then reproduces any

@@ -84,6 +84,19 @@ TEST(Refinement, SplitsWithinTheBudgetAndSolvesEveryNewPointAsADirectSolveWould)
     EXPECT_LT((in.force(f.space->position(p)).force - f.space->force[p]).norm(), 1e-9 * f.space->force[p].norm());
   }
   EXPECT_GE(checked, 7);  // at least the first cell's own centre, face and edge points
+  // Located once (as a two-point space's levels are), a query in a split cell or beside one
+  // is the plain query, bit for bit.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  const Grid& g = f.space->grid;
+  for (int i = 0; i < 500; ++i) {
+    const Vec3 p = g.lower() + (g.upper() - g.lower()).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    const Query plain = in.force(p), located = in.force(p, in.locate(p));
+    EXPECT_EQ(plain.force, located.force) << p.transpose();
+    EXPECT_EQ(plain.valid, located.valid);
+    EXPECT_EQ(plain.outside, located.outside);
+    EXPECT_EQ(plain.fallback, located.fallback);
+  }
 }
 
 TEST(Refinement, ProbesRankTheCellsByTheSolvedCentresMiss) {
