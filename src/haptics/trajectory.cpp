@@ -126,22 +126,26 @@ std::pair<Vec3, Vec3> raster_at_arc(const RasterPath& p, const RasterLayout& r, 
   return {Vec3(x, y + rise, p.z), Vec3(0.0, 1.0, 0.0)};
 }
 
+// The approach (straight down from `approach` above the first line's start) is arc length
+// [0, approach); the scan follows it.
 Vec3 raster_position(const RasterPath& p, double t) {
   const RasterLayout r(p);
-  if (p.speed <= 0.0) return raster_at_arc(p, r, 0.0).first;
-  return raster_at_arc(p, r, std::max(t, 0.0) * p.speed).first;
+  const double s = p.speed > 0.0 ? std::max(t, 0.0) * p.speed : 0.0;
+  if (s < p.approach) return Vec3(p.min.x(), p.min.y(), p.z + p.approach - s);
+  return raster_at_arc(p, r, s - p.approach).first;
 }
 
 Vec3 raster_velocity(const RasterPath& p, double t) {
   const RasterLayout r(p);
   if (p.speed <= 0.0) return Vec3::Zero();
   const double s = std::max(t, 0.0) * p.speed;
-  if (s >= r.length) return Vec3::Zero();
-  return p.speed * raster_at_arc(p, r, s).second;
+  if (s < p.approach) return Vec3(0.0, 0.0, -p.speed);
+  if (s - p.approach >= r.length) return Vec3::Zero();
+  return p.speed * raster_at_arc(p, r, s - p.approach).second;
 }
 
 double raster_duration(const RasterPath& p) {
-  return p.speed > 0.0 ? RasterLayout(p).length / p.speed : 0.0;
+  return p.speed > 0.0 ? (p.approach + RasterLayout(p).length) / p.speed : 0.0;
 }
 
 // ---- press ----------------------------------------------------------------------------------

@@ -19,13 +19,17 @@ struct WaypointsPath {
   std::vector<Waypoint> points;  ///< times strictly increasing
   bool loop = false;
 };
-/// Boustrophedon scan of the rectangle [min, max] in x–y at height z (palpation).
+/// Boustrophedon scan of the rectangle [min, max] in x–y at height z (palpation), after an
+/// optional approach from above.
 struct RasterPath {
   Vec2 min = Vec2::Zero();
   Vec2 max = Vec2::Zero();
   double z = 0.0;
   double spacing = 0.005;  ///< between scan lines [m]
   double speed = 0.02;     ///< [m/s]
+  /// [m]: the scan starts this far above z over its first corner and comes straight down at
+  /// `speed` (a hand put down on the tissue rather than one that starts inside it).
+  double approach = 0.0;
 };
 /// Move from `position` along `direction` by `depth`, hold, return; `repeat` times.
 struct PressPath {

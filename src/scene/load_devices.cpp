@@ -47,6 +47,7 @@ Trajectory read_trajectory(Reader& t) {
       p.z = t.required_number("z");
       p.spacing = t.number("spacing", p.spacing, Range::positive());
       p.speed = t.number("speed", p.speed, Range::positive());
+      p.approach = t.number("approach", p.approach, Range::non_negative());
       return p;
     }
     case press: {

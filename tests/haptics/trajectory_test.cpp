@@ -121,6 +121,21 @@ TEST(Raster, StaysInTheRectangleAtConstantSpeed) {
   }
 }
 
+TEST(Raster, AnApproachComesStraightDownOntoTheFirstCornerAndDelaysTheScan) {
+  RasterPath p = square_raster();
+  p.approach = 0.01;  // 0.5 s at 0.02 m/s
+  const Trajectory t = p, plain = square_raster();
+  EXPECT_NEAR(duration(t), 40.5, 1e-9);
+  EXPECT_VEC_NEAR(position_at(t, 0.0), Vec3(-0.04, -0.04, 0.035), kTol);
+  EXPECT_VEC_NEAR(position_at(t, 0.25), Vec3(-0.04, -0.04, 0.030), kTol);
+  EXPECT_VEC_NEAR(velocity_at(t, 0.25), Vec3(0, 0, -0.02), kTol);
+  // Then the scan, half a second late.
+  for (double s : {0.5, 1.0, 4.75, 20.0, 40.5})
+    EXPECT_VEC_NEAR(position_at(t, s), position_at(plain, s - 0.5), 1e-12);
+  EXPECT_VEC_NEAR(velocity_at(t, 1.0), Vec3(0.02, 0, 0), kTol);
+  EXPECT_VEC_NEAR(velocity_at(t, 41.0), Vec3::Zero(), kTol);
+}
+
 PressPath two_presses() {
   PressPath p;
   p.position = Vec3(0, 0, 0.01);

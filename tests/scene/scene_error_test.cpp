@@ -107,6 +107,15 @@ TEST(SceneErrors, DeviceDampingMustBePositive) {
   EXPECT_EQ(m.devices.at(0).max_damping, 40.0);
 }
 
+TEST(SceneErrors, RasterApproachMustNotBeNegative) {
+  const std::string raster = "trajectory = { type = \"raster\", min = [0, 0], max = [0.01, 0.01], z = 0.01, approach = ";
+  EXPECT_EQ(error_of(with_line(18, raster + "-0.002 }")),
+            "dir/x.toml:18:88: devices.hand.trajectory.approach: -0.002 is out of range: must be >= 0");
+  const Model m = parse_scene(with_line(18, raster + "0.005 }"), "dir/x.toml");
+  EXPECT_EQ(std::get<haptics::RasterPath>(std::get<ScriptedDevice>(m.devices.at(0).source).trajectory).approach,
+            0.005);
+}
+
 TEST(SceneErrors, UnknownKeySuggestsTheClosest) {
   EXPECT_EQ(error_of(with_line(3, "youngs_modulus = 5e4")),
             "dir/x.toml:3:1: materials.skin.youngs_modulus: unknown key 'youngs_modulus'; did you mean "
