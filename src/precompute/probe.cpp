@@ -106,10 +106,12 @@ ProbeInterpolator::Stencil ProbeInterpolator::stencil(const Vec3& direction) con
 
 Query ProbeInterpolator::force(const Vec3& p, const Vec3& direction) const noexcept {
   const Stencil s = stencil(direction);
+  // Every lean shares the grid: p is located and its cell's Hermite weights made once.
+  const Interpolator::Located at = levels_.front().locate(p);
   Query out;
   out.valid = true;
   for (std::size_t i = 0; i < s.level.size(); ++i) {
-    const Query q = levels_[s.level[i]].force(p);
+    const Query q = levels_[s.level[i]].force(p, at);
     out.valid = out.valid && q.valid;
     out.outside = out.outside || q.outside;
     out.fallback = out.fallback || q.fallback;
