@@ -347,16 +347,24 @@ bool Interpolator::tricubic_force(const Place& place, Vec3& force) const noexcep
   std::array<std::size_t, 8> points{};
   if (!corners(place.cell, points)) return false;
   const double h = space_->grid.spacing / (1 << place.cell.level);
-  force.setZero();
-  for (int c = 0; c < 8; ++c) {
-    const std::size_t p = points[static_cast<std::size_t>(c)];
-    const CornerBasis b = corner_basis(offsets_[static_cast<std::size_t>(c)], place.t, h);
+  std::array<CornerBasis, 8> basis;
+  for (std::size_t c = 0; c < 8; ++c) basis[c] = corner_basis(offsets_[c], place.t, h);
+  force = hermite_sum(points, place.cell.level, basis);
+  return true;
+}
+
+Vec3 Interpolator::hermite_sum(const std::array<std::size_t, 8>& points, int level,
+                               const std::array<CornerBasis, 8>& basis) const noexcept {
+  Vec3 force = Vec3::Zero();
+  for (std::size_t c = 0; c < 8; ++c) {
+    const std::size_t p = points[c];
+    const CornerBasis& b = basis[c];
     force += b.value * space_->force[p];
     force.noalias() += space_->force_gradient[p] * b.gradient;
-    const Mixed& m = *mixed(p, place.cell.level);
+    const Mixed& m = *mixed(p, level);
     for (std::size_t d = 0; d < b.mixed.size(); ++d) force += b.mixed[d] * m.force[d];
   }
-  return true;
+  return force;
 }
 
 double Interpolator::cell_disagreement(const LatticeIndex& cell) const {
@@ -576,16 +584,16 @@ Query Interpolator::force(const Vec3& p, const Located& at) const noexcept {
       Query q;
       q.outside = at.outside;
       q.valid = true;
-      for (std::size_t c = 0; c < 8; ++c) {
-        const std::size_t point = points[c];
-        const CornerBasis& b = at.basis[c];
-        q.force += b.value * space_->force[point];
-        q.force.noalias() += space_->force_gradient[point] * b.gradient;
-        const Mixed& m = mixed_[point];
-        for (std::size_t d = 0; d < b.mixed.size(); ++d) q.force += b.mixed[d] * m.force[d];
-      }
+      q.force = hermite_sum(points, 0, at.basis);
       return q;
     }
+  }
+  if (method_ == Interpolation::trilinear) {  // as weights(p) does, from the cell given
+    Weights w;
+    w.query.outside = at.outside;
+    w.query.valid = trilinear(at.cell, at.t, w);
+    if (!w.query.valid) w.count = 0;
+    return weighted_force(w);
   }
   return force(p);
 }
@@ -606,6 +614,10 @@ Query Interpolator::force(const Vec3& p) const noexcept {
     w.query = Query{};
   }
   weights(p, w);
+  return weighted_force(w);
+}
+
+Query Interpolator::weighted_force(Weights& w) const noexcept {
   Vec3 f = Vec3::Zero();
   for (int i = 0; i < w.count; ++i) {
     const auto k = static_cast<std::size_t>(i);

@@ -68,7 +68,8 @@ class Interpolator {
   };
   [[nodiscard]] Located locate(const Vec3& p) const noexcept;
   /// force(p), bit for bit, with p located by `at` (from locate(p) on this space or one on
-  /// the same grid): a grid cell whose corners are solved costs no basis and no search.
+  /// the same grid): a grid cell whose corners are solved (tricubic Hermite) costs no basis
+  /// and no search, and trilinear weights need no second search.
   [[nodiscard]] Query force(const Vec3& p, const Located& at) const noexcept;
   /// The force and the nodal displacements (3N) at p. `displacement` is resized only when its
   /// size differs (size it once: then this allocates nothing either).
@@ -114,6 +115,8 @@ class Interpolator {
     Vec3 t = Vec3::Zero();
   };
   void weights(const Vec3& p, Weights& out) const noexcept;
+  /// The force of the points and weights in `w`, into w.query.force.
+  Query weighted_force(Weights& w) const noexcept;
   bool trilinear(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
   bool scattered(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
   /// The cell holding p (clamped onto the grid: query.outside) and p's place in it, [0, 1]³.
@@ -125,6 +128,9 @@ class Interpolator {
   bool tricubic(const Place& place, Weights& out) const noexcept;
   /// The tricubic Hermite force straight from the corners' data; false unless all 8 are solved.
   bool tricubic_force(const Place& place, Vec3& force) const noexcept;
+  /// The tricubic Hermite sum over a cell's 8 solved corners (points) at `level` with their weights.
+  [[nodiscard]] Vec3 hermite_sum(const std::array<std::size_t, 8>& points, int level,
+                                 const std::array<CornerBasis, 8>& basis) const noexcept;
   [[nodiscard]] const Mixed* mixed(std::size_t point, int level) const noexcept;
   [[nodiscard]] Mixed mixed_at(const LatticeIndex& at) const;
   static std::uint64_t fine_key(std::size_t point, int level) {

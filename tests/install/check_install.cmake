@@ -46,10 +46,16 @@ number_after("loop haptic\\[hand\\]: " "${step_output}" haptic_steps)
 # 4 mm into a 30 kPa block through the scene's 800 N/m proxy: about a newton or two, never
 # the 10 N limit; the finger touches for the last 0.8 s or so; a loaded 2-core machine may
 # miss haptic deadlines, so the steps are bounded at half the nominal 1000.
-if(max_force LESS_EQUAL 0.2 OR max_force GREATER_EQUAL 10)
-  message(FATAL_ERROR "realtime_custom: max force ${max_force} N is not the press of the example")
+# ThreadSanitizer slows every loop 5-15x (the simulation ran at 11 Hz for its 100): there
+# the press is not reached in 1 s, and only the limit is checked.
+if(max_force GREATER_EQUAL 10)
+  message(FATAL_ERROR "realtime_custom: max force ${max_force} N reaches the device's 10 N limit")
 endif()
-if(contact_frames LESS 300 OR haptic_steps LESS 500)
+if(SANITIZE STREQUAL "thread")
+  message(STATUS "under ThreadSanitizer: the real-time press (force, contact frames, steps) is not checked")
+elseif(max_force LESS_EQUAL 0.2)
+  message(FATAL_ERROR "realtime_custom: max force ${max_force} N is not the press of the example")
+elseif(contact_frames LESS 300 OR haptic_steps LESS 500)
   message(FATAL_ERROR "realtime_custom: ${contact_frames} contact frames, ${haptic_steps} haptic steps in 1 s")
 endif()
 
