@@ -203,10 +203,11 @@ void check_recording(const NoduleRun& run) {
 // soft nodule: the force jumped to 4.4 N with three contact losses, and the map's strongest
 // cell moved off the hard nodule. With the push held constant over each simulation step the
 // skin swung between two depths: peak 1.959 N, mean 0.383 N, largest frame 1.810 N.
-// The touch-down peak and largest frame are set by the proxy's jitter on the sheet in the
-// first 20 ms, which round-off moves by more than 1 %: storing the local patch's response in
-// single precision took them from 1.151 and 1.150 N to 1.135 and 1.081 N (the first frames
-// agree to 3e-10 N; the proxy steps 60 µm apart at t = 0.015 s).
+// While the scan started with the finger 11 mm into the skin, its touch-down set the peak
+// (1.135 N) and the largest single frame (1.081 N) through the proxy's jitter in the first
+// 20 ms, and exceeded the safe force for 5 frames. The finger now comes down onto the skin
+// first (`approach`): the peak is a press over the hard nodule. The force steps at the
+// skin's updates are smoothed (`force_smoothing`, 5 ms).
 void check_documented_numbers(const NoduleRun& run) {
   const auto count = [&](const char* kind) {
     const auto it = run.report.events.find(kind);
@@ -215,11 +216,12 @@ void check_documented_numbers(const NoduleRun& run) {
   EXPECT_EQ(count("contact_begin"), 1u) << "the finger touches down once and never loses the skin";
   EXPECT_EQ(count("contact_end"), 0u);
   const PalpationFeedback& f = *run.report.palpation;
-  EXPECT_NEAR(f.peak_force, 1.135, 0.01 * 1.135);
-  EXPECT_NEAR(f.mean_force, 0.413, 0.01 * 0.413);
+  EXPECT_NEAR(f.peak_force, 0.866, 0.01 * 0.866);
+  EXPECT_NEAR(f.mean_force, 0.406, 0.01 * 0.406);
   EXPECT_NEAR(f.coverage, 0.708, 0.005);
+  EXPECT_EQ(f.over_limit_frames, 0u);
   const report::ForceMap map = report::build_force_map(run.model, 0, run.report.frames);
-  EXPECT_NEAR(map.max_peak(), 1.081, 0.01 * 1.081);
+  EXPECT_NEAR(map.max_peak(), 0.864, 0.01 * 0.864);
   double strongest = 0.0;
   Vec2 where = Vec2::Zero();
   for (int row = 0; row < map.rows; ++row)
@@ -228,21 +230,23 @@ void check_documented_numbers(const NoduleRun& run) {
         strongest = map.mean[map.index(column, row)];
         where = map.cell_center(column, row);
       }
-  EXPECT_NEAR(strongest, 0.769, 0.01 * 0.769);
-  // After the first simulation step (t = 0.02 s) the force in contact stays between 0.24 and
-  // 0.90 N, and no frame differs from the one before by more than 0.63 N (the touch-down).
+  EXPECT_NEAR(strongest, 0.764, 0.01 * 0.764);
+  // Once the scan starts (t = 0.2 s, after the approach) the force in contact stays between
+  // 0.23 and 0.87 N, and no frame differs from the one before by more than 0.37 N (the proxy
+  // jittering over the soft nodule's rim at 3.75 s, 0.50 N without the force smoothing; the
+  // touch-down's was 0.63 N).
   double low = 1e9, high = 0.0, jump = 0.0;
   const HapticFrame* last = nullptr;
   for (const HapticFrame& frame : run.report.frames) {
     if (last) jump = std::max(jump, (frame.force - last->force).norm());
     last = &frame;
-    if (frame.t < 0.02 || !frame.contact) continue;
+    if (frame.t < 0.2 || !frame.contact) continue;
     low = std::min(low, frame.force.norm());
     high = std::max(high, frame.force.norm());
   }
-  EXPECT_NEAR(low, 0.244, 0.01 * 0.244);
-  EXPECT_NEAR(high, 0.897, 0.01 * 0.897);
-  EXPECT_NEAR(jump, 0.633, 0.01 * 0.633);
+  EXPECT_NEAR(low, 0.226, 0.01 * 0.226);
+  EXPECT_NEAR(high, 0.866, 0.01 * 0.866);
+  EXPECT_NEAR(jump, 0.371, 0.01 * 0.371);
   EXPECT_NEAR(where.x(), -0.012, 1e-9);  // over the hard nodule, at (-14, +12) mm
   EXPECT_NEAR(where.y(), 0.012, 1e-9);
 }
