@@ -51,15 +51,18 @@ TEST(FabricScene, GraspStretchRubLiftPassesTableIAsDocumented) {
 
   using S = ContactState;
   const std::vector<S> documented{S::I,  S::IV,  S::V, S::VII, S::VIII, S::IX, S::VIII,
-                                  S::IX, S::VIII, S::I, S::II,  S::III,  S::I};
+                                  S::IX, S::VIII, S::V, S::I,   S::II,  S::III, S::I};
   for (std::uint16_t d = 0; d < 2; ++d) {
     const Trace t = trace_of(r, d);
     EXPECT_EQ(t.steady, documented) << r.devices[d].name;
-    // docs/scenes.md: the grasp from 1.590 s, 2.14 s in VIII and 0.49 s in IX.
-    ASSERT_GE(t.steady_from.size(), 5u);
+    // docs/scenes.md: the grasp from 1.590 s, 1.91 s in VIII and 0.72 s in IX (the pinch
+    // slips while the fingers pull the fabric down, 2.704-3.002 s).
+    ASSERT_GE(t.steady_from.size(), 7u);
     EXPECT_NEAR(t.steady_from[4], 1.590, 0.002) << r.devices[d].name;
-    EXPECT_NEAR(t.time_in[static_cast<int>(S::VIII)], 2.14, 0.01) << r.devices[d].name;
-    EXPECT_NEAR(t.time_in[static_cast<int>(S::IX)], 0.49, 0.01) << r.devices[d].name;
+    EXPECT_NEAR(t.steady_from[5], 2.704, 0.002) << r.devices[d].name;
+    EXPECT_NEAR(t.steady_from[6], 3.002, 0.002) << r.devices[d].name;
+    EXPECT_NEAR(t.time_in[static_cast<int>(S::VIII)], 1.91, 0.01) << r.devices[d].name;
+    EXPECT_NEAR(t.time_in[static_cast<int>(S::IX)], 0.72, 0.01) << r.devices[d].name;
   }
   // docs/scenes.md: the largest force sent is 2.11 N to each finger; nothing clamped.
   for (const auto& d : r.devices) {

@@ -184,17 +184,24 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
     }
     const contact::PointGraspResult g = grasp_->update(held, thumb, index, point, out.on_fabric && peer->on_fabric);
     if (!trial && g.active && g.friction == contact::FrictionState::slip) {
-      // The pinch slides over the fabric: it holds the material now between the pads.
+      // The pinch slides over the fabric: it holds the material now between the pads, unless
+      // that lies farther off the pads' plane than the material held (a fold of the sheet
+      // beside the pinch): the hold pulls the held point onto the plane, and a point picked
+      // millimetres off it stepped that pull, and the force on both fingers, in a frame.
       const auto [moved_to, moved_barycentric] = nearest_point(s.local.patch(), s.local.positions(), g.frame.origin);
       if (moved_to >= 0) {
         const mesh::Triangle& tri = s.local.patch().triangles[static_cast<std::size_t>(moved_to)];
         const std::span<const Vec3> x = s.local.positions();
-        contact::PointGrasp::move_hold(held, point,
-                                       moved_barycentric.x() * x[static_cast<std::size_t>(tri[0])] +
-                                           moved_barycentric.y() * x[static_cast<std::size_t>(tri[1])] +
-                                           moved_barycentric.z() * x[static_cast<std::size_t>(tri[2])]);
-        triangle = moved_to;
-        barycentric = moved_barycentric;
+        const Vec3 moved = moved_barycentric.x() * x[static_cast<std::size_t>(tri[0])] +
+                           moved_barycentric.y() * x[static_cast<std::size_t>(tri[1])] +
+                           moved_barycentric.z() * x[static_cast<std::size_t>(tri[2])];
+        const Vec3 e3 = g.frame.normal();
+        const double off_plane = std::abs(e3.dot(moved - g.frame.origin));
+        if (off_plane <= std::max(std::abs(e3.dot(point - g.frame.origin)), gp.fabric_thickness)) {
+          contact::PointGrasp::move_hold(held, point, moved);
+          triangle = moved_to;
+          barycentric = moved_barycentric;
+        }
       }
     }
     if (!trial) {

@@ -153,6 +153,50 @@ TEST(FabricProxyOnPatch, FabricSqueezedBetweenThePairIsGraspedWithTheSqueezeLaw)
   EXPECT_LE(pull, 2.0 * 0.5 * squeeze * 1.001);  // μs of the pads on the fabric, doubled
 }
 
+// A pinch slipping toward a fold of the sheet: past x = 5 mm the sheet rises 3 mm off the
+// pads' plane. The material nearest the pads' centre then lies on the fold; holding it would
+// step the hold's pull onto the plane (190 N/m · 3 mm), and each finger's force by half of
+// that, in one frame. The pinch keeps the material it holds instead, and slips on smoothly.
+TEST(FabricProxyOnPatch, ASlippingPinchTakesNoHoldOfAFoldOffItsPlane) {
+  RigidSheet sheet;
+  mesh::TriMesh folded = sheet.plate;
+  for (Vec3& v : folded.vertices)
+    if (v.x() > 0.0075) v.z() += 0.003;
+  contact::PatchBuilder builder{folded.vertices.size(), folded.triangles, sheet.capacity};
+  contact::PatchBuilder::Inputs in;
+  in.kind = sheet.kind;
+  in.body = 0;
+  in.radius = 0.03;
+  in.surface = folded.vertices;
+  in.rigid = true;
+  in.center = Vec3::Zero();
+  contact::LocalPatch patch(sheet.kind, sheet.capacity);
+  builder.build(in, patch);
+
+  Pair pair(sheet.capacity, sheet.kind);
+  pair.thumb.patch = pair.index.patch = &patch;
+  pair.thumb.patch_fresh = pair.index.patch_fresh = true;
+  const Vec3 thumb_at(0, 0, 0.00855), index_at(0, 0, -0.00755);
+  double t = 0.0;
+  for (int k = 0; k < 50; ++k, t += 1e-3) pair.step(t, thumb_at, index_at);
+  ASSERT_EQ(state_of(pair.thumb), static_cast<std::uint8_t>(contact::ContactState::VIII));
+  // Both fingers slide 20 mm along +x at 50 mm/s: the pinch sticks, then slips from about
+  // 8.6 mm on (the pull falling from μ_s to μ_k of the squeeze, in a frame), over the fold.
+  Vec3 last = pair.thumb.sink.force;
+  double largest_step = 0.0;
+  int slipping = 0;
+  for (int k = 0; k < 400; ++k, t += 1e-3) {
+    const Vec3 shift(5e-5 * k, 0, 0);
+    pair.step(t, thumb_at + shift, index_at + shift);
+    ASSERT_TRUE(pair.thumb.out.touching) << "frame " << k;
+    const bool slips = state_of(pair.thumb) == static_cast<std::uint8_t>(contact::ContactState::IX);
+    if (slips && slipping++ > 0) largest_step = std::max(largest_step, (pair.thumb.sink.force - last).norm());
+    last = pair.thumb.sink.force;
+  }
+  EXPECT_GT(slipping, 200);
+  // A step onto the fold would be 0.5 · 190 N/m · 3 mm = 0.285 N along z.
+  EXPECT_LT(largest_step, 0.02);
+}
 
 // When the pads open the V-proxy takes the contact back: its force comes in over 20 ms from
 // the force the grasp left, never as a step, and is the V-proxy's own after that.
