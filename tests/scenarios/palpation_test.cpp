@@ -232,9 +232,10 @@ void check_documented_numbers(const NoduleRun& run) {
       }
   EXPECT_NEAR(strongest, 0.764, 0.01 * 0.764);
   // Once the scan starts (t = 0.2 s, after the approach) the force in contact stays between
-  // 0.23 and 0.87 N, and no frame differs from the one before by more than 0.37 N (the proxy
-  // jittering over the soft nodule's rim at 3.75 s, 0.50 N without the force smoothing; the
-  // touch-down's was 0.63 N).
+  // 0.23 and 0.87 N, and no frame differs from the one before by more than 0.37 N (at 3.75 s,
+  // over the soft nodule with the finger 8.6 mm below the proxy: at a skin update the
+  // frictionless proxy slides 3 mm across the new shape, then alternates between two faces for
+  // a few frames; 0.50 N without the force smoothing; the touch-down's was 0.63 N).
   double low = 1e9, high = 0.0, jump = 0.0;
   const HapticFrame* last = nullptr;
   for (const HapticFrame& frame : run.report.frames) {
