@@ -17,16 +17,22 @@ namespace {
 /// Rigid patches of a 10 × 10 cm sheet in z = 0 (normals +z, 5 mm grid, a node at the
 /// origin): the sheet stays put, so any change of force comes from the fingers or an update.
 struct RigidSheet {
-  const mesh::TriMesh plate = mesh::grid_plate(0.1, 0.1, 20, 20);
+  RigidSheet() = default;
+  /// The sheet with its nodes moved by `shape` (a fold, say).
+  template <class Shape>
+  explicit RigidSheet(Shape shape) {
+    for (Vec3& v : plate.vertices) shape(v);
+  }
+  mesh::TriMesh plate = mesh::grid_plate(0.1, 0.1, 20, 20);
   const contact::PatchCapacity capacity{48, 128, 240};
   const contact::LocalModelKind kind = contact::LocalModelKind::compliance;
   contact::PatchBuilder builder{plate.vertices.size(), plate.triangles, capacity};
-  /// The patch of radius 2 cm around `center`, its nodes numbered nearest first.
-  [[nodiscard]] contact::LocalPatch around(const Vec3& center) {
+  /// The patch of `radius` around `center`, its nodes numbered nearest first.
+  [[nodiscard]] contact::LocalPatch around(const Vec3& center, double radius = 0.02) {
     contact::PatchBuilder::Inputs in;
     in.kind = kind;
     in.body = 0;
-    in.radius = 0.02;
+    in.radius = radius;
     in.surface = plate.vertices;
     in.rigid = true;
     in.center = center;
@@ -95,6 +101,15 @@ struct Pair {
     index.step(t, index_at);
     index_frame = index.out.finger;
   }
+  /// Each pad 0.45 mm past a sheet in z = 0 near the origin, held there for 50 frames from
+  /// t: the grasp. Returns the time after them.
+  static inline const Vec3 kThumbPinching{0, 0, 0.00855}, kIndexPinching{0, 0, -0.00755};
+  double pinch(const contact::LocalPatch& patch, double t) {
+    thumb.patch = index.patch = &patch;
+    thumb.patch_fresh = index.patch_fresh = true;
+    for (int k = 0; k < 50; ++k, t += 1e-3) step(t, kThumbPinching, kIndexPinching);
+    return t;
+  }
   test::StepRig thumb, index;
   PeerFinger thumb_frame, index_frame;
 };
@@ -158,27 +173,14 @@ TEST(FabricProxyOnPatch, FabricSqueezedBetweenThePairIsGraspedWithTheSqueezeLaw)
 // step the hold's pull onto the plane (190 N/m · 3 mm), and each finger's force by half of
 // that, in one frame. The pinch keeps the material it holds instead, and slips on smoothly.
 TEST(FabricProxyOnPatch, ASlippingPinchTakesNoHoldOfAFoldOffItsPlane) {
-  RigidSheet sheet;
-  mesh::TriMesh folded = sheet.plate;
-  for (Vec3& v : folded.vertices)
+  RigidSheet sheet([](Vec3& v) {
     if (v.x() > 0.0075) v.z() += 0.003;
-  contact::PatchBuilder builder{folded.vertices.size(), folded.triangles, sheet.capacity};
-  contact::PatchBuilder::Inputs in;
-  in.kind = sheet.kind;
-  in.body = 0;
-  in.radius = 0.03;
-  in.surface = folded.vertices;
-  in.rigid = true;
-  in.center = Vec3::Zero();
-  contact::LocalPatch patch(sheet.kind, sheet.capacity);
-  builder.build(in, patch);
-
+  });
+  const contact::LocalPatch patch = sheet.around(Vec3::Zero(), 0.03);
   Pair pair(sheet.capacity, sheet.kind);
-  pair.thumb.patch = pair.index.patch = &patch;
-  pair.thumb.patch_fresh = pair.index.patch_fresh = true;
-  const Vec3 thumb_at(0, 0, 0.00855), index_at(0, 0, -0.00755);
-  double t = 0.0;
-  for (int k = 0; k < 50; ++k, t += 1e-3) pair.step(t, thumb_at, index_at);
+  double t = pair.pinch(patch, 0.0);
+  const Vec3& thumb_at = Pair::kThumbPinching;
+  const Vec3& index_at = Pair::kIndexPinching;
   ASSERT_EQ(state_of(pair.thumb), static_cast<std::uint8_t>(contact::ContactState::VIII));
   // Both fingers slide 20 mm along +x at 50 mm/s: the pinch sticks, then slips from about
   // 8.6 mm on (the pull falling from μ_s to μ_k of the squeeze, in a frame), over the fold.
@@ -204,11 +206,8 @@ TEST(FabricProxyOnPatch, OpeningThePadsHandsTheFabricBackToTheProxyWithoutAStep)
   RigidSheet sheet;
   const contact::LocalPatch patch = sheet.around(Vec3::Zero());
   Pair pair(sheet.capacity, sheet.kind);
-  pair.thumb.patch = pair.index.patch = &patch;
-  pair.thumb.patch_fresh = pair.index.patch_fresh = true;
-  const Vec3 thumb_at(0, 0, 0.00855), index_at(0, 0, -0.00755);
-  double t = 0.0;
-  for (int k = 0; k < 50; ++k, t += 1e-3) pair.step(t, thumb_at, index_at);
+  double t = pair.pinch(patch, 0.0);
+  const Vec3& thumb_at = Pair::kThumbPinching;
   ASSERT_EQ(state_of(pair.thumb), static_cast<std::uint8_t>(contact::ContactState::VIII));
   const Vec3 grasped = pair.thumb.sink.force;
   // The index drops away; the thumb stays 0.45 mm into the sheet's reach.
