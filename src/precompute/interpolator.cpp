@@ -385,6 +385,23 @@ double Interpolator::cell_disagreement(const LatticeIndex& cell) const {
   return (hermite - mean).norm() / std::max(scale, 1e-12);
 }
 
+double Interpolator::cell_jump(const LatticeIndex& cell) const {
+  std::array<std::size_t, 8> points{};
+  if (!corners(cell, points)) return -1.0;
+  double jump = 0.0;
+  for (std::size_t a = 0; a < 8; ++a)
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      if (offsets_[a][axis] != 0) continue;
+      const std::size_t b = a + (std::size_t{1} << axis);  // the corner across the edge along axis
+      const std::size_t pa = points[a], pb = points[b];
+      const Vec3 dx = space_->position(pb) - space_->position(pa);
+      const Vec3 change = space_->force[pb] - space_->force[pa];
+      const Vec3 predicted = 0.5 * (space_->force_gradient[pa] + space_->force_gradient[pb]) * dx;
+      jump = std::max(jump, (change - predicted).norm());
+    }
+  return jump;
+}
+
 bool Interpolator::trilinear(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept {
   const Grid& g = space_->grid;
   out.count = 0;

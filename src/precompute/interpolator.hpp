@@ -81,6 +81,12 @@ class Interpolator {
   /// (refinement's error indicator). Negative where the cell's corners are not all solved.
   /// tricubic_hermite only.
   [[nodiscard]] double cell_disagreement(const LatticeIndex& cell) const;
+  /// The largest, over the cell's 12 edges a–b, of |f_b − f_a − ½(∂F/∂x_a + ∂F/∂x_b)(x_b − x_a)|
+  /// [N]: what the stored derivatives cannot explain of the force's change along an edge. On a
+  /// smooth map it is the trapezoid rule's error, of the order h³·f‴/12; where the tissue snaps
+  /// (two equilibria, the force jumping within the cell) it is about the jump. Negative where
+  /// the corners are not all solved. tricubic_hermite only.
+  [[nodiscard]] double cell_jump(const LatticeIndex& cell) const;
   [[nodiscard]] const Space& space() const { return *space_; }
 
  private:

@@ -297,6 +297,43 @@ TEST(Interpolator, HermiteMethodsFollowTheStoredGradients) {
   }
 }
 
+TEST(Interpolator, CellJumpIsWhatTheGradientsLeaveUnexplainedAlongAnEdge) {
+  // Along an edge of length h the trapezoid rule on the stored gradients misses a cubic's
+  // change by h³·f‴/12: f = c·x³ along x gives c·h³/2 in every cell, a quadratic nothing.
+  struct CubicAlongX {
+    double c = 2.0e4;
+    Vec3 operator()(const Vec3& x) const { return Vec3(c * x.x() * x.x() * x.x(), 0.0, 0.0); }
+    Mat3 jacobian(const Vec3& x) const {
+      Mat3 j = Mat3::Zero();
+      j(0, 0) = 3.0 * c * x.x() * x.x();
+      return j;
+    }
+  };
+  const double h = 0.01;
+  const Interpolator cubic(synthetic(CubicAlongX{}), Interpolation::tricubic_hermite);
+  const Interpolator quadratic(synthetic(quadratic_field), Interpolation::tricubic_hermite);
+  for (const std::array<int, 3> ijk : {std::array<int, 3>{0, 0, 0}, std::array<int, 3>{2, 4, 1}}) {
+    EXPECT_NEAR(cubic.cell_jump({0, ijk}), 0.5 * CubicAlongX{}.c * h * h * h, 1e-12);
+    EXPECT_LT(quadratic.cell_jump({0, ijk}), 1e-12);
+  }
+  // A step in the force (two equilibria either side of x = 0.005 m, flat on each side): the
+  // cells that straddle it report the step, the others nothing.
+  struct Step {
+    Vec3 operator()(const Vec3& x) const { return Vec3(0.0, 0.0, x.x() > 0.005 ? 2.0 : 3.0); }
+    Mat3 jacobian(const Vec3&) const { return Mat3::Zero(); }
+  };
+  const auto stepped = synthetic(Step{});
+  const Interpolator step(stepped, Interpolation::tricubic_hermite);
+  for (int i = 0; i + 1 < stepped->grid.counts[0]; ++i) {
+    const double x0 = stepped->grid.origin.x() + i * h;
+    const bool straddles = x0 < 0.005 && x0 + h > 0.005;
+    EXPECT_NEAR(step.cell_jump({0, {i, 1, 1}}), straddles ? 1.0 : 0.0, 1e-12) << i;
+  }
+  // A cell with a corner not solved has no jump to report.
+  stepped->status[stepped->grid.index(1, 1, 1)] = PointStatus::failed;
+  EXPECT_LT(Interpolator(stepped, Interpolation::tricubic_hermite).cell_jump({0, {1, 1, 1}}), 0.0);
+}
+
 TEST(Interpolator, TricubicHermiteErrorFallsAsTheFourthPowerOfTheSpacing) {
   // The same box at 1 cm and at 5 mm: trilinear's error falls about 4 times (h²), the
   // tricubic Hermite's about 16 times (h⁴); at least 10 here, on the interior.
