@@ -22,6 +22,11 @@
 //            with --refine, each grid also refined by up to K points, tricubic Hermite; with
 //            --worst W, the W worst tricubic Hermite positions per grid and how far their
 //            cell's corners lie from direct solves (path dependence against interpolation).
+//            With --cells 1, a row per grid cell: its edges' jump (Interpolator::cell_jump),
+//            the refinement's estimate and the errors at the positions inside it.
+//   line     --nodes N --law L --from X,Y,Z --to X,Y,Z [--samples K]
+//            the force solved directly from rest (as accuracy's references with --spacings 20)
+//            at K points of the segment, given in mm from the contact node.
 //   probe    --nodes N --law L --spacing S --tilt DEG --levels n --positions M [--box MM]
 //            [--patch MM]
 //            a probe space (precompute/probe.hpp) on the accuracy box's grid of spacing S,
@@ -116,6 +121,9 @@ struct Options {
   double box = 0.04;
   std::size_t refine = 0;  ///< accuracy: each grid also refined by at most this many points
   std::size_t worst = 0;   ///< accuracy: list this many worst tricubic Hermite positions per grid
+  bool cells = false;      ///< accuracy: a row per grid cell (--cells 1)
+  Vec3 from = Vec3::Zero(), to = Vec3::Zero();  ///< line: the segment's ends from the contact node [m] (mm)
+  int samples = 11;                             ///< line: solves along it, ends included
   std::vector<double> spacings;
   double tilt = 15.0;  ///< probe: largest lean [degrees]
   double patch = 0.016;  ///< probe: the patch's radius [m] (--patch, in mm): the probe's end
@@ -386,6 +394,32 @@ std::optional<std::size_t> cell_corner(const pc::Space& space, const Vec3& p, in
   return space.grid.index(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1));
 }
 
+/// The corners of the finest cell that holds p (p in the grid): its grid cell, and down
+/// through the refined cells; `level` is that cell's level.
+std::array<std::optional<std::size_t>, 8> finest_corners(const pc::Space& space, const Vec3& p, int& level) {
+  const Vec3 from_origin = p - space.grid.origin;
+  pc::LatticeIndex cell{};
+  for (std::size_t a = 0; a < 3; ++a) {
+    const double t = from_origin[static_cast<Eigen::Index>(a)] / space.grid.spacing;
+    cell.ijk[a] = std::clamp(static_cast<int>(std::floor(t)), 0, space.grid.counts[a] - 2);
+  }
+  while (cell.level < pc::Space::kMaxLevel && space.is_refined(cell)) {
+    pc::LatticeIndex child{cell.level + 1, {}};
+    const double h = space.grid.spacing / (1 << child.level);
+    for (std::size_t a = 0; a < 3; ++a) {
+      const double t = from_origin[static_cast<Eigen::Index>(a)] / h;
+      child.ijk[a] = std::clamp(static_cast<int>(std::floor(t)), 2 * cell.ijk[a], 2 * cell.ijk[a] + 1);
+    }
+    cell = child;
+  }
+  level = cell.level;
+  std::array<std::optional<std::size_t>, 8> corners;
+  for (int c = 0; c < 8; ++c)
+    corners[static_cast<std::size_t>(c)] =
+        space.find({cell.level, {cell.ijk[0] + (c & 1), cell.ijk[1] + ((c >> 1) & 1), cell.ijk[2] + ((c >> 2) & 1)}});
+  return corners;
+}
+
 /// Whether p lies in the grid and every corner of its cell is solved.
 bool cell_solved(const pc::Space& space, const Vec3& p) {
   for (int corner = 0; corner < 8; ++corner) {
@@ -510,25 +544,60 @@ int accuracy(const Options& o) {
     std::printf("| %.4g | %s | %.2f%% | %.2f%% | %.2f%% | %.2f%% |\n", 1e3 * spacings[k], name.c_str(), 100 * fmean,
                 100 * fmax, 100 * umean, 100 * umax);
   }
+  if (o.cells) {
+    // Per grid cell: what its corners' derivatives cannot explain of the force's change along
+    // its edges (Interpolator::cell_jump), the refinement's estimate, and the tricubic
+    // Hermite errors at the positions inside it.
+    std::printf("| spacing [mm] | cell | jump [N] | centre disagreement | positions | force error mean | max |\n"
+                "|---|---|---|---|---|---|---|\n");
+    for (std::size_t k = 0; k < spaces.size(); ++k) {
+      const pc::Interpolator in(spaces[k], pc::Interpolation::tricubic_hermite);
+      const pc::Grid& g = spaces[k]->grid;
+      for (int kk = 0; kk + 1 < g.counts[2]; ++kk)
+        for (int j = 0; j + 1 < g.counts[1]; ++j)
+          for (int i = 0; i + 1 < g.counts[0]; ++i) {
+            const pc::LatticeIndex cell{0, {i, j, kk}};
+            double emax = 0.0, emean = 0.0;
+            int n = 0;
+            for (std::size_t q = 0; q < refs.size(); ++q) {
+              int level = 0;
+              if (finest_corners(*spaces[k], where[q], level)[0] != g.index(i, j, kk)) continue;
+              const double e = (in.force(where[q]).force - refs[q].force).norm() / refs[q].force.norm();
+              emax = std::max(emax, e);
+              emean += e;
+              ++n;
+            }
+            std::printf("| %.4g | %d %d %d | %.3f | %.4f | %d | %.2f%% | %.2f%% |\n", 1e3 * spacings[k], i, j, kk,
+                        in.cell_jump(cell), in.cell_disagreement(cell), n, n ? 100 * emean / n : 0.0, 100 * emax);
+          }
+    }
+  }
   if (o.worst > 0) {
     // Where tricubic Hermite errs most on each grid, and whether the grid points around are
     // the configurations a direct solve from rest reaches there: if not, the error is the
     // path's (another equilibrium), not the interpolation's.
-    for (std::size_t k = 0; k < spaces.size(); ++k) {
-      const pc::Space& space = *spaces[k];
-      const pc::Interpolator in(spaces[k], pc::Interpolation::tricubic_hermite);
+    for (std::size_t index = 0; index < spaces.size() + refined_spaces.size(); ++index) {
+      const bool refined = index >= spaces.size();
+      const std::size_t k = refined ? index - spaces.size() : index;
+      const auto& shared = refined ? refined_spaces[k] : spaces[k];
+      const pc::Space& space = *shared;
+      const pc::Interpolator in(shared, pc::Interpolation::tricubic_hermite);
       std::vector<std::pair<double, std::size_t>> errors;
       for (std::size_t i = 0; i < refs.size(); ++i)
         errors.emplace_back((in.force(where[i]).force - refs[i].force).norm() / refs[i].force.norm(), i);
       std::sort(errors.rbegin(), errors.rend());
-      std::printf("worst tricubic_hermite positions on the %.4g mm grid:\n", 1e3 * spacings[k]);
+      std::printf("worst tricubic_hermite positions on the %.4g mm grid%s:\n", 1e3 * spacings[k],
+                  refined ? ", refined" : "");
       for (std::size_t w = 0; w < std::min<std::size_t>(o.worst, errors.size()); ++w) {
         const auto [error, i] = errors[w];
         const Vec3 at = where[i] - m.contact;
         double corner_gap = 0.0;
-        for (int corner = 0; corner < 8; ++corner) {
-          const std::size_t p = *cell_corner(space, where[i], corner);  // the positions lie in every grid
-          const Vec3 x = space.grid.point(p);
+        int level = 0;
+        const auto corners = finest_corners(space, where[i], level);  // the positions lie in every grid
+        for (const auto& corner : corners) {
+          if (!corner) continue;
+          const std::size_t p = *corner;
+          const Vec3 x = space.position(p);
           const double step = finest / std::max(1, m.settings.load_steps) / 3.0;
           const int steps = std::max(2, static_cast<int>(std::ceil((x - m.contact).norm() / step)));
           const pc::PointResult direct = solvers[0]->solve_direct(x, steps);
@@ -536,11 +605,35 @@ int accuracy(const Options& o) {
             corner_gap =
                 std::max(corner_gap, (direct.force - space.force[p]).norm() / std::max(direct.force.norm(), 1e-9));
         }
-        std::printf("  (%+.1f, %+.1f, %+.1f) mm: force error %.2f%% (|f| %.3g N); the cell's corners solved directly "
-                    "from rest differ from the grid's by up to %.2g%%\n",
-                    1e3 * at.x(), 1e3 * at.y(), 1e3 * at.z(), 100 * error, refs[i].force.norm(), 100 * corner_gap);
+        std::printf("  (%+.1f, %+.1f, %+.1f) mm: force error %.2f%% (|f| %.3g N); the corners of its cell (level %d) "
+                    "solved directly from rest differ from the grid's by up to %.2g%%\n",
+                    1e3 * at.x(), 1e3 * at.y(), 1e3 * at.z(), 100 * error, refs[i].force.norm(), level,
+                    100 * corner_gap);
       }
     }
+  }
+  return 0;
+}
+
+int line(const Options& o) {
+  // Each position straight from rest, as the accuracy study's references: where the force
+  // jumps between two close samples, the equilibrium reached changes branch there (the
+  // tissue snaps), and no interpolation of the map follows it.
+  const Model m = load_model(o.nodes, o.law);
+  pc::ConfigurationSolver solver(m.body, m.settings);
+  const int samples = std::max(2, o.samples);
+  std::printf("| x [mm] | y [mm] | z [mm] | fx [N] | fy [N] | fz [N] |\n|---|---|---|---|---|---|\n");
+  for (int k = 0; k < samples; ++k) {
+    const Vec3 at = o.from + (o.to - o.from) * (static_cast<double>(k) / (samples - 1));
+    const double step = o.box / 2.0 / std::max(1, m.settings.load_steps) / 3.0;  // as the 20 mm grid's references
+    const int steps = std::max(2, static_cast<int>(std::ceil(at.norm() / step)));
+    const pc::PointResult r = solver.solve_direct(m.contact + at, steps);
+    if (r.status == pc::PointStatus::solved)
+      std::printf("| %.2f | %.2f | %.2f | %.4f | %.4f | %.4f |\n", 1e3 * at.x(), 1e3 * at.y(), 1e3 * at.z(),
+                  r.force.x(), r.force.y(), r.force.z());
+    else
+      std::printf("| %.2f | %.2f | %.2f | not solved: %s | | |\n", 1e3 * at.x(), 1e3 * at.y(), 1e3 * at.z(),
+                  r.reason.c_str());
   }
   return 0;
 }
@@ -993,9 +1086,10 @@ int compare(const std::string& a_path, const std::string& b_path) {
 int usage() {
   std::fprintf(stderr,
                "usage: precompute_bench compare A.h5 B.h5\n"
+               "       precompute_bench line --nodes N --law L --from X,Y,Z --to X,Y,Z [--samples K]\n"
                "       precompute_bench cost|scaling|query|accuracy|online|probe|twopoint [--nodes N] [--law stvk|mooney_rivlin|mooney_rivlin_049|mooney_rivlin_nodal]\n"
                "         [--spacing S] [--points K] [--seconds T] [--positions M] [--threads N] [--seed S] [--space FILE]\n"
-               "         [--box MM] [--spacings MM,MM,...] [--refine K] [--worst W] [--tilt DEG] [--levels n] [--patch MM]\n"
+               "         [--box MM] [--spacings MM,MM,...] [--refine K] [--worst W] [--cells 1] [--tilt DEG] [--levels n] [--patch MM]\n"
                "         [--separation MM]\n");
   return 1;
 }
@@ -1034,6 +1128,13 @@ int main(int argc, char** argv) {
       else if (key == "--box") o.box = 1e-3 * std::stod(value);
       else if (key == "--refine") o.refine = std::stoul(value);
       else if (key == "--worst") o.worst = std::stoul(value);
+      else if (key == "--cells") o.cells = std::stoi(value) != 0;
+      else if (key == "--samples") o.samples = std::stoi(value);
+      else if (key == "--from" || key == "--to") {
+        Vec3 v;
+        if (std::sscanf(value.c_str(), "%lf,%lf,%lf", &v.x(), &v.y(), &v.z()) != 3) return usage();
+        (key == "--from" ? o.from : o.to) = 1e-3 * v;
+      }
       else if (key == "--tilt") o.tilt = std::stod(value);
       else if (key == "--patch") o.patch = o.pair_patch = 1e-3 * std::stod(value);
       else if (key == "--separation") o.separation = 1e-3 * std::stod(value);
@@ -1045,6 +1146,7 @@ int main(int argc, char** argv) {
       }
       else return usage();
     }
+    if (o.command == "line") return line(o);
     if (o.command == "cost") return cost(o);
     if (o.command == "scaling") return scaling(o);
     if (o.command == "query") return query(o);
