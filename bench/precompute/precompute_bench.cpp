@@ -25,8 +25,10 @@
 //            With --cells 1, a row per grid cell: its edges' jump (Interpolator::cell_jump),
 //            the refinement's estimate and the errors at the positions inside it.
 //   line     --nodes N --law L --from X,Y,Z --to X,Y,Z [--samples K]
-//            the force solved directly from rest (as accuracy's references with --spacings 20)
-//            at K points of the segment, given in mm from the contact node.
+//            the force at K points of the segment (in mm from the contact node) solved
+//            directly from rest (as accuracy's references with --spacings 20), and walked
+//            along it from each end by transitions: where the walks disagree, the tissue has
+//            two equilibria there and the path decides (a snap with hysteresis).
 //   probe    --nodes N --law L --spacing S --tilt DEG --levels n --positions M [--box MM]
 //            [--patch MM]
 //            a probe space (precompute/probe.hpp) on the accuracy box's grid of spacing S,
@@ -616,24 +618,51 @@ int accuracy(const Options& o) {
 }
 
 int line(const Options& o) {
-  // Each position straight from rest, as the accuracy study's references: where the force
-  // jumps between two close samples, the equilibrium reached changes branch there (the
-  // tissue snaps), and no interpolation of the map follows it.
+  // Each position three ways: straight from rest (as the accuracy study's references), and
+  // walked along the segment from each end, each sample reached from the one before by a
+  // transition (the tool sliding along it). Where the force jumps between two close samples
+  // the equilibrium changes branch (the tissue snaps); where the two walks disagree, both
+  // branches exist at one position and which one the tissue is on depends on the path.
   const Model m = load_model(o.nodes, o.law);
   pc::ConfigurationSolver solver(m.body, m.settings);
   const int samples = std::max(2, o.samples);
-  std::printf("| x [mm] | y [mm] | z [mm] | fx [N] | fy [N] | fz [N] |\n|---|---|---|---|---|---|\n");
-  for (int k = 0; k < samples; ++k) {
-    const Vec3 at = o.from + (o.to - o.from) * (static_cast<double>(k) / (samples - 1));
+  std::vector<Vec3> at(static_cast<std::size_t>(samples));
+  for (int k = 0; k < samples; ++k) at[static_cast<std::size_t>(k)] = o.from + (o.to - o.from) * (k / (samples - 1.0));
+  auto from_rest = [&](const Vec3& x) {
     const double step = o.box / 2.0 / std::max(1, m.settings.load_steps) / 3.0;  // as the 20 mm grid's references
-    const int steps = std::max(2, static_cast<int>(std::ceil(at.norm() / step)));
-    const pc::PointResult r = solver.solve_direct(m.contact + at, steps);
-    if (r.status == pc::PointStatus::solved)
-      std::printf("| %.2f | %.2f | %.2f | %.4f | %.4f | %.4f |\n", 1e3 * at.x(), 1e3 * at.y(), 1e3 * at.z(),
-                  r.force.x(), r.force.y(), r.force.z());
-    else
-      std::printf("| %.2f | %.2f | %.2f | not solved: %s | | |\n", 1e3 * at.x(), 1e3 * at.y(), 1e3 * at.z(),
-                  r.reason.c_str());
+    return solver.solve_direct(m.contact + x, std::max(2, static_cast<int>(std::ceil(x.norm() / step))));
+  };
+  auto walk = [&](bool forward) {
+    std::vector<pc::PointResult> out(at.size());
+    for (std::size_t n = 0; n < at.size(); ++n) {
+      const std::size_t k = forward ? n : at.size() - 1 - n;
+      if (n == 0) {
+        out[k] = from_rest(at[k]);
+        continue;
+      }
+      const std::size_t before = forward ? k - 1 : k + 1;
+      if (out[before].status != pc::PointStatus::solved) {  // the walk ends where a step fails
+        out[k].reason = "the walk stopped before";
+        continue;
+      }
+      out[k] = solver.transition(k, static_cast<std::int64_t>(before), out[before].displacement,
+                                 m.contact + at[before], m.contact + at[k]);
+    }
+    return out;
+  };
+  const std::vector<pc::PointResult> up = walk(true), down = walk(false);
+  auto cell = [](const pc::PointResult& r) {
+    return r.status == pc::PointStatus::solved ? fmt::format("({:.3f}, {:.3f}, {:.3f})", r.force.x(), r.force.y(),
+                                                             r.force.z())
+                                               : std::string("not solved");
+  };
+  std::printf("| x [mm] | y [mm] | z [mm] | force from rest [N] | walked from the first end | from the last end |\n"
+              "|---|---|---|---|---|---|\n");
+  for (std::size_t k = 0; k < at.size(); ++k) {
+    const pc::PointResult direct = from_rest(at[k]);
+    std::printf("| %.2f | %.2f | %.2f | %s | %s | %s |\n", 1e3 * at[k].x(), 1e3 * at[k].y(), 1e3 * at[k].z(),
+                cell(direct).c_str(), cell(up[k]).c_str(), cell(down[k]).c_str());
+    if (direct.status != pc::PointStatus::solved) std::printf("  from rest: %s\n", direct.reason.c_str());
   }
   return 0;
 }
