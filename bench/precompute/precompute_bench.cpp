@@ -659,7 +659,8 @@ int line(const Options& o) {
   std::printf("| x [mm] | y [mm] | z [mm] | force from rest [N] | walked from the first end | from the last end |\n"
               "|---|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < at.size(); ++k) {
-    const pc::PointResult direct = from_rest(at[k]);
+    // Each walk starts from rest at its own end: those two are solved already.
+    const pc::PointResult direct = k == 0 ? up[k] : k + 1 == at.size() ? down[k] : from_rest(at[k]);
     std::printf("| %.2f | %.2f | %.2f | %s | %s | %s |\n", 1e3 * at[k].x(), 1e3 * at[k].y(), 1e3 * at[k].z(),
                 cell(direct).c_str(), cell(up[k]).c_str(), cell(down[k]).c_str());
     if (direct.status != pc::PointStatus::solved) std::printf("  from rest: %s\n", direct.reason.c_str());
