@@ -106,7 +106,11 @@ SafetyOutput ForceSafety::apply(const SafetyInput& in, double t) {
 
   // 2. Contact changes: ramp in at onset, blend out from the last contact force at release.
   if (in.contact && !contact_) {
+    // From the force sent last, not from zero: a contact that comes back while its release
+    // is still blending out goes on from where the hand is, instead of dropping the force.
     onset_t_ = t;
+    onset_force_ = contact_force_;
+    onset_torque_ = contact_torque_;
     releasing_ = false;
     ++counters_.ramp_in;
   } else if (!in.contact && contact_) {
@@ -119,8 +123,8 @@ SafetyOutput ForceSafety::apply(const SafetyInput& in, double t) {
   contact_ = in.contact;
   if (contact_) {
     const double gain = ramp_fraction(t - onset_t_, config_.ramp_time);
-    force *= gain;
-    torque *= gain;
+    force = (1.0 - gain) * onset_force_ + gain * force;
+    torque = (1.0 - gain) * onset_torque_ + gain * torque;
     if (gain < 1.0) out.flags |= kSafetyRamping;
   } else if (releasing_) {
     const double s = ramp_fraction(t - release_t_, config_.ramp_time);

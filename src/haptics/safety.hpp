@@ -6,9 +6,11 @@
 // gradually at contact changes and simulation stalls:
 //  - non-finite force or torque → both replaced by zero;
 //  - magnitude clamped to the limit, direction kept;
-//  - contact onset: the force is scaled by a ramp rising 0 → 1 over ramp_time;
+//  - contact onset: the output blends from the force sent last (zero after a finished
+//    release) to the contact force over ramp_time;
 //  - contact release: the output blends from the last contact force to the incoming
 //    (free-space, usually zero) force over ramp_time;
+//  so the force sent is continuous at every contact change, however often the flag flips;
 //  - watchdog (simulation silent for more than watchdog_timeout, or the device not alive):
 //    the output fades to zero over fade_time, and ramps back in over ramp_time when fresh;
 //  - emergency stop: zero from that frame on, latched until reset_emergency_stop().
@@ -82,6 +84,8 @@ class ForceSafety {
   double last_t_ = 0.0;
   bool contact_ = false;
   double onset_t_ = 0.0;
+  Vec3 onset_force_ = Vec3::Zero();     ///< the contact stage's output the frame before onset
+  Vec3 onset_torque_ = Vec3::Zero();
   bool releasing_ = false;
   double release_t_ = 0.0;
   Vec3 release_force_ = Vec3::Zero();

@@ -110,6 +110,36 @@ TEST(ForceSafety, FadesOutFromTheLastForceAtRelease) {
   EXPECT_EQ(safety.counters().ramp_out, 1u);
 }
 
+TEST(ForceSafety, AContactLostForAFrameGoesOnFromTheForceSent) {
+  // A contact flag that drops for one frame inside a touch (a grazing contact at the edge of
+  // a patch): the release starts to blend out, and when the contact comes back the force
+  // must go on from where it is, not restart its onset ramp from zero.
+  ForceSafety safety(config());
+  const Vec3 f(0, 4, 2);
+  for (int k = 0; k < 20; ++k) safety.apply(input(f, k * kFrame, true), k * kFrame);
+  Vec3 last = safety.apply(input(Vec3::Zero(), 0.020, false), 0.020).force;
+  EXPECT_LE((last - f).norm(), 1e-9);  // the release's first frame still sends the contact force
+  double largest_step = 0.0;
+  for (int k = 1; k <= 10; ++k) {
+    const double t = 0.020 + k * kFrame;
+    const Vec3 sent = safety.apply(input(f, t, true), t).force;
+    largest_step = std::max(largest_step, (sent - last).norm());
+    last = sent;
+  }
+  EXPECT_LE(largest_step, 1e-9);
+  EXPECT_LE((last - f).norm(), 1e-9);
+  // Lost for two frames: the release has blended a fifth of the way out; the onset blends back.
+  safety.apply(input(Vec3::Zero(), 0.031, false), 0.031);
+  const Vec3 out = safety.apply(input(Vec3::Zero(), 0.032, false), 0.032).force;
+  EXPECT_LE((out - 0.8 * f).norm(), 1e-9);
+  const Vec3 back = safety.apply(input(f, 0.033, true), 0.033).force;
+  EXPECT_LE((back - 0.8 * f).norm(), 1e-9);
+  const Vec3 next = safety.apply(input(f, 0.034, true), 0.034).force;
+  EXPECT_LE((next - (0.8 * 0.8 + 0.2) * f).norm(), 1e-9);
+  EXPECT_EQ(safety.counters().ramp_in, 3u);
+  EXPECT_EQ(safety.counters().ramp_out, 2u);
+}
+
 TEST(ForceSafety, WatchdogFadesOverFadeTimeCountsOneTripAndRampsBackIn) {
   ForceSafety safety(config());
   const Vec3 f(0, 6, 0);
@@ -259,15 +289,21 @@ TEST(ForceSafety, OutputIsAlwaysFiniteAndWithinLimitsForAnyInput) {
 
 TEST(ForceSafety, ContactFlippingEveryFrameNeverPassesAStep) {
   // Worst case for the ramps: a full-scale force with contact toggling each frame. The
-  // output must stay far below a full step each frame.
+  // output must stay far below a full step each frame: at most the limit times one frame
+  // of the ramp, 8 N · 1 ms / 5 ms, and never above the limit.
   ForceSafety safety(config());
+  double largest_step = 0.0;
   double largest = 0.0;
+  Vec3 last = Vec3::Zero();
   for (int frame = 0; frame < 1000; ++frame) {
     const double t = frame * kFrame;
     const SafetyOutput out = safety.apply(input(Vec3(0, 0, 100), t, frame % 2 == 0), t);
+    largest_step = std::max(largest_step, (out.force - last).norm());
     largest = std::max(largest, out.force.norm());
+    last = out.force;
   }
-  EXPECT_LE(largest, 8.0 * kFrame / 0.005 + 1e-9);
+  EXPECT_LE(largest_step, 8.0 * kFrame / 0.005 + 1e-9);
+  EXPECT_LE(largest, 8.0);
 }
 
 }  // namespace
