@@ -4,6 +4,7 @@
 #include <condition_variable>
 #include <exception>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -38,6 +39,11 @@ PointResult run_task(ConfigurationSolver& solver, const Space& space, std::size_
                            patch_position(space, static_cast<std::size_t>(source)), patch_position(space, point));
 }
 
+void note_tries(PointResult& r, int failed_tries) {
+  if (r.status == PointStatus::failed && failed_tries > 1)
+    r.reason += " (the last of " + std::to_string(failed_tries) + " neighbours it was tried from)";
+}
+
 PointResult unreachable_result(std::size_t point) {
   PointResult r;
   r.point = point;
@@ -56,13 +62,16 @@ BuildStats build_local(Space& space, const SolverFactory& make_solver, const Bui
   std::exception_ptr error;
   bool stop = false;
 
-  // Under the lock: record an outcome and whatever it made unreachable.
-  auto record = [&](const PointResult& r) {
-    space.store(r);
-    wave.complete(r.point, r.status);
+  // Under the lock: record an outcome (unless the point is to be tried again from another
+  // neighbour) and whatever it made unreachable.
+  auto record = [&](PointResult& r) {
     ++stats.computed;
     stats.solve_seconds += r.seconds;
-    if (options.on_result) options.on_result(r);
+    if (wave.complete(r.point, r.status)) {
+      note_tries(r, wave.failed_tries(r.point));
+      space.store(r);
+      if (options.on_result) options.on_result(r);
+    }
     for (auto p : wave.take_unreachable()) {
       const PointResult u = unreachable_result(p);
       space.store(u);

@@ -63,6 +63,9 @@ BuildStats build_local(Space& space, const SolverFactory& make_solver, const Bui
 PointResult run_task(ConfigurationSolver& solver, const Space& space, std::size_t point, std::int64_t source,
                      const VecX& source_displacement);
 
+/// Says in a failed point's reason how many neighbours it was tried from, when more than one.
+void note_tries(PointResult& r, int failed_tries);
+
 /// The outcome recorded for a point every candidate source of which failed.
 PointResult unreachable_result(std::size_t point);
 

@@ -224,16 +224,19 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
     auto& q = owed[static_cast<std::size_t>(from)];
     if (!q.empty()) q.pop_front();
     if (!q.empty()) q.front().since = clock::now();
-    if (wave.status()[r.point] != PointStatus::pending) {
-      // Another rank answered first: this answer is late and is not recorded again.
+    if (wave.status()[r.point] != PointStatus::pending || r.source != wave.source_of(r.point)) {
+      // Another rank answered first (or the point has moved on to another source since):
+      // this answer is late and is not recorded again.
       ++stats.late;
       return;
     }
     solve_times.push_back(r.seconds);
-    wave.complete(r.point, r.status);
     ++stats.computed;
     stats.solve_seconds += r.seconds;
-    record(r);
+    if (wave.complete(r.point, r.status)) {
+      note_tries(r, wave.failed_tries(r.point));
+      record(r);
+    }
     for (auto p : wave.take_unreachable()) {
       record(unreachable_result(p));
       ++stats.unreachable;
@@ -303,7 +306,8 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
         while (!task && !reissue.empty()) {
           const Task t = reissue.front();
           reissue.pop_front();
-          if (wave.status()[t.point] == PointStatus::pending) task = t;  // not answered meanwhile
+          // Not answered meanwhile, nor moved on to another source after a failure.
+          if (wave.status()[t.point] == PointStatus::pending && t.source == wave.source_of(t.point)) task = t;
         }
         if (!task) task = wave.next();
         if (!task) break;
@@ -335,7 +339,9 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
                 q.size() == 1 ? "it is" : "its tasks are");
       for (auto& o : q) {
         o.overdue = true;
-        if (wave.status()[o.task.point] != PointStatus::pending || covered(o.task.point)) continue;
+        if (wave.status()[o.task.point] != PointStatus::pending || o.task.source != wave.source_of(o.task.point) ||
+            covered(o.task.point))
+          continue;
         reissue.push_back(o.task);
         ++stats.reissued;
       }

@@ -9,6 +9,8 @@ Wavefront::Wavefront(const Grid& grid, std::size_t start, std::vector<PointStatu
     : grid_(grid), start_(start), status_(std::move(status)) {
   status_.resize(grid_.size(), PointStatus::pending);
   queued_.assign(status_.size(), 0);
+  tried_.assign(status_.size(), 0);
+  source_.assign(status_.size(), -1);
   for (auto s : status_) resolved_ += s != PointStatus::pending;
   if (status_[start_] == PointStatus::pending) {
     ready_.push_back({start_, -1});
@@ -59,10 +61,14 @@ void Wavefront::examine(std::size_t first) {
     work.pop_back();
     if (status_[p] != PointStatus::pending || queued_[p] || p == start_) continue;
     bool waiting = false;
-    for (auto q : candidates(p)) {
+    const std::vector<std::size_t> from = candidates(p);
+    for (std::size_t k = 0; k < from.size(); ++k) {
+      const std::size_t q = from[k];
+      if (tried_[p] & (1u << k)) continue;
       if (status_[q] == PointStatus::solved) {
         ready_.push_back({p, static_cast<std::int64_t>(q)});
         queued_[p] = 1;
+        source_[p] = static_cast<std::int64_t>(q);
         waiting = true;
         break;
       }
@@ -72,9 +78,10 @@ void Wavefront::examine(std::size_t first) {
       }
     }
     if (waiting) continue;
-    status_[p] = PointStatus::unreachable;
+    // Every candidate failed, or was tried and failed this point: it is done.
+    status_[p] = tried_[p] ? PointStatus::failed : PointStatus::unreachable;
     ++resolved_;
-    unreachable_.push_back(p);
+    if (status_[p] == PointStatus::unreachable) unreachable_.push_back(p);
     // Its dependants may now be unreachable, or ready from their next candidate.
     const auto c = grid_.cell(p);
     for (int a = 0; a < 3; ++a)
@@ -94,8 +101,19 @@ std::optional<Task> Wavefront::next() {
   return t;
 }
 
-void Wavefront::complete(std::size_t p, PointStatus outcome) {
+bool Wavefront::complete(std::size_t p, PointStatus outcome) {
   if (in_flight_ > 0) --in_flight_;
+  if (outcome == PointStatus::failed && p != start_ && status_[p] == PointStatus::pending) {
+    // Try the next candidate: examine() queues it, waits for it, or ends the point.
+    const std::vector<std::size_t> from = candidates(p);
+    for (std::size_t k = 0; k < from.size(); ++k)
+      if (static_cast<std::int64_t>(from[k]) == source_[p]) tried_[p] |= static_cast<std::uint8_t>(1u << k);
+    queued_[p] = 0;
+    examine(p);
+    // Pending: queued again or waiting for a candidate. Otherwise no candidate was left and
+    // examine() has recorded it failed and re-examined its neighbours.
+    return status_[p] != PointStatus::pending;
+  }
   if (status_[p] == PointStatus::pending) ++resolved_;
   status_[p] = outcome;
   const auto c = grid_.cell(p);
@@ -105,6 +123,13 @@ void Wavefront::complete(std::size_t p, PointStatus outcome) {
       n[static_cast<std::size_t>(a)] += d;
       if (grid_.contains(n[0], n[1], n[2])) examine(grid_.index(n[0], n[1], n[2]));
     }
+  return true;
+}
+
+int Wavefront::failed_tries(std::size_t p) const {
+  int n = 0;
+  for (std::uint8_t bits = tried_[p]; bits; bits &= static_cast<std::uint8_t>(bits - 1)) ++n;
+  return n;
 }
 
 std::vector<std::size_t> Wavefront::take_unreachable() {

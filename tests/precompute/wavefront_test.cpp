@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <random>
 
@@ -15,12 +16,19 @@ Grid cube(int n) {
   return g;
 }
 
-/// Runs the wavefront to the end, taking ready tasks in a random order and failing the points
-/// in `fail`; returns each point's source and status.
+/// A transition that fails: to `point` from `source`, or from any source when it is -2.
+struct Failure {
+  std::size_t point;
+  std::int64_t source = -2;
+};
+
+/// Runs the wavefront to the end, taking ready tasks in a random order and failing the
+/// transitions in `fail`; returns each point's last source and status.
 std::pair<std::vector<std::int64_t>, std::vector<PointStatus>> run(const Grid& g, std::size_t start,
-                                                                   const std::vector<std::size_t>& fail,
-                                                                   unsigned seed) {
+                                                                   const std::vector<Failure>& fail, unsigned seed,
+                                                                   std::vector<int>* final_outcomes = nullptr) {
   Wavefront w(g, start, std::vector<PointStatus>(g.size(), PointStatus::pending));
+  if (final_outcomes) final_outcomes->assign(g.size(), 0);
   std::vector<std::int64_t> source(g.size(), -2);
   std::vector<Task> running;
   std::mt19937 rng(seed);
@@ -31,8 +39,11 @@ std::pair<std::vector<std::int64_t>, std::vector<PointStatus>> run(const Grid& g
     const Task t = running[pick];
     running.erase(running.begin() + static_cast<std::ptrdiff_t>(pick));
     source[t.point] = t.source;
-    const bool failed = std::find(fail.begin(), fail.end(), t.point) != fail.end();
-    w.complete(t.point, failed ? PointStatus::failed : PointStatus::solved);
+    const bool failed = std::any_of(fail.begin(), fail.end(), [&](const Failure& f) {
+      return f.point == t.point && (f.source == -2 || f.source == t.source);
+    });
+    const bool final = w.complete(t.point, failed ? PointStatus::failed : PointStatus::solved);
+    if (final_outcomes) (*final_outcomes)[t.point] += final ? 1 : 0;
   }
   return {source, w.status()};
 }
@@ -60,7 +71,7 @@ TEST(Wavefront, ReachesEveryPointFromANeighbourOneStepCloser) {
 TEST(Wavefront, SourcesDoNotDependOnCompletionOrder) {
   const Grid g = cube(5);
   const std::size_t start = g.index(2, 2, 4);
-  const std::vector<std::size_t> fail = {g.index(2, 2, 3), g.index(1, 2, 4)};
+  const std::vector<Failure> fail = {{g.index(2, 2, 3)}, {g.index(1, 2, 4)}};
   const auto first = run(g, start, fail, 1);
   for (unsigned seed = 2; seed < 6; ++seed) {
     const auto other = run(g, start, fail, seed);
@@ -75,9 +86,58 @@ TEST(Wavefront, SourcesDoNotDependOnCompletionOrder) {
 
 TEST(Wavefront, FailedStartMakesEverythingUnreachable) {
   const Grid g = cube(3);
-  const auto [source, status] = run(g, 0, {0}, 1);
+  const auto [source, status] = run(g, 0, {{0}}, 1);
   EXPECT_EQ(status[0], PointStatus::failed);
   for (std::size_t p = 1; p < g.size(); ++p) EXPECT_EQ(status[p], PointStatus::unreachable);
+}
+
+TEST(Wavefront, AFailedTransitionIsTriedAgainFromTheNextNeighbour) {
+  const Grid g = cube(4);
+  const std::size_t start = g.index(0, 0, 0);
+  // (2, 1, 0) is reached from (1, 1, 0) first (x has the larger offset), then (2, 0, 0).
+  const std::size_t p = g.index(2, 1, 0);
+  const std::vector<std::size_t> from = Wavefront(g, start, {}).candidates(p);
+  ASSERT_EQ(from.size(), 2u);
+  EXPECT_EQ(from[0], g.index(1, 1, 0));
+  EXPECT_EQ(from[1], g.index(2, 0, 0));
+  const std::vector<Failure> fail = {{p, static_cast<std::int64_t>(from[0])}};
+  std::vector<int> finals;
+  const auto first = run(g, start, fail, 1, &finals);
+  EXPECT_EQ(first.second[p], PointStatus::solved);
+  EXPECT_EQ(first.first[p], static_cast<std::int64_t>(from[1]));
+  for (std::size_t q = 0; q < g.size(); ++q) {
+    EXPECT_EQ(first.second[q], PointStatus::solved) << q;
+    EXPECT_EQ(finals[q], 1) << q;  // each point's outcome is final exactly once
+  }
+  // The same space in any completion order.
+  for (unsigned seed = 2; seed < 8; ++seed) {
+    const auto other = run(g, start, fail, seed);
+    EXPECT_EQ(other.first, first.first);
+    EXPECT_EQ(other.second, first.second);
+  }
+}
+
+TEST(Wavefront, APointFailsOnlyWhenEveryNeighbourItWasTriedFromFailedIt) {
+  const Grid g = cube(3);
+  const std::size_t start = g.index(0, 0, 0);
+  const std::size_t p = g.index(1, 1, 1);  // three candidates
+  std::vector<int> finals;
+  const auto [source, status] = run(g, start, {{p}}, 3, &finals);
+  EXPECT_EQ(status[p], PointStatus::failed);
+  EXPECT_EQ(finals[p], 1);
+  Wavefront w(g, start, std::vector<PointStatus>(g.size(), PointStatus::pending));
+  int tries = 0;
+  while (!w.finished()) {
+    const auto t = w.next();
+    ASSERT_TRUE(t.has_value());
+    if (t->point == p) ++tries;
+    w.complete(t->point, t->point == p ? PointStatus::failed : PointStatus::solved);
+  }
+  EXPECT_EQ(tries, 3);
+  EXPECT_EQ(w.failed_tries(p), 3);
+  EXPECT_EQ(w.status()[p], PointStatus::failed);
+  // The point beyond it along the diagonal is reached around it.
+  EXPECT_EQ(w.status()[g.index(2, 2, 2)], PointStatus::solved);
 }
 
 TEST(Wavefront, ResumesFromKnownOutcomes) {
