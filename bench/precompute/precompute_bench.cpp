@@ -442,10 +442,10 @@ int accuracy(const Options& o) {
     b.threads = o.threads;
     const pc::BuildStats st = pc::build_local(*space, factory(m, s), b);
     std::printf("accuracy: %s, %zu nodes, spacing %.4g mm: %zu points, %zu solved, %zu failed, %zu unreachable, "
-                "%.1f s wall\n",
+                "%zu failed transitions tried again, %.1f s wall\n",
                 o.law.c_str(), m.body.model->node_count(), 1e3 * d, space->grid.size(),
                 space->count(pc::PointStatus::solved), space->count(pc::PointStatus::failed),
-                space->count(pc::PointStatus::unreachable), st.wall_seconds);
+                space->count(pc::PointStatus::unreachable), st.retried, st.wall_seconds);
     for (std::size_t p = 0; p < space->grid.size(); ++p)
       if (space->status[p] == pc::PointStatus::failed) {
         const Vec3 at = space->grid.point(p) - m.contact;

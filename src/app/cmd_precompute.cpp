@@ -389,6 +389,8 @@ std::optional<BuiltSpace> build_space(const PrecomputeArgs& a, pc::distributed::
   // Under MPI the solves ran on the other ranks: each reports its own CPU time at the stop.
   const double cpu = process_cpu_seconds() - cpu0 + stats.solver_cpu_seconds;
   print_summary(space, stats, cpu, resumed, where, one_of_many);
+  if (stats.retried)
+    std::printf("  %zu failed transitions tried again from another neighbour\n", stats.retried);
   if (stats.reissued || stats.late || stats.unresponsive)
     std::printf("  reissued %zu transitions after a timeout; ignored %zu late answers; %d ranks unresponsive\n",
                 stats.reissued, stats.late, stats.unresponsive);

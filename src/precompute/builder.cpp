@@ -71,6 +71,8 @@ BuildStats build_local(Space& space, const SolverFactory& make_solver, const Bui
       note_tries(r, wave.failed_tries(r.point));
       space.store(r);
       if (options.on_result) options.on_result(r);
+    } else {
+      ++stats.retried;
     }
     for (auto p : wave.take_unreachable()) {
       const PointResult u = unreachable_result(p);

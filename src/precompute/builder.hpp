@@ -36,6 +36,7 @@ struct BuildOptions {
 struct BuildStats {
   std::size_t computed = 0;     ///< solves run by this build (not resumed ones)
   std::size_t unreachable = 0;  ///< marked unreachable by this build
+  std::size_t retried = 0;      ///< failed transitions tried again from another neighbour
   double wall_seconds = 0.0;
   double solve_seconds = 0.0;   ///< sum of the solves' wall times over all workers
   unsigned workers = 1;

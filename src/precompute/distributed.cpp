@@ -236,6 +236,8 @@ BuildStats schedule(Space& space, const BuildOptions& options, const Session& se
     if (wave.complete(r.point, r.status)) {
       note_tries(r, wave.failed_tries(r.point));
       record(r);
+    } else {
+      ++stats.retried;
     }
     for (auto p : wave.take_unreachable()) {
       record(unreachable_result(p));
