@@ -23,7 +23,9 @@ OnlineScheduler::OnlineScheduler(const Grid& grid, std::size_t start, OnlineSett
       settings_(settings),
       rule_(grid, start, std::vector<PointStatus>(grid.size(), PointStatus::pending)),
       status_(grid.size(), PointStatus::pending),
-      busy_(grid.size(), 0) {}
+      busy_(grid.size(), 0),
+      tried_(grid.size(), 0),
+      source_(grid.size(), -1) {}
 
 double OnlineScheduler::priority(std::size_t point, const Vec3& position, const Vec3& velocity) const {
   const Vec3 g = grid_.point(point);
@@ -47,12 +49,22 @@ void OnlineScheduler::for_each_neighbour(std::size_t point, Visit&& visit) const
     }
 }
 
+std::uint8_t OnlineScheduler::direction_bit(std::size_t point, std::size_t q) const {
+  const auto c = grid_.cell(point), n = grid_.cell(q);
+  for (std::size_t a = 0; a < 3; ++a)
+    if (n[a] != c[a]) return static_cast<std::uint8_t>(1u << (2 * a + (n[a] > c[a] ? 1 : 0)));
+  return 0;
+}
+
 std::int64_t OnlineScheduler::source_for(std::size_t point) const {
+  auto usable = [&](std::size_t q) {
+    return status_[q] == PointStatus::solved && !(tried_[point] & direction_bit(point, q));
+  };
   for (auto q : rule_.candidates(point))
-    if (status_[q] == PointStatus::solved) return static_cast<std::int64_t>(q);
+    if (usable(q)) return static_cast<std::int64_t>(q);
   std::int64_t found = -1;
   for_each_neighbour(point, [&](std::size_t q) {
-    if (found < 0 && status_[q] == PointStatus::solved) found = static_cast<std::int64_t>(q);
+    if (found < 0 && usable(q)) found = static_cast<std::int64_t>(q);
   });
   return found;
 }
@@ -79,7 +91,8 @@ std::optional<Task> OnlineScheduler::next(const Vec3& position, const Vec3& velo
   frontier_[best] = frontier_.back();
   frontier_.pop_back();
   ++in_flight_;
-  return Task{p, source_for(p)};
+  source_[p] = source_for(p);
+  return Task{p, source_[p]};
 }
 
 void OnlineScheduler::add_neighbours_to_frontier(std::size_t point) {
@@ -90,11 +103,20 @@ void OnlineScheduler::add_neighbours_to_frontier(std::size_t point) {
   });
 }
 
-void OnlineScheduler::complete(std::size_t point, PointStatus outcome) {
+bool OnlineScheduler::complete(std::size_t point, PointStatus outcome) {
   if (in_flight_ > 0) --in_flight_;
+  if (outcome == PointStatus::failed && point != start_ && source_[point] >= 0) {
+    tried_[point] |= direction_bit(point, static_cast<std::size_t>(source_[point]));
+    if (source_for(point) >= 0) {
+      frontier_.push_back(point);  // still busy: tried again from another neighbour
+      return false;
+    }
+  }
   status_[point] = outcome;
-  // A failed point stays a hole: its other neighbours are reached around it.
+  // A point that failed from every solved neighbour stays a hole: the points beyond it are
+  // reached around it.
   if (outcome == PointStatus::solved) add_neighbours_to_frontier(point);
+  return true;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -189,8 +211,11 @@ void OnlineBuilder::work(unsigned) {
       }
       {
         std::lock_guard lock(mutex_);
+        if (!scheduler_.complete(r.point, r.status)) {
+          changed_.notify_all();  // tried again from another neighbour: nothing to publish
+          continue;
+        }
         space_.store(r);
-        scheduler_.complete(r.point, r.status);
         if (r.status == PointStatus::solved) {
           forces_[r.point] = r.force;
           published_[r.point].store(1, std::memory_order_release);

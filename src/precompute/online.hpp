@@ -56,12 +56,15 @@ class OnlineScheduler {
   /// first, then the frontier point nearest the predicted path. Nothing when the frontier is
   /// empty (everything solved, failed or in flight). The point is in flight until complete().
   std::optional<Task> next(const Vec3& position, const Vec3& velocity);
-  void complete(std::size_t point, PointStatus outcome);
+  /// Records a finished task's outcome. A failure goes back to the frontier to be tried from
+  /// another solved neighbour while there is one it was not tried from; then it returns
+  /// false (the point stays pending: record nothing for it yet). Otherwise returns true.
+  bool complete(std::size_t point, PointStatus outcome);
 
   /// Lower is sooner: distance from the predicted path plus along_weight · distance along it.
   [[nodiscard]] double priority(std::size_t point, const Vec3& position, const Vec3& velocity) const;
   /// The solved neighbour a point would be reached from now: the wavefront's candidates
-  /// first, then the other face neighbours; -1 when none is solved.
+  /// first, then the other face neighbours, none it failed from; -1 when there is none.
   [[nodiscard]] std::int64_t source_for(std::size_t point) const;
 
   [[nodiscard]] const std::vector<PointStatus>& status() const { return status_; }
@@ -74,6 +77,8 @@ class OnlineScheduler {
   /// Calls visit(q) for each grid point one step along an axis from `point`.
   template <class Visit>
   void for_each_neighbour(std::size_t point, Visit&& visit) const;
+  /// Bit of tried_[point] for its face neighbour q (0-5).
+  [[nodiscard]] std::uint8_t direction_bit(std::size_t point, std::size_t q) const;
 
   Grid grid_;
   std::size_t start_;
@@ -81,6 +86,8 @@ class OnlineScheduler {
   Wavefront rule_;  ///< only for its candidate order
   std::vector<PointStatus> status_;
   std::vector<std::uint8_t> busy_;      ///< in flight, or in the frontier
+  std::vector<std::uint8_t> tried_;     ///< per point, a bit per face neighbour it failed from
+  std::vector<std::int64_t> source_;    ///< per point, the source of its latest task
   std::vector<std::size_t> frontier_;   ///< pending points with a solved neighbour
   bool start_handed_out_ = false;
   std::size_t in_flight_ = 0;

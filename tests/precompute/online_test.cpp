@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -91,6 +92,62 @@ TEST(OnlineScheduler, TransitionsStartFromSolvedNeighboursAndNoPointTwice) {
   }
   EXPECT_EQ(count, g.size());
   for (std::size_t p = 0; p < g.size(); ++p) EXPECT_EQ(handed[p], 1) << "point " << p;
+}
+
+/// Runs the scheduler one task at a time with the tool at rest at the start; `fails(point,
+/// source)` says which transitions fail. Returns the sources each point was handed out with.
+std::vector<std::vector<std::int64_t>> run_one_at_a_time(OnlineScheduler& s,
+                                                         const std::function<bool(std::size_t, std::int64_t)>& fails) {
+  std::vector<std::vector<std::int64_t>> sources(s.grid().size());
+  while (const auto t = s.next(Vec3::Zero(), Vec3::Zero())) {
+    sources[t->point].push_back(t->source);
+    s.complete(t->point, fails(t->point, t->source) ? PointStatus::failed : PointStatus::solved);
+  }
+  return sources;
+}
+
+TEST(OnlineScheduler, AFailedTransitionIsTriedAgainFromAnotherSolvedNeighbour) {
+  Grid g;
+  g.origin = Vec3(-1, -1, -1);
+  g.spacing = 1.0;
+  g.counts = {3, 3, 3};
+  const std::size_t start = g.index(1, 1, 1);
+  const std::size_t p = g.index(2, 2, 1);
+  OnlineScheduler s(g, start);
+  std::int64_t first = -2;
+  const auto sources = run_one_at_a_time(s, [&](std::size_t point, std::int64_t source) {
+    if (point != p) return false;
+    if (first == -2) first = source;
+    return source == first;  // only the first path fails
+  });
+  ASSERT_EQ(sources[p].size(), 2u);
+  EXPECT_NE(sources[p][1], sources[p][0]);
+  EXPECT_EQ(s.status()[sources[p][1]], PointStatus::solved);
+  EXPECT_EQ(s.status()[p], PointStatus::solved);
+  for (std::size_t q = 0; q < g.size(); ++q) EXPECT_EQ(s.status()[q], PointStatus::solved) << q;
+  EXPECT_EQ(s.in_flight(), 0u);
+}
+
+TEST(OnlineScheduler, APointFailingFromEveryNeighbourStaysAHole) {
+  Grid g;
+  g.origin = Vec3(-1, -1, -1);
+  g.spacing = 1.0;
+  g.counts = {3, 3, 3};
+  const std::size_t start = g.index(1, 1, 1);
+  const std::size_t p = g.index(2, 1, 1);  // beside the start: every other point is solved first or after
+  OnlineScheduler s(g, start);
+  const auto sources = run_one_at_a_time(s, [&](std::size_t point, std::int64_t) { return point == p; });
+  EXPECT_EQ(s.status()[p], PointStatus::failed);
+  // Tried once from each neighbour solved while it was being tried, never twice from one.
+  ASSERT_GE(sources[p].size(), 1u);
+  std::vector<std::int64_t> distinct = sources[p];
+  std::sort(distinct.begin(), distinct.end());
+  EXPECT_EQ(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  for (std::int64_t q : sources[p]) EXPECT_EQ(s.status()[static_cast<std::size_t>(q)], PointStatus::solved);
+  for (std::size_t q = 0; q < g.size(); ++q) {
+    if (q == p) continue;
+    EXPECT_EQ(s.status()[q], PointStatus::solved) << q;
+  }
 }
 
 TEST(OnlineRender, FallsBackWithABoundedStepAndNeverNaN) {
