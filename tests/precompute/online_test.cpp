@@ -94,6 +94,15 @@ TEST(OnlineScheduler, TransitionsStartFromSolvedNeighboursAndNoPointTwice) {
   for (std::size_t p = 0; p < g.size(); ++p) EXPECT_EQ(handed[p], 1) << "point " << p;
 }
 
+/// A 3 x 3 x 3 grid of 1 m around the origin.
+Grid small_cube() {
+  Grid g;
+  g.origin = Vec3(-1, -1, -1);
+  g.spacing = 1.0;
+  g.counts = {3, 3, 3};
+  return g;
+}
+
 /// Runs the scheduler one task at a time with the tool at rest at the start; `fails(point,
 /// source)` says which transitions fail. Returns the sources each point was handed out with.
 std::vector<std::vector<std::int64_t>> run_one_at_a_time(OnlineScheduler& s,
@@ -107,10 +116,7 @@ std::vector<std::vector<std::int64_t>> run_one_at_a_time(OnlineScheduler& s,
 }
 
 TEST(OnlineScheduler, AFailedTransitionIsTriedAgainFromAnotherSolvedNeighbour) {
-  Grid g;
-  g.origin = Vec3(-1, -1, -1);
-  g.spacing = 1.0;
-  g.counts = {3, 3, 3};
+  const Grid g = small_cube();
   const std::size_t start = g.index(1, 1, 1);
   const std::size_t p = g.index(2, 2, 1);
   OnlineScheduler s(g, start);
@@ -129,10 +135,7 @@ TEST(OnlineScheduler, AFailedTransitionIsTriedAgainFromAnotherSolvedNeighbour) {
 }
 
 TEST(OnlineScheduler, APointFailingFromEveryNeighbourStaysAHole) {
-  Grid g;
-  g.origin = Vec3(-1, -1, -1);
-  g.spacing = 1.0;
-  g.counts = {3, 3, 3};
+  const Grid g = small_cube();
   const std::size_t start = g.index(1, 1, 1);
   const std::size_t p = g.index(2, 1, 1);  // beside the start: every other point is solved first or after
   OnlineScheduler s(g, start);
