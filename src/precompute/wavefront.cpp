@@ -109,6 +109,7 @@ bool Wavefront::complete(std::size_t p, PointStatus outcome) {
     for (std::size_t k = 0; k < from.size(); ++k)
       if (static_cast<std::int64_t>(from[k]) == source_[p]) tried_[p] |= static_cast<std::uint8_t>(1u << k);
     queued_[p] = 0;
+    source_[p] = -2;  // no task out for it until examine() queues one: a late answer matches none
     examine(p);
     // Pending: queued again or waiting for a candidate. Otherwise no candidate was left and
     // examine() has recorded it failed and re-examined its neighbours.

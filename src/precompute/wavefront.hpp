@@ -36,7 +36,8 @@ class Wavefront {
   /// the point's last: false for a failure that is to be tried again from another candidate
   /// (the point stays pending; record nothing for it yet).
   bool complete(std::size_t point, PointStatus outcome);
-  /// The source of point p's latest task (-1 for the start point, or before any).
+  /// The source of point p's task out now (-1 for the start point, or before any; -2 while a
+  /// failed point waits for its next candidate).
   [[nodiscard]] std::int64_t source_of(std::size_t p) const { return source_[p]; }
   /// Sources point p was tried from and failed, its latest task's included once it fails.
   [[nodiscard]] int failed_tries(std::size_t p) const;

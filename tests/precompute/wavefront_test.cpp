@@ -117,6 +117,32 @@ TEST(Wavefront, AFailedTransitionIsTriedAgainFromTheNextNeighbour) {
   }
 }
 
+TEST(Wavefront, AFailedPointWaitingForItsNextCandidateHasNoTaskOut) {
+  const Grid g = cube(3);
+  Wavefront w(g, 0, std::vector<PointStatus>(g.size(), PointStatus::pending));
+  const std::size_t p = g.index(1, 1, 0), first = g.index(0, 1, 0), second = g.index(1, 0, 0);
+  ASSERT_EQ(w.candidates(p), (std::vector<std::size_t>{first, second}));
+  std::vector<Task> out;
+  auto take_all = [&] {
+    while (auto t = w.next()) out.push_back(*t);
+  };
+  take_all();
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(w.complete(0, PointStatus::solved));
+  take_all();
+  EXPECT_TRUE(w.complete(first, PointStatus::solved));
+  take_all();
+  EXPECT_EQ(w.source_of(p), static_cast<std::int64_t>(first));
+  // Failed from the first candidate while the second is still being solved: it waits, and an
+  // answer for the failed task (a late copy under MPI) matches no task out.
+  EXPECT_FALSE(w.complete(p, PointStatus::failed));
+  EXPECT_EQ(w.status()[p], PointStatus::pending);
+  EXPECT_EQ(w.source_of(p), -2);
+  EXPECT_TRUE(w.complete(second, PointStatus::solved));
+  EXPECT_EQ(w.source_of(p), static_cast<std::int64_t>(second));
+  EXPECT_EQ(w.failed_tries(p), 1);
+}
+
 TEST(Wavefront, APointFailsOnlyWhenEveryNeighbourItWasTriedFromFailedIt) {
   const Grid g = cube(3);
   const std::size_t start = g.index(0, 0, 0);
