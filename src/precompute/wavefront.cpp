@@ -1,6 +1,7 @@
 #include "precompute/wavefront.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstdlib>
 
 namespace tactus::precompute {
@@ -127,11 +128,7 @@ bool Wavefront::complete(std::size_t p, PointStatus outcome) {
   return true;
 }
 
-int Wavefront::failed_tries(std::size_t p) const {
-  int n = 0;
-  for (std::uint8_t bits = tried_[p]; bits; bits &= static_cast<std::uint8_t>(bits - 1)) ++n;
-  return n;
-}
+int Wavefront::failed_tries(std::size_t p) const { return std::popcount(tried_[p]); }
 
 std::vector<std::size_t> Wavefront::take_unreachable() {
   std::vector<std::size_t> out;

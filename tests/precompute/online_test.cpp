@@ -13,14 +13,17 @@
 namespace tactus::precompute {
 namespace {
 
-/// A 21 x 5 x 5 grid of 1 m, the start in its middle.
-Grid long_grid() {
+/// A grid of 1 m with `counts` points along each axis, centred on the origin.
+Grid unit_grid(int nx, int ny, int nz) {
   Grid g;
-  g.origin = Vec3(-10, -2, -2);
+  g.origin = -0.5 * Vec3(nx - 1, ny - 1, nz - 1);
   g.spacing = 1.0;
-  g.counts = {21, 5, 5};
+  g.counts = {nx, ny, nz};
   return g;
 }
+
+/// A 21 x 5 x 5 grid of 1 m, the start in its middle.
+Grid long_grid() { return unit_grid(21, 5, 5); }
 
 TEST(OnlineScheduler, WorksAheadAlongTheMotion) {
   const Grid g = long_grid();
@@ -94,15 +97,6 @@ TEST(OnlineScheduler, TransitionsStartFromSolvedNeighboursAndNoPointTwice) {
   for (std::size_t p = 0; p < g.size(); ++p) EXPECT_EQ(handed[p], 1) << "point " << p;
 }
 
-/// A 3 x 3 x 3 grid of 1 m around the origin.
-Grid small_cube() {
-  Grid g;
-  g.origin = Vec3(-1, -1, -1);
-  g.spacing = 1.0;
-  g.counts = {3, 3, 3};
-  return g;
-}
-
 /// Runs the scheduler one task at a time with the tool at rest at the start; `fails(point,
 /// source)` says which transitions fail. Returns the sources each point was handed out with.
 std::vector<std::vector<std::int64_t>> run_one_at_a_time(OnlineScheduler& s,
@@ -116,7 +110,7 @@ std::vector<std::vector<std::int64_t>> run_one_at_a_time(OnlineScheduler& s,
 }
 
 TEST(OnlineScheduler, AFailedTransitionIsTriedAgainFromAnotherSolvedNeighbour) {
-  const Grid g = small_cube();
+  const Grid g = unit_grid(3, 3, 3);
   const std::size_t start = g.index(1, 1, 1);
   const std::size_t p = g.index(2, 2, 1);
   OnlineScheduler s(g, start);
@@ -135,7 +129,7 @@ TEST(OnlineScheduler, AFailedTransitionIsTriedAgainFromAnotherSolvedNeighbour) {
 }
 
 TEST(OnlineScheduler, APointFailingFromEveryNeighbourStaysAHole) {
-  const Grid g = small_cube();
+  const Grid g = unit_grid(3, 3, 3);
   const std::size_t start = g.index(1, 1, 1);
   const std::size_t p = g.index(2, 1, 1);  // beside the start: every other point is solved first or after
   OnlineScheduler s(g, start);
