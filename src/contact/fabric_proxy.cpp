@@ -103,11 +103,7 @@ Nearest nearest_face(const Vec3& x, const Vec3& e0, const Vec3& e1, std::span<co
   return best;
 }
 
-bool finite_pose(const Pose& p) {
-  return p.position.allFinite() && p.orientation.coeffs().allFinite() && p.orientation.norm() > 0.0;
-}
-
-void require(bool ok, const char* key, double value, const char* what) {
+void require_proxy(bool ok, const char* key, double value, const char* what) {
   if (!ok) throw InputError(fmt::format("fabric proxy: {} must be {}, got {}", key, what, value));
 }
 
@@ -116,14 +112,14 @@ void require(bool ok, const char* key, double value, const char* what) {
 void validate(const FabricProxyParams& p) {
   validate(p.finger, "fabric proxy: finger");
   const auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
-  require(p.side == 1 || p.side == -1, "side", p.side, "+1 (front) or -1 (back)");
-  require(std::isfinite(p.stiffness) && p.stiffness > 0.0, "stiffness", p.stiffness, "positive and finite");
-  require(non_negative(p.static_friction), "static_friction", p.static_friction, "finite and not negative");
-  require(non_negative(p.kinetic_friction) && p.kinetic_friction <= p.static_friction, "kinetic_friction",
-          p.kinetic_friction, "finite, not negative and at most static_friction");
-  require(non_negative(p.mass), "mass", p.mass, "finite and not negative");
-  require(non_negative(p.damping), "damping", p.damping, "finite and not negative");
-  require(std::isfinite(p.tolerance) && p.tolerance > 0.0, "tolerance", p.tolerance, "positive and finite");
+  require_proxy(p.side == 1 || p.side == -1, "side", p.side, "+1 (front) or -1 (back)");
+  require_proxy(std::isfinite(p.stiffness) && p.stiffness > 0.0, "stiffness", p.stiffness, "positive and finite");
+  require_proxy(non_negative(p.static_friction), "static_friction", p.static_friction, "finite and not negative");
+  require_proxy(non_negative(p.kinetic_friction) && p.kinetic_friction <= p.static_friction, "kinetic_friction",
+                p.kinetic_friction, "finite, not negative and at most static_friction");
+  require_proxy(non_negative(p.mass), "mass", p.mass, "finite and not negative");
+  require_proxy(non_negative(p.damping), "damping", p.damping, "finite and not negative");
+  require_proxy(std::isfinite(p.tolerance) && p.tolerance > 0.0, "tolerance", p.tolerance, "positive and finite");
 }
 
 FabricProxyState make_fabric_proxy_state(const Vec3& finger_position) {

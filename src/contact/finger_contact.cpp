@@ -9,10 +9,6 @@
 namespace tactus::contact {
 namespace {
 
-bool finite_pose(const Pose& p) {
-  return p.position.allFinite() && p.orientation.coeffs().allFinite() && p.orientation.norm() > 0.0;
-}
-
 void check_friction(double mu_s, double mu_k, const char* who) {
   if (!(std::isfinite(mu_s) && mu_s >= 0.0))
     throw InputError(fmt::format("{}: static friction must be finite and not negative, got {}", who, mu_s));

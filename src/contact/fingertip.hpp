@@ -20,6 +20,11 @@ struct Pose {
   [[nodiscard]] Vec3 to_local(const Vec3& world) const { return orientation.conjugate() * (world - position); }
 };
 
+/// Finite position and orientation, the orientation not zero (a device's pose checked before use).
+[[nodiscard]] inline bool finite_pose(const Pose& p) {
+  return p.position.allFinite() && p.orientation.coeffs().allFinite() && p.orientation.norm() > 0.0;
+}
+
 /// A fingertip in its own frame: the capsule around the segment base → tip.
 struct CapsuleShape {
   Vec3 base = Vec3::Zero();              ///< axis end toward the hand, m

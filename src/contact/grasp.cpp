@@ -10,10 +10,6 @@
 namespace tactus::contact {
 namespace {
 
-bool finite_pose(const Pose& p) {
-  return p.position.allFinite() && p.orientation.coeffs().allFinite() && p.orientation.norm() > 0.0;
-}
-
 /// Both fingers with unit orientations, their capsules, and how deep their pads squeeze the
 /// fabric (its thickness minus the capsules' gap).
 struct Pads {
@@ -57,7 +53,7 @@ Vec3 across_normal(const Vec3& v, const Vec3& n) {
   return len > 1e-6 ? Vec3(w / len) : Vec3::Zero();
 }
 
-void require(bool ok, const char* key, double value, const char* what) {
+void require_grasp(bool ok, const char* key, double value, const char* what) {
   if (!ok) throw InputError(fmt::format("grasp: {} must be {}, got {}", key, what, value));
 }
 
@@ -112,17 +108,18 @@ Grasp::Grasp(const GraspParams& params)
   validate(params.thumb, "grasp: thumb");
   validate(params.index, "grasp: index");
   const auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
-  require(non_negative(params.fabric_thickness), "fabric_thickness", params.fabric_thickness,
-          "finite and not negative");
-  require(non_negative(params.capture_distance), "capture_distance", params.capture_distance,
-          "finite and not negative");
-  require(non_negative(params.static_friction), "static_friction", params.static_friction, "finite and not negative");
-  require(non_negative(params.kinetic_friction) && params.kinetic_friction <= params.static_friction,
-          "kinetic_friction", params.kinetic_friction, "finite, not negative and at most static_friction");
-  require(std::isfinite(params.parallel_angle) && params.parallel_angle >= 0.0 && params.parallel_angle < 1.0,
-          "parallel_angle", params.parallel_angle, "in [0, 1) rad");
-  require(params.max_particles >= 1 && params.max_particles <= 1'000'000, "max_particles",
-          static_cast<double>(params.max_particles), "between 1 and 1e6");
+  require_grasp(non_negative(params.fabric_thickness), "fabric_thickness", params.fabric_thickness,
+                "finite and not negative");
+  require_grasp(non_negative(params.capture_distance), "capture_distance", params.capture_distance,
+                "finite and not negative");
+  require_grasp(non_negative(params.static_friction), "static_friction", params.static_friction,
+                "finite and not negative");
+  require_grasp(non_negative(params.kinetic_friction) && params.kinetic_friction <= params.static_friction,
+                "kinetic_friction", params.kinetic_friction, "finite, not negative and at most static_friction");
+  require_grasp(std::isfinite(params.parallel_angle) && params.parallel_angle >= 0.0 && params.parallel_angle < 1.0,
+                "parallel_angle", params.parallel_angle, "in [0, 1) rad");
+  require_grasp(params.max_particles >= 1 && params.max_particles <= 1'000'000, "max_particles",
+                static_cast<double>(params.max_particles), "between 1 and 1e6");
 }
 
 GraspState Grasp::make_state() const {
@@ -293,8 +290,8 @@ GraspResult Grasp::update(GraspState& state, const Pose& thumb_pose, const Pose&
 
 PointGrasp::PointGrasp(const GraspParams& params, double hold_stiffness)
     : grasp_(params), squeeze_(params.squeeze_law), hold_stiffness_(hold_stiffness) {
-  require(std::isfinite(hold_stiffness) && hold_stiffness > 0.0, "hold_stiffness", hold_stiffness,
-          "positive and finite");
+  require_grasp(std::isfinite(hold_stiffness) && hold_stiffness > 0.0, "hold_stiffness", hold_stiffness,
+                "positive and finite");
 }
 
 void PointGrasp::move_hold(PointGraspState& state, const Vec3& from, const Vec3& to) noexcept {

@@ -12,7 +12,8 @@
 namespace tactus::contact {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+/// A sweep's time of first contact when there is none.
+constexpr double kNever = std::numeric_limits<double>::infinity();
 
 // A contact found by the face test counts as inside the face this far outside it (in
 // barycentric units), so that a touch exactly on an edge is never lost between the face test
@@ -24,15 +25,15 @@ constexpr double kFaceTolerance = 1e-9;
 double sweep_point(const Vec3& from, const Vec3& d, double radius, const Vec3& v) {
   const Vec3 m = from - v;
   const double b = m.dot(d);
-  if (!(b < 0.0)) return kInf;  // moving away or parallel
+  if (!(b < 0.0)) return kNever;  // moving away or parallel
   const double a = d.squaredNorm();
   const double c = m.squaredNorm() - radius * radius;
   if (c <= 0.0) return 0.0;
   const double disc = b * b - a * c;
-  if (disc < 0.0) return kInf;
+  if (disc < 0.0) return kNever;
   // The smaller root as c / (−b + √disc): no cancellation since b < 0.
   const double t = c / (-b + std::sqrt(disc));
-  return t <= 1.0 ? t : kInf;
+  return t <= 1.0 ? t : kNever;
 }
 
 /// Earliest t in [0, 1] at which from + t·d is at distance `radius` from the segment
@@ -41,21 +42,21 @@ double sweep_point(const Vec3& from, const Vec3& d, double radius, const Vec3& v
 double sweep_edge(const Vec3& from, const Vec3& d, double radius, const Vec3& p0, const Vec3& p1) {
   const Vec3 e = p1 - p0;
   const double len2 = e.squaredNorm();
-  if (!(len2 > 0.0)) return kInf;
+  if (!(len2 > 0.0)) return kNever;
   const Vec3 m = from - p0;
   // Distances to the axis times |e|: |m×e| at the start, |d×e| per unit t.
   const Vec3 me = m.cross(e), de = d.cross(e);
   const double a = de.squaredNorm();
   const double b = me.dot(de);
-  if (!(b < 0.0) || !(a > 0.0)) return kInf;  // moving away from the axis, or along it
+  if (!(b < 0.0) || !(a > 0.0)) return kNever;  // moving away from the axis, or along it
   const double c = me.squaredNorm() - radius * radius * len2;
-  if (c <= 0.0) return kInf;  // already within the infinite cylinder: an end sphere comes first
+  if (c <= 0.0) return kNever;  // already within the infinite cylinder: an end sphere comes first
   const double disc = b * b - a * c;
-  if (disc < 0.0) return kInf;
+  if (disc < 0.0) return kNever;
   const double t = c / (-b + std::sqrt(disc));
-  if (t > 1.0) return kInf;
+  if (t > 1.0) return kNever;
   const double u = (m + t * d).dot(e);
-  return (u >= 0.0 && u <= len2) ? t : kInf;
+  return (u >= 0.0 && u <= len2) ? t : kNever;
 }
 
 /// Barycentric coordinates of q (assumed in the plane) in triangle (a, b, c) with
@@ -105,12 +106,12 @@ SweepHit sweep_sphere_triangle(const Vec3& from, const Vec3& to, double radius, 
     return hit;
   }
 
-  double best = kInf;
+  double best = kNever;
   if (n_len > 0.0) {
     // Entry into the slab |n·(x − a)| ≤ radius from either side; the face interior can only
     // be touched first at that instant.
     const double s0 = face_normal.dot(from - a), s1 = face_normal.dot(to - a);
-    double t = kInf, side = 1.0;
+    double t = kNever, side = 1.0;
     if (s0 > radius && s1 < radius) {
       t = (s0 - radius) / (s0 - s1);
     } else if (s0 < -radius && s1 > -radius) {

@@ -9,15 +9,6 @@
 #include "core/error.hpp"
 
 namespace tactus::mesh {
-namespace {
-
-std::uint64_t edge_key(Index a, Index b) {
-  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
-  return (lo << 32) | hi;
-}
-
-}  // namespace
 
 HalfEdgeMesh::HalfEdgeMesh(const TriMesh& mesh)
     : positions_(mesh.vertices), num_faces_(mesh.triangles.size()) {

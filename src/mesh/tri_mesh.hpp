@@ -12,6 +12,13 @@ using Index = std::int32_t;
 using Triangle = std::array<Index, 3>;
 using Tet = std::array<Index, 4>;
 
+/// One key for the undirected edge {a, b}: the same for (a, b) and (b, a).
+[[nodiscard]] constexpr std::uint64_t edge_key(Index a, Index b) {
+  const auto lo = static_cast<std::uint64_t>(static_cast<std::uint32_t>(a < b ? a : b));
+  const auto hi = static_cast<std::uint64_t>(static_cast<std::uint32_t>(a < b ? b : a));
+  return (lo << 32) | hi;
+}
+
 /// Triangles are counter-clockwise seen from outside (normals point out).
 struct TriMesh {
   std::vector<Vec3> vertices;

@@ -190,10 +190,6 @@ void check_coincident(const std::vector<Vec3>& vertices, double diagonal, const 
     });
 }
 
-std::uint64_t edge_key(Index a, Index b) {
-  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint64_t>(std::max(a, b));
-}
-
 void check_edges(const TriMesh& mesh, const std::vector<char>& usable, const SurfaceChecks& checks,
                  const Names& names, Collector& out) {
   struct Use {

@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/png.hpp"
 #include "compile/device_setup.hpp"
+#include "report/palette.hpp"
 
 namespace tactus::report {
 
@@ -117,7 +118,7 @@ std::array<std::uint8_t, 3> viridis(double t) {
 
 namespace {
 
-constexpr raster::Rgb kInk{40, 40, 40}, kPaper{255, 255, 255}, kUnvisited{128, 128, 128};
+constexpr raster::Rgb kUnvisited{128, 128, 128};
 constexpr double kLabelSize = 13.0;
 
 /// The strongest cell's mean [N] and where it is.

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/png.hpp"
 #include "core/raster.hpp"
+#include "report/palette.hpp"
 
 namespace tactus::report {
 namespace {
@@ -16,8 +17,7 @@ namespace {
 constexpr int kWidth = 760, kPanel = 170, kLeft = 70, kRight = 24, kTop = 80, kGap = 44, kBottom = 52;
 constexpr double kText = 13.0;
 constexpr int kBinsPerDecade = 10;
-constexpr raster::Rgb kPaper{255, 255, 255}, kInk{30, 30, 30}, kGrid{215, 215, 215}, kCompute{31, 119, 180},
-    kPeriod{255, 127, 14}, kNominal{90, 90, 90};
+constexpr raster::Rgb kGrid{215, 215, 215}, kCompute{31, 119, 180}, kPeriod{255, 127, 14}, kNominal{90, 90, 90};
 
 /// Three significant digits in s, ms or µs.
 std::string duration_label(double seconds) {

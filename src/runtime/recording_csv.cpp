@@ -42,7 +42,7 @@ void put_device(std::string& row, const RecordingHeader& header, std::uint16_t d
     put_int(row, device);
 }
 
-void put_vec3(std::string& row, const Vec3& v) {
+void put_xyz(std::string& row, const Vec3& v) {
   for (int k = 0; k < 3; ++k) {
     row += ',';
     put(row, v[k]);
@@ -64,20 +64,20 @@ void write_frames_csv(const Recording& recording, std::ostream& out) {
     put_device(row, recording.header, f.device);
     row += ',';
     put_int(row, f.frame);
-    put_vec3(row, f.position);
+    put_xyz(row, f.position);
     for (const double q : {f.orientation.w(), f.orientation.x(), f.orientation.y(), f.orientation.z()}) {
       row += ',';
       put(row, q);
     }
     row += ',';
     put_int(row, f.buttons);
-    put_vec3(row, f.force);
-    put_vec3(row, f.torque);
+    put_xyz(row, f.force);
+    put_xyz(row, f.torque);
     row += ',';
     put_int(row, unsigned{f.contact});
     row += ',';
     put_int(row, unsigned{f.flags});
-    put_vec3(row, f.proxy);
+    put_xyz(row, f.proxy);
     row += ',';
     put(row, microseconds(f.compute_ns));
     row += ',';

@@ -591,8 +591,6 @@ TEST_F(Cli, BenchPlotsTheLoopLatencies) {
   EXPECT_NE(bad.err.find("could not write the PNG file"), std::string::npos) << bad.err;
 }
 
-}  // namespace
-
 TEST_F(Cli, FitWritesTheMaterialBlockAndThePlot) {
   // A straight loading curve under a flat punch: the linear law fits it exactly but for the
   // noise-free round-off, so the residual is tiny and E positive.
@@ -632,3 +630,5 @@ TEST_F(Cli, FitWritesTheMaterialBlockAndThePlot) {
   EXPECT_EQ(count_lines(bad.err), 1) << bad.err;
   EXPECT_NE(bad.err.find("curve.csv:3"), std::string::npos) << bad.err;
 }
+
+}  // namespace

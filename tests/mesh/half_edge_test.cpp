@@ -7,16 +7,12 @@
 
 #include "core/error.hpp"
 #include "mesh/generators.hpp"
+#include "small_meshes.hpp"
 
 namespace tactus::mesh {
 namespace {
 
-TriMesh tetrahedron_surface() {
-  TriMesh m;
-  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  return m;
-}
+using test::tetrahedron_surface;
 
 void expect_consistent(const HalfEdgeMesh& he) {
   for (Index h = 0; h < static_cast<Index>(he.num_half_edges()); ++h) {

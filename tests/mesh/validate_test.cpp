@@ -7,16 +7,12 @@
 #include <fmt/format.h>
 
 #include "mesh/generators.hpp"
+#include "small_meshes.hpp"
 
 namespace tactus::mesh {
 namespace {
 
-TriMesh tetrahedron_surface() {
-  TriMesh m;
-  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  return m;
-}
+using test::tetrahedron_surface;
 
 TetMesh two_tets() {
   TetMesh m;

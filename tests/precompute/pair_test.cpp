@@ -41,7 +41,7 @@ SpaceSettings pair_settings(const physics::Body& body) {
   return s;
 }
 
-Space build(const physics::Body& body, const SpaceSettings& s) {
+Space build_pair_level(const physics::Body& body, const SpaceSettings& s) {
   Space space = make_space(body, s, "");
   BuildOptions o;
   o.threads = 2;
@@ -49,13 +49,14 @@ Space build(const physics::Body& body, const SpaceSettings& s) {
   return space;
 }
 
-std::vector<Space> build_levels(const physics::Body& body, const SpaceSettings& s) {
+std::vector<Space> build_pair_levels(const physics::Body& body, const SpaceSettings& s) {
   std::vector<Space> levels;
-  for (const SpaceSettings& level : space_levels(s, body.model->rest_positions())) levels.push_back(build(body, level));
+  for (const SpaceSettings& level : space_levels(s, body.model->rest_positions()))
+    levels.push_back(build_pair_level(body, level));
   return levels;
 }
 
-std::vector<std::shared_ptr<const Space>> shared(const std::vector<Space>& levels) {
+std::vector<std::shared_ptr<const Space>> shared_pair_levels(const std::vector<Space>& levels) {
   std::vector<std::shared_ptr<const Space>> out;
   for (const auto& l : levels) out.push_back(std::make_shared<const Space>(l));
   return out;
@@ -101,8 +102,8 @@ TEST(PairSpace, LevelsHoldEachPointFreeThenTheOtherAtEachOfItsGridPoints) {
 /// with both points held, walked straight from rest, at random places of the two boxes,
 /// relative to the largest force of the sample (the accuracy study's measure).
 template <class Predict>
-std::pair<double, double> errors_against_direct(const physics::Body& body, const SpaceSettings& s, Predict predict,
-                                                int samples) {
+std::pair<double, double> pair_errors_against_direct(const physics::Body& body, const SpaceSettings& s,
+                                                     Predict predict, int samples) {
   const VecX& rest = body.model->rest_positions();
   const std::array<Grid, 2> grids{pair_grid(s, 0, rest), pair_grid(s, 1, rest)};
   std::mt19937 rng(11);
@@ -131,10 +132,10 @@ std::pair<double, double> errors_against_direct(const physics::Body& body, const
 TEST(PairSpace, EachPointsForceFollowsDirectSolvesWithBothPointsHeld) {
   const physics::Body body = testing::block_body();
   const SpaceSettings s = pair_settings(body);
-  const std::vector<Space> levels = build_levels(body, s);
+  const std::vector<Space> levels = build_pair_levels(body, s);
   for (std::size_t k = 0; k < levels.size(); ++k)
     ASSERT_EQ(levels[k].count(PointStatus::solved), levels[k].grid.size()) << "level " << k;
-  const PairInterpolator pair(shared(levels), Interpolation::tricubic_hermite);
+  const PairInterpolator pair(shared_pair_levels(levels), Interpolation::tricubic_hermite);
 
   // With both points at grid points, each point's force is its own level's configuration.
   const Grid& a = pair.grid(0);
@@ -153,10 +154,10 @@ TEST(PairSpace, EachPointsForceFollowsDirectSolvesWithBothPointsHeld) {
   EXPECT_EQ(pair.force(0, pa, &away).force, pair.level(0).force(pa).force);
   EXPECT_EQ(pair.force(0, pa, nullptr).force, pair.level(0).force(pa).force);
 
-  const auto [mean, worst] = errors_against_direct(
+  const auto [mean, worst] = pair_errors_against_direct(
       body, s, [&](int f, const Vec3& p, const Vec3& other) { return pair.force(f, p, &other).force; }, 20);
   // The same positions with the other point ignored (each point's space alone).
-  const auto [mean_alone, worst_alone] = errors_against_direct(
+  const auto [mean_alone, worst_alone] = pair_errors_against_direct(
       body, s,
       [&](int f, const Vec3& p, const Vec3&) { return pair.level(static_cast<std::size_t>(f)).force(p).force; }, 20);
   std::printf("two-point space: mean %.3f %%, max %.3f %%; each point alone: mean %.3f %%, max %.3f %%\n", 100 * mean,
@@ -169,14 +170,14 @@ TEST(PairSpace, EachPointsForceFollowsDirectSolvesWithBothPointsHeld) {
 TEST(PairSpace, ALevelWithoutAValueHandsItsWeightToTheLevelsAroundIt) {
   const physics::Body body = testing::block_body();
   const SpaceSettings s = pair_settings(body);
-  std::vector<Space> levels = build_levels(body, s);
-  const PairInterpolator whole(shared(levels), Interpolation::trilinear);
+  std::vector<Space> levels = build_pair_levels(body, s);
+  const PairInterpolator whole(shared_pair_levels(levels), Interpolation::trilinear);
   // The first point's level with the second at B's grid point (1, 1, 1) (the centre) fails
   // everywhere: around it the force is trilinear over the seven corners left, renormalized.
   const Grid& b = whole.grid(1);
   const std::size_t centre = b.index(1, 1, 1);
   for (auto& status : levels[2 + centre].status) status = PointStatus::failed;
-  const PairInterpolator holed(shared(levels), Interpolation::trilinear);
+  const PairInterpolator holed(shared_pair_levels(levels), Interpolation::trilinear);
   const Vec3 pa = whole.grid(0).point(4), pb = b.point(1, 1, 1) + Vec3(0.0004, 0.0011, 0.0007);
   const Query q = holed.force(0, pa, &pb);
   ASSERT_TRUE(q.valid);
@@ -198,13 +199,13 @@ TEST(PairSpace, ALevelWithoutAValueHandsItsWeightToTheLevelsAroundIt) {
 TEST(PairSpace, ALevelWithoutAValueAtAnEndIsLeftOutByAStencilLinearAlongItsAxis) {
   const physics::Body body = testing::block_body();
   const SpaceSettings s = pair_settings(body);
-  std::vector<Space> levels = build_levels(body, s);
+  std::vector<Space> levels = build_pair_levels(body, s);
   // The first point's level with the second at B's grid point (0, 1, 1) fails everywhere.
   // The second sits in B's cell between x-levels 1 and 2, so a stencil linear along x
   // (levels 1 and 2) and quadratic along y and z (levels 0, 1, 2) leaves the failed one out.
-  const Grid b = PairInterpolator(shared(levels), Interpolation::trilinear).grid(1);
+  const Grid b = PairInterpolator(shared_pair_levels(levels), Interpolation::trilinear).grid(1);
   for (auto& status : levels[2 + b.index(0, 1, 1)].status) status = PointStatus::failed;
-  const PairInterpolator holed(shared(levels), Interpolation::trilinear);
+  const PairInterpolator holed(shared_pair_levels(levels), Interpolation::trilinear);
   const Vec3 pa = holed.grid(0).point(4), pb = b.point(1, 1, 1) + Vec3(0.0004, 0.0011, -0.0007);
   const Query q = holed.force(0, pa, &pb);
   ASSERT_TRUE(q.valid);
@@ -224,7 +225,7 @@ TEST(PairSpace, ALevelWithoutAValueAtAnEndIsLeftOutByAStencilLinearAlongItsAxis)
   EXPECT_LT((q.force - expected).norm(), 1e-12 * expected.norm());
   // With the centre failed instead, every lowered stencil holds it: trilinear across levels.
   for (auto& status : levels[2 + b.index(1, 1, 1)].status) status = PointStatus::failed;
-  const Query centre = PairInterpolator(shared(levels), Interpolation::trilinear).force(0, pa, &pb);
+  const Query centre = PairInterpolator(shared_pair_levels(levels), Interpolation::trilinear).force(0, pa, &pb);
   EXPECT_TRUE(centre.across_levels);
   EXPECT_FALSE(centre.levels_lowered);
 }
@@ -232,7 +233,7 @@ TEST(PairSpace, ALevelWithoutAValueAtAnEndIsLeftOutByAStencilLinearAlongItsAxis)
 TEST(PairSpace, AFileHoldsEveryLevelAndRefusesOnesThatDoNotBelong) {
   const physics::Body body = testing::block_body();
   const SpaceSettings s = pair_settings(body);
-  const std::vector<Space> levels = build_levels(body, s);
+  const std::vector<Space> levels = build_pair_levels(body, s);
   const auto path = std::filesystem::temp_directory_path() / ("tactus_pair_" + std::to_string(::getpid()) + ".h5");
   write_space_levels(path, levels);
   const std::vector<Space> read = read_space_levels(path);
@@ -250,10 +251,10 @@ TEST(PairSpace, AFileHoldsEveryLevelAndRefusesOnesThatDoNotBelong) {
   // The levels' model hashes differ: no level passes for another.
   EXPECT_NE(levels[2].identity.model_hash, levels[3].identity.model_hash);
   EXPECT_NE(levels[0].identity.model_hash, levels[1].identity.model_hash);
-  const PairInterpolator pair(shared(read), Interpolation::tricubic_hermite);
+  const PairInterpolator pair(shared_pair_levels(read), Interpolation::tricubic_hermite);
   const Vec3 pa(-0.0098, 0.0012, 0.0061), pb(0.0111, -0.0007, 0.0083);
   EXPECT_EQ(pair.force(0, pa, &pb).force,
-            PairInterpolator(shared(levels), Interpolation::tricubic_hermite).force(0, pa, &pb).force);
+            PairInterpolator(shared_pair_levels(levels), Interpolation::tricubic_hermite).force(0, pa, &pb).force);
 
   // A file without its last level is refused by name; so are levels out of order.
   std::vector<Space> short_of_one(levels.begin(), levels.end() - 1);
@@ -265,7 +266,7 @@ TEST(PairSpace, AFileHoldsEveryLevelAndRefusesOnesThatDoNotBelong) {
     EXPECT_NE(std::string(e.what()).find("level 55 of 56 is missing"), std::string::npos) << e.what();
   }
   std::filesystem::remove(path);
-  std::vector<std::shared_ptr<const Space>> swapped = shared(levels);
+  std::vector<std::shared_ptr<const Space>> swapped = shared_pair_levels(levels);
   std::swap(swapped[3], swapped[4]);
   try {
     (void)PairInterpolator(swapped, Interpolation::trilinear);
@@ -275,7 +276,7 @@ TEST(PairSpace, AFileHoldsEveryLevelAndRefusesOnesThatDoNotBelong) {
               std::string::npos)
         << e.what();
   }
-  EXPECT_THROW((void)PairInterpolator(shared(short_of_one), Interpolation::trilinear), InputError);
+  EXPECT_THROW((void)PairInterpolator(shared_pair_levels(short_of_one), Interpolation::trilinear), InputError);
 }
 
 TEST(PairSpace, AHeldPatchMovesRigidlyWithItsNode) {
@@ -291,7 +292,7 @@ TEST(PairSpace, AHeldPatchMovesRigidlyWithItsNode) {
       s.held_patch.push_back(static_cast<std::int32_t>(n));
   ASSERT_EQ(s.held_patch.size(), 5u);  // the node and its four neighbours
   s.held_at = centre + Vec3(0.002, 0.0, -0.003);
-  const Space space = build(body, s);
+  const Space space = build_pair_level(body, s);
   ASSERT_EQ(space.count(PointStatus::solved), space.grid.size());
   for (std::size_t p = 0; p < space.grid.size(); ++p)
     for (auto n : s.held_patch) {

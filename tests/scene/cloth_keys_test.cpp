@@ -36,7 +36,7 @@ std::string with_line(const std::string& base, int line, const std::string& text
   return out;
 }
 
-std::string error_of(const std::string& text) {
+std::string cloth_error(const std::string& text) {
   try {
     parse_scene(text, std::string(TACTUS_SOURCE_DIR) + "/scenes/x.toml");
   } catch (const InputError& e) {
@@ -104,32 +104,32 @@ TEST(ClothScene, ShearHysteresisTakesTheFabrics2HGOnlyWhenAsked) {
                           "shear = { angle = [0.0, 0.2], force = [0.0, 2.0] }\n"
                           "bend_warp = { curvature = [0.0, 100.0], moment = [0.0, 1e-3] }\n"
                           "bend_weft = { curvature = [0.0, 100.0], moment = [0.0, 5e-4] }\n";
-  const std::string missing = error_of(own);
+  const std::string missing = cloth_error(own);
   EXPECT_NE(missing.find(":5:20: bodies.fabric.shear_hysteresis: the scene's own curves give no `shear_friction`"),
             std::string::npos)
       << missing;
   const Model given = parse_scene(own + "shear_friction = 1.5\nshear_friction_5 = 2.5\n", "x.toml");
   EXPECT_DOUBLE_EQ(given.bodies[0].cloth->model->material().shear_friction, 1.5);
   EXPECT_DOUBLE_EQ(given.bodies[0].cloth->model->material().shear_friction_5, 2.5);
-  const std::string alone = error_of(own + "shear_friction_5 = 2.5\n");
+  const std::string alone = cloth_error(own + "shear_friction_5 = 2.5\n");
   EXPECT_NE(alone.find("bodies.fabric.curves.shear_friction_5: the friction at 5° needs `shear_friction`"),
             std::string::npos)
       << alone;
 }
 
 TEST(ClothScene, BadFabricsAreLocated) {
-  EXPECT_EQ(error_of(with_line(kCloth, 3, "fabric = \"dennim\"")).find(":3:10: bodies.fabric.fabric: no fabric 'dennim'"),
-            error_of(with_line(kCloth, 3, "fabric = \"dennim\"")).find(":3:10:"));
-  EXPECT_NE(error_of(with_line(kCloth, 3, "fabric = \"dennim\"")).find("did you mean 'denim'?"), std::string::npos);
-  EXPECT_NE(error_of(with_line(kCloth, 9, "clamp = 1")).find(":9:9: bodies.fabric.clamp: a clamp holds at least 2"),
+  EXPECT_EQ(cloth_error(with_line(kCloth, 3, "fabric = \"dennim\"")).find(":3:10: bodies.fabric.fabric: no fabric 'dennim'"),
+            cloth_error(with_line(kCloth, 3, "fabric = \"dennim\"")).find(":3:10:"));
+  EXPECT_NE(cloth_error(with_line(kCloth, 3, "fabric = \"dennim\"")).find("did you mean 'denim'?"), std::string::npos);
+  EXPECT_NE(cloth_error(with_line(kCloth, 9, "clamp = 1")).find(":9:9: bodies.fabric.clamp: a clamp holds at least 2"),
             std::string::npos);
-  EXPECT_NE(error_of(with_line(kCloth, 8, "weft_axis = [0.0, 0.5, -1.0]")).find("perpendicular"), std::string::npos);
-  EXPECT_NE(error_of(with_line(kCloth, 5, "spacing = 0.2")).find("bodies.fabric.spacing"), std::string::npos);
-  EXPECT_NE(error_of(with_line(kCloth, 2, "kind = \"cloth\"\nmaterial = \"skin\"")).find("takes its properties from"),
+  EXPECT_NE(cloth_error(with_line(kCloth, 8, "weft_axis = [0.0, 0.5, -1.0]")).find("perpendicular"), std::string::npos);
+  EXPECT_NE(cloth_error(with_line(kCloth, 5, "spacing = 0.2")).find("bodies.fabric.spacing"), std::string::npos);
+  EXPECT_NE(cloth_error(with_line(kCloth, 2, "kind = \"cloth\"\nmaterial = \"skin\"")).find("takes its properties from"),
             std::string::npos);
   // A factorization kept over steps lets the fabric slip through the fingers: refused.
   const std::string reused =
-      error_of(with_line(kCloth, 9, "clamp = 2\nsolver = \"cholesky\"\nfactor_reuse_steps = 2"));
+      cloth_error(with_line(kCloth, 9, "clamp = 2\nsolver = \"cholesky\"\nfactor_reuse_steps = 2"));
   EXPECT_NE(reused.find(":11:22: bodies.fabric.factor_reuse_steps: a cloth body factorizes every step"),
             std::string::npos) << reused;
 
@@ -141,11 +141,12 @@ TEST(ClothScene, BadFabricsAreLocated) {
                           "shear = { angle = [0.0, 0.2], force = [0.0, 2.0] }\n"
                           "bend_warp = { curvature = [0.0, 100.0], moment = [0.0, 1e-3] }\n"
                           "bend_weft = { curvature = [0.0, 100.0], moment = [0.0, 5e-4] }\n";
-  EXPECT_NE(error_of(own).find(":7:8: bodies.fabric.curves.warp: the tension against strain: not monotone: point 3 (30) is below point 2 (40)"), std::string::npos)
-      << error_of(own);
+  EXPECT_NE(cloth_error(own).find(":7:8: bodies.fabric.curves.warp: the tension against strain: not monotone: point 3 (30) is below point 2 (40)"), std::string::npos)
+      << cloth_error(own);
   std::string negative = own;
   negative.replace(negative.find("areal_density = 0.2"), 19, "areal_density = -0.2");
-  EXPECT_NE(error_of(negative).find("areal_density: -0.2 is out of range"), std::string::npos) << error_of(negative);
+  EXPECT_NE(cloth_error(negative).find("areal_density: -0.2 is out of range"), std::string::npos)
+      << cloth_error(negative);
 }
 
 TEST(ClothScene, DatabaseErrorsPointIntoTheDatabase) {
@@ -210,7 +211,7 @@ side = "back"
   auto error = [&](const std::string& from, const std::string& to) {
     std::string text = touch;
     text.replace(text.find(from), from.size(), to);
-    return error_of(text);
+    return cloth_error(text);
   };
   EXPECT_NE(error("bodies = [\"fabric\"]", "bodies = [\"block\"]").find("fabric_proxy touches cloth bodies; 'block' is 'rigid'"),
             std::string::npos);
@@ -260,7 +261,7 @@ pad_normal = [0, -1, 0]
   auto error = [&](const std::string& from, const std::string& to) {
     std::string text = pair;
     text.replace(text.find(from), from.size(), to);
-    return error_of(text);
+    return cloth_error(text);
   };
   // The partner must name this tool back and touch the other side; each finger has its own device.
   EXPECT_NE(error("partner = \"thumb\"\npad_normal = [0, -1, 0]", "").find("must name tool 'thumb' as its partner"),

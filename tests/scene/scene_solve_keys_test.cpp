@@ -60,7 +60,7 @@ position = [0.05, 0, 0]
   EXPECT_NE(summary.find("probe 'end'"), std::string::npos) << summary;
 }
 
-std::string error_of(const std::string& extra) {
+std::string solve_error(const std::string& extra) {
   try {
     parse_scene(kBlock + extra, "solve.toml");
   } catch (const InputError& e) {
@@ -70,24 +70,24 @@ std::string error_of(const std::string& extra) {
 }
 
 TEST(SceneSolveKeys, Errors) {
-  EXPECT_NE(error_of("[[bodies.pad.loads]]\nside = \"x_max\"\n").find("bodies.pad.loads[0]"), std::string::npos);
-  EXPECT_NE(error_of("[[bodies.pad.loads]]\nside = \"x_max\"\n").find("force"), std::string::npos);
-  EXPECT_NE(error_of("[[bodies.pad.loads]]\nforce = [0, 0, 1]\n").find("missing a node selector"),
+  EXPECT_NE(solve_error("[[bodies.pad.loads]]\nside = \"x_max\"\n").find("bodies.pad.loads[0]"), std::string::npos);
+  EXPECT_NE(solve_error("[[bodies.pad.loads]]\nside = \"x_max\"\n").find("force"), std::string::npos);
+  EXPECT_NE(solve_error("[[bodies.pad.loads]]\nforce = [0, 0, 1]\n").find("missing a node selector"),
             std::string::npos);
-  EXPECT_NE(error_of("[[bodies.pad.loads]]\nname = \"wall\"\nside = \"x_max\"\nforce = [0, 0, 1]\n")
+  EXPECT_NE(solve_error("[[bodies.pad.loads]]\nname = \"wall\"\nside = \"x_max\"\nforce = [0, 0, 1]\n")
                 .find("duplicate region name 'wall'"),
             std::string::npos);
-  EXPECT_NE(error_of("[[bodies.pad.prescribed]]\nside = \"x_min\"\ndisplacement = [0, 0, 1e-3]\n")
+  EXPECT_NE(solve_error("[[bodies.pad.prescribed]]\nside = \"x_min\"\ndisplacement = [0, 0, 1e-3]\n")
                 .find("which fixed region 'wall' holds"),
             std::string::npos);
-  EXPECT_NE(error_of("[[bodies.pad.loads]]\nbox = { min = [1, 1, 1], max = [2, 2, 2] }\nforce = [0, 0, 1]\n")
+  EXPECT_NE(solve_error("[[bodies.pad.loads]]\nbox = { min = [1, 1, 1], max = [2, 2, 2] }\nforce = [0, 0, 1]\n")
                 .find("selects no node"),
             std::string::npos);
-  EXPECT_NE(error_of("[[bodies.pad.probes]]\nposition = [0, 0, 0]\n[[bodies.pad.probes]]\nname = \"probe0\"\n"
+  EXPECT_NE(solve_error("[[bodies.pad.probes]]\nposition = [0, 0, 0]\n[[bodies.pad.probes]]\nname = \"probe0\"\n"
                      "position = [0, 0, 0]\n")
                 .find("duplicate probe name"),
             std::string::npos);
-  const std::string ramp = error_of("[[bodies.pad.loads]]\nside = \"x_max\"\nforce = [0, 0, 1]\nramp_time = -1\n");
+  const std::string ramp = solve_error("[[bodies.pad.loads]]\nside = \"x_max\"\nforce = [0, 0, 1]\nramp_time = -1\n");
   EXPECT_NE(ramp.find("solve.toml:"), std::string::npos) << ramp;
   EXPECT_NE(ramp.find("ramp_time"), std::string::npos) << ramp;
 }
@@ -105,10 +105,10 @@ TEST(SceneSolveKeys, StaticSolveSettingsAreReadAndChecked) {
   EXPECT_EQ(m.static_solve.newton.force_tolerance, 1e-12);
   EXPECT_EQ(m.static_solve.newton.max_iterations, 30);
   EXPECT_EQ(m.static_solve.max_step_halvings, 3);
-  EXPECT_NE(error_of("[solve]\ntolerance = 0\n").find("solve.tolerance"), std::string::npos);
-  EXPECT_NE(error_of("[solve]\nmax_iterations = 0\n").find("solve.max_iterations"), std::string::npos);
-  EXPECT_NE(error_of("[solve]\nforce_tolerance = -1\n").find("solve.force_tolerance"), std::string::npos);
-  EXPECT_NE(error_of("[solve]\nmax_halvings = 2\n").find("max_halvings"), std::string::npos);
+  EXPECT_NE(solve_error("[solve]\ntolerance = 0\n").find("solve.tolerance"), std::string::npos);
+  EXPECT_NE(solve_error("[solve]\nmax_iterations = 0\n").find("solve.max_iterations"), std::string::npos);
+  EXPECT_NE(solve_error("[solve]\nforce_tolerance = -1\n").find("solve.force_tolerance"), std::string::npos);
+  EXPECT_NE(solve_error("[solve]\nmax_halvings = 2\n").find("max_halvings"), std::string::npos);
 }
 
 /// kBlock with `keys` added to the body's table.

@@ -22,7 +22,7 @@ mesh = { generator = "sphere", radius = 0.05, subdivisions = 2 }
 )" + body_keys + "\n" + extra;
 }
 
-std::string error_of(const std::string& text) {
+std::string touchable_error(const std::string& text) {
   try {
     (void)parse_scene(text, "room.toml");
   } catch (const InputError& e) {
@@ -82,27 +82,27 @@ poisson_ratio = 0.3
 }
 
 TEST(TouchableKeys, EveryWrongKeyIsLocated) {
-  std::string e = error_of(scene_with("[bodies.ball.properties]\nstiffness = -5.0\n"));
+  std::string e = touchable_error(scene_with("[bodies.ball.properties]\nstiffness = -5.0\n"));
   EXPECT_TRUE(has(e, "room.toml:") && has(e, "bodies.ball.properties.stiffness")) << e;
-  e = error_of(scene_with("[bodies.ball.properties]\nstatic_friction = 0.2\nkinetic_friction = 0.5\n"));
+  e = touchable_error(scene_with("[bodies.ball.properties]\nstatic_friction = 0.2\nkinetic_friction = 0.5\n"));
   EXPECT_TRUE(has(e, "bodies.ball.properties") && has(e, "kinetic_friction 0.5 exceeds static_friction 0.2")) << e;
-  e = error_of(scene_with("[bodies.ball.properties]\npoisson_ratio = 0.7\n"));
+  e = touchable_error(scene_with("[bodies.ball.properties]\npoisson_ratio = 0.7\n"));
   EXPECT_TRUE(has(e, "bodies.ball.properties.poisson_ratio")) << e;
-  e = error_of(scene_with("[bodies.ball.properties]\nroughness_amplitude = 1e-4\n"));
+  e = touchable_error(scene_with("[bodies.ball.properties]\nroughness_amplitude = 1e-4\n"));
   EXPECT_TRUE(has(e, "roughness_wavelength")) << e;
-  e = error_of(scene_with("[bodies.ball.properties]\n[[bodies.ball.properties.paint]]\ncenter = [0, 0, 0]\nradius = 0.01\n"));
+  e = touchable_error(scene_with("[bodies.ball.properties]\n[[bodies.ball.properties.paint]]\ncenter = [0, 0, 0]\nradius = 0.01\n"));
   EXPECT_TRUE(has(e, "bodies.ball.properties.paint") && has(e, "at least one")) << e;
-  e = error_of(scene_with("[bodies.ball.properties]\nfile = \"nowhere.h5\"\n"));
+  e = touchable_error(scene_with("[bodies.ball.properties]\nfile = \"nowhere.h5\"\n"));
   EXPECT_TRUE(has(e, "bodies.ball.properties.file") && has(e, "nowhere.h5")) << e;
-  e = error_of(scene_with("levels = { raise_force = 1.0, lower_force = 2.0 }"));
+  e = touchable_error(scene_with("levels = { raise_force = 1.0, lower_force = 2.0 }"));
   EXPECT_TRUE(has(e, "bodies.ball.levels.lower_force") && has(e, "must be below raise_force")) << e;
-  e = error_of(scene_with("levels = { coarse_levels = 12 }"));
+  e = touchable_error(scene_with("levels = { coarse_levels = 12 }"));
   EXPECT_TRUE(has(e, "bodies.ball.levels.coarse_levels")) << e;
-  e = error_of(scene_with("levels = { coarse_levels = 1 }", "", "fem"));
+  e = touchable_error(scene_with("levels = { coarse_levels = 1 }", "", "fem"));
   EXPECT_TRUE(has(e, "bodies.ball.levels") && has(e, "for rigid bodies")) << e;
-  e = error_of(scene_with("", "[lod]\nhaptic_budget = 0.0\n"));
+  e = touchable_error(scene_with("", "[lod]\nhaptic_budget = 0.0\n"));
   EXPECT_TRUE(has(e, "lod.haptic_budget")) << e;
-  e = error_of(scene_with("", "[lod]\nbudget = 1e-5\n"));
+  e = touchable_error(scene_with("", "[lod]\nbudget = 1e-5\n"));
   EXPECT_TRUE(has(e, "lod.budget") && has(e, "unknown key")) << e;
 }
 

@@ -15,7 +15,7 @@
 namespace tactus::haptics {
 namespace {
 
-constexpr double kFrame = 1e-3;  // [s]
+constexpr double kFramePeriod = 1e-3;  // [s]
 constexpr double kStiffness = 800.0;
 
 MultiSurfaceForce make(std::size_t layers, double blend_time = 0.0, double damping = 0.0) {
@@ -141,7 +141,7 @@ TEST(MultiSurface, FrictionSticksBelowTheStaticLimitAndSlidesAtTheKineticOne) {
   double x = 0.0;
   for (int k = 1; k <= 24; ++k) {
     x = 1e-4 * k;  // up to 2.4 mm: k·dx = 1.92 N < 2 N
-    const MultiSurfaceOutput o = ms.update(Vec3(x, 0, -depth), Vec3(0.1, 0, 0), k * kFrame);
+    const MultiSurfaceOutput o = ms.update(Vec3(x, 0, -depth), Vec3(0.1, 0, 0), k * kFramePeriod);
     ASSERT_TRUE(o.sticking) << x;
     EXPECT_NEAR(o.proxy.x(), 0.0, 1e-12);
     EXPECT_NEAR(o.force.x(), -kStiffness * x, 1e-9);
@@ -178,7 +178,7 @@ TEST(MultiSurface, MovingLaterallyOverACurvedLayerKeepsTheProxyOnIt) {
   // algorithm asks for, with the planes blended over those 8 ms.
   const Vec3 centre(0, 0, -0.05);
   const double radius = 0.05, depth = 0.002;
-  MultiSurfaceForce ms = make(1, 8 * kFrame);
+  MultiSurfaceForce ms = make(1, 8 * kFramePeriod);
   const auto goal_at = [&](double t) {
     const double a = -0.3 + 0.6 * t;
     return Vec3(centre + (radius - depth) * Vec3(std::sin(a), 0, std::cos(a)));
@@ -187,7 +187,7 @@ TEST(MultiSurface, MovingLaterallyOverACurvedLayerKeepsTheProxyOnIt) {
   Vec3 previous = goal_at(0.0);
   double worst_off_surface = 0.0, worst_force_error = 0.0;
   for (int k = 0; k <= 1000; ++k) {
-    const double t = k * kFrame;
+    const double t = k * kFramePeriod;
     if (k % 8 == 0) {
       SurfaceLayerHits hits;
       if (const auto h = enter_sphere(ms.ray_origin(), ms.ray_direction(), centre, radius)) hits.layers[0] = *h;
@@ -195,7 +195,7 @@ TEST(MultiSurface, MovingLaterallyOverACurvedLayerKeepsTheProxyOnIt) {
       ms.set_hits(hits, t);
     }
     const Vec3 goal = goal_at(t);
-    const MultiSurfaceOutput out = ms.update(goal, (goal - previous) / kFrame, t);
+    const MultiSurfaceOutput out = ms.update(goal, (goal - previous) / kFramePeriod, t);
     previous = goal;
     if (k < 8) continue;  // the first plane is the one above the start point
     ASSERT_TRUE(out.touching) << t;
@@ -211,7 +211,7 @@ TEST(MultiSurface, MovingLaterallyOverACurvedLayerKeepsTheProxyOnIt) {
 }
 
 TEST(MultiSurface, PlaneUpdatesAreBlendedWithoutAForceStep) {
-  const double blend = 8 * kFrame;
+  const double blend = 8 * kFramePeriod;
   MultiSurfaceForce ms = make(1, blend);
   ms.set_hits(flat_layers({0.0}), 0.0);
   const Vec3 goal(0, 0, -0.002);
@@ -221,7 +221,7 @@ TEST(MultiSurface, PlaneUpdatesAreBlendedWithoutAForceStep) {
   ms.set_hits(flat_layers({-0.001}), 0.010);
   double largest_step = 0.0;
   for (int k = 10; k <= 30; ++k) {
-    const double f = ms.update(goal, Vec3::Zero(), k * kFrame).force.z();
+    const double f = ms.update(goal, Vec3::Zero(), k * kFramePeriod).force.z();
     largest_step = std::max(largest_step, std::abs(f - last));
     last = f;
   }
@@ -264,10 +264,10 @@ TEST(MultiSurface, NeverNaNAndNoAllocation) {
   for (int k = 0; k < 500; ++k) {
     const Vec3 goal = k % 50 == 7 ? Vec3(nan, 0, 0) : Vec3(0, 0, -0.00002 * k);
     const Vec3 velocity = k % 50 == 9 ? Vec3(0, nan, 0) : Vec3(0, 0, -0.02);
-    const MultiSurfaceOutput out = ms.update(goal, velocity, k * kFrame);
+    const MultiSurfaceOutput out = ms.update(goal, velocity, k * kFramePeriod);
     EXPECT_TRUE(out.force.allFinite()) << k;
     EXPECT_TRUE(out.proxy.allFinite()) << k;
-    if (k % 16 == 0) ms.set_hits(bad, k * kFrame);
+    if (k % 16 == 0) ms.set_hits(bad, k * kFramePeriod);
   }
   EXPECT_EQ(counter.count(), 0u);
   EXPECT_TRUE(ms.ray_direction().allFinite());

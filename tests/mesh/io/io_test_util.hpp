@@ -13,6 +13,9 @@
 
 namespace tactus::mesh::test {
 
+/// The bundled meshes, among them files other tools wrote.
+inline const std::filesystem::path data_dir = std::filesystem::path(TACTUS_TEST_DATA_DIR) / "meshes";
+
 inline std::filesystem::path scratch_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   auto dir = std::filesystem::temp_directory_path() /

@@ -10,8 +10,6 @@
 namespace tactus::mesh::test {
 namespace {
 
-const std::filesystem::path data_dir = std::filesystem::path(TACTUS_TEST_DATA_DIR) / "meshes";
-
 void expect_box(const Aabb& box, const Vec3& lo, const Vec3& hi, double tol = 1e-9) {
   for (int k = 0; k < 3; ++k) {
     EXPECT_NEAR(box.min[k], lo[k], tol) << "axis " << k;

@@ -12,8 +12,6 @@
 namespace tactus::mesh::test {
 namespace {
 
-const std::filesystem::path data_dir = std::filesystem::path(TACTUS_TEST_DATA_DIR) / "meshes";
-
 /// The Gmsh cube (gmsh_cube.geo): 339 nodes, 540 triangles, 1125 tetrahedra.
 void expect_gmsh_cube(const MeshFile& f, bool physical) {
   ASSERT_TRUE(f.volume && f.surface);

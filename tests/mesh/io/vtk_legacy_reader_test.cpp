@@ -11,8 +11,6 @@
 namespace tactus::mesh::test {
 namespace {
 
-const std::filesystem::path data_dir = std::filesystem::path(TACTUS_TEST_DATA_DIR) / "meshes";
-
 TEST(VtkLegacyReader, SofaAsciiGridOfLinesTrianglesAndTetrahedra) {
   // POINTS 413, CELL_TYPES 5703: 1942 lines (3), 2645 triangles (5), 1116 tetrahedra (10).
   const MeshFile f = read_mesh(data_dir / "sofa_A.vtk");

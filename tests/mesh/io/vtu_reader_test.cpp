@@ -13,8 +13,6 @@
 namespace tactus::mesh::test {
 namespace {
 
-const std::filesystem::path data_dir = std::filesystem::path(TACTUS_TEST_DATA_DIR) / "meshes";
-
 std::string base64(std::string_view bytes) {
   static constexpr char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
