@@ -17,7 +17,6 @@ using detail::BvhNode;
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Boxes are widened by this fraction of the coordinate scale in every query, so rounding
 /// in the triangle tests can never report a hit or a distance that the box test pruned.
 constexpr double kRelativeMargin = 1e-9;

@@ -1,5 +1,7 @@
 #pragma once
 // Math vocabulary: Eigen types under short names, used across every layer.
+#include <limits>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -14,6 +16,8 @@ using Mat4 = Eigen::Matrix4d;
 using VecX = Eigen::VectorXd;
 using MatX = Eigen::MatrixXd;
 using Quat = Eigen::Quaterniond;
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Axis-aligned box; empty until the first point is added.
 struct Aabb {

@@ -12,8 +12,6 @@
 namespace tactus::haptics {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 // ---- waypoints ------------------------------------------------------------------------------
 
 /// Time inside the path: loops wrap with period = last time; negative times count as 0.

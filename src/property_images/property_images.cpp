@@ -16,8 +16,6 @@ namespace tactus::property_images {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 float load(const float& x) { return std::atomic_ref<const float>(x).load(std::memory_order_relaxed); }
 void store(float& x, float v) { std::atomic_ref<float>(x).store(v, std::memory_order_relaxed); }
 

@@ -14,7 +14,6 @@ namespace tactus::contact {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Silicone-rubber finger sphere on soft tissue (seed 000 §3.1).
 HertzParameters finger_on_tissue() {

@@ -13,7 +13,6 @@
 namespace tactus::haptics {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kFrame = 1e-3;
 

@@ -10,7 +10,6 @@ namespace tactus::haptics {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kCostWindow = 0.1;  ///< [s] between reports of the budget used
 
 double box_distance(const Aabb& box, const Vec3& p) {
