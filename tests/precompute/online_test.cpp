@@ -13,7 +13,7 @@
 namespace tactus::precompute {
 namespace {
 
-/// A grid of 1 m with `counts` points along each axis, centred on the origin.
+/// A grid of 1 m with nx × ny × nz points, centred on the origin.
 Grid unit_grid(int nx, int ny, int nz) {
   Grid g;
   g.origin = -0.5 * Vec3(nx - 1, ny - 1, nz - 1);
