@@ -1,28 +1,11 @@
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
-#include <new>
 #include <random>
 
+#include "core/counting_allocator.hpp"  // tests/core
 #include "core/error.hpp"
 #include "precompute/interpolator.hpp"
-
-// Counts heap allocations, to check that force queries make none (not under the
-// sanitizers, which own the allocator).
-#ifndef TACTUS_SANITIZED
-namespace {
-std::atomic<long> g_allocations{0};
-}
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-#endif
 
 namespace tactus::precompute {
 namespace {
@@ -371,7 +354,6 @@ TEST(Interpolator, HermiteMethodsRefuseASpaceWithoutDerivatives) {
   EXPECT_NO_THROW(Interpolator(space, Interpolation::rbf_cubic));
 }
 
-#ifndef TACTUS_SANITIZED
 TEST(Interpolator, ForceQueriesDoNotAllocate) {
   const auto space = synthetic(smooth_field);
   auto partial = synthetic(smooth_field);
@@ -379,18 +361,17 @@ TEST(Interpolator, ForceQueriesDoNotAllocate) {
   for (auto m : kAll) {
     const Interpolator a(space, m), b(partial, m);
     VecX shape(static_cast<Eigen::Index>(space->displacement.rows()));
-    const long before = g_allocations.load();
+    const tactus::testing::AllocationCounter counter;
     double sum = 0.0;
     for (int i = 0; i < 100; ++i) {
       const Vec3 p(0.001 * i - 0.03, 0.0004 * i, 0.035);
       sum += a.force(p).force.norm() + b.force(p).force.norm() + b.force(Vec3(0.015, 0.005, 0.035)).force.norm();
       sum += a.shape(p, shape).force.norm();
     }
-    EXPECT_EQ(g_allocations.load(), before) << to_string(m);
+    EXPECT_EQ(counter.count(), 0u) << to_string(m);
     EXPECT_TRUE(std::isfinite(sum));
   }
 }
-#endif
 
 }  // namespace
 }  // namespace tactus::precompute
