@@ -4,6 +4,8 @@
 #include <sched.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -49,6 +51,24 @@ std::string apply_priority(int priority, bool& fifo) {
   return why + "; normal scheduler kept";
 }
 
+/// The calling thread's niceness (Linux keeps one per thread).
+int current_nice() {
+  errno = 0;
+  const int nice = getpriority(PRIO_PROCESS, static_cast<id_t>(gettid()));
+  return errno == 0 ? nice : 0;
+}
+
+/// Raises the thread's niceness to `nice`; returns a description of the outcome.
+std::string apply_nice(int nice) {
+  if (nice < 0 || nice > 19) return "nice " + std::to_string(nice) + " is outside 0–19; not changed";
+  const int current = current_nice();
+  if (nice <= current) return "nice " + std::to_string(current);
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), nice) != 0) {
+    return "nice " + std::to_string(nice) + " refused (" + error_text(errno) + ")";
+  }
+  return "nice " + std::to_string(nice);
+}
+
 /// Pins the thread to one CPU; returns a description of the outcome.
 std::string apply_pinning(int cpu, bool& pinned) {
   if (cpu == -1) return "no CPU pinning";
@@ -73,6 +93,8 @@ RealtimeResult make_current_thread_realtime(const RealtimeRequest& request) {
   RealtimeResult result;
   try {
     result.message = apply_priority(request.priority, result.fifo);
+    if (!result.fifo && request.nice != 0) result.message += "; " + apply_nice(request.nice);
+    result.nice = current_nice();
     result.message += "; " + apply_pinning(request.cpu, result.pinned);
   } catch (...) {
     // Only the message can fail (out of memory); what was applied is still reported.

@@ -10,11 +10,16 @@ namespace tactus {
 struct RealtimeRequest {
   int priority = 0;  ///< SCHED_FIFO priority 1–99; 0 = normal scheduler
   int cpu = -1;      ///< CPU to pin to; -1 = no pinning
+  /// Niceness (0–19) for a thread left on the normal scheduler. A loop that may overrun (the
+  /// simulation) runs nicer than the haptic loop, so on a shared core the haptic loop wins.
+  /// Raising it needs no privilege; it is never lowered again for this thread.
+  int nice = 0;
 };
 
 struct RealtimeResult {
   bool fifo = false;    ///< the thread now runs under SCHED_FIFO at the requested priority
   bool pinned = false;  ///< the thread now runs on the requested CPU only
+  int nice = 0;         ///< the thread's niceness now
   std::string message;  ///< what was obtained, and why not when something was refused
 };
 

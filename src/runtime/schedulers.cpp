@@ -83,6 +83,9 @@ void run_real_time(const scene::Model& m, const SessionOptions& o, Loops& loops,
   const Nanos t0 = now_ns() + 20'000'000;  // every loop starts on the same first deadline
   const int priority = o.realtime_priority.value_or(m.realtime.priority);
   const int low_priority = priority > 10 ? priority - 10 : 0;
+  // Off SCHED_FIFO the other loops run nicer than the haptic threads: a simulation step that
+  // overruns then takes what the haptic loop leaves of a shared core, not half of it.
+  constexpr int kOtherLoopNice = 10;
   const int haptic_cpu = o.haptic_cpu.value_or(m.realtime.haptic_cpu);
   const auto haptic_period = static_cast<Nanos>(std::llround(1e9 / m.rates.haptic));
   // A dedicated core spins through the whole period: the wait never sleeps.
@@ -133,11 +136,11 @@ void run_real_time(const scene::Model& m, const SessionOptions& o, Loops& loops,
     });
   }
   threads.emplace_back([&] {
-    run_loop("simulation", m.rates.simulation, RealtimeRequest{low_priority, -1}, kOtherLoopSpin,
+    run_loop("simulation", m.rates.simulation, RealtimeRequest{low_priority, -1, kOtherLoopNice}, kOtherLoopSpin,
              [&](double t, Nanos deadline, Nanos start) { loops.simulation->step(t, deadline, start, true); });
   });
   threads.emplace_back([&] {
-    run_loop("interaction", m.rates.interaction, RealtimeRequest{low_priority, -1}, kOtherLoopSpin,
+    run_loop("interaction", m.rates.interaction, RealtimeRequest{low_priority, -1, kOtherLoopNice}, kOtherLoopSpin,
              [&](double t, Nanos deadline, Nanos start) { loops.interaction->step(t, deadline, start, true); });
   });
   // The recorder runs on this thread: it drains the rings and decides when to stop.

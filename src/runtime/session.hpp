@@ -64,7 +64,7 @@ struct SessionOptions {
   /// Devices whose poses come from a recording instead of the scene's device (by name).
   std::map<std::string, RecordedMotion> replay;
   /// Real time, overriding the scene's [realtime] table: SCHED_FIFO priority of the haptic
-  /// threads (0 = normal scheduler; the other loops get 10 less), the CPU to pin them to
+  /// threads (0 = normal scheduler; the other loops get 10 less, or nice 10 off SCHED_FIFO), the CPU to pin them to
   /// (−1 = none), and how long before each haptic deadline the wait spins.
   std::optional<int> realtime_priority;
   std::optional<int> haptic_cpu;

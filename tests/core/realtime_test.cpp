@@ -6,6 +6,8 @@
 #include <sched.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <string>
@@ -82,6 +84,31 @@ TEST(Realtime, InvalidRequestsAreRefusedWithAReason) {
       EXPECT_NE(r.message.find("not pinned"), std::string::npos) << r.message;
     }
   });
+}
+
+/// The calling thread's niceness (Linux keeps one per thread).
+int thread_nice() { return getpriority(PRIO_PROCESS, static_cast<id_t>(gettid())); }
+
+TEST(Realtime, ANiceRequestLowersThisThreadOnlyAndIsRefusedOutsideItsRange) {
+  const int before = thread_nice();
+  ASSERT_LT(before, 19) << "the test needs room to raise the niceness";
+  on_new_thread([before] {
+    const RealtimeResult r = make_current_thread_realtime(RealtimeRequest{0, -1, before + 1});
+    EXPECT_FALSE(r.fifo);
+    EXPECT_EQ(r.nice, before + 1);
+    EXPECT_EQ(thread_nice(), before + 1);
+    EXPECT_NE(r.message.find("nice " + std::to_string(before + 1)), std::string::npos) << r.message;
+    // Without privileges a thread cannot become less nice: asking for less keeps what it has.
+    const RealtimeResult kept = make_current_thread_realtime(RealtimeRequest{0, -1, before});
+    EXPECT_EQ(kept.nice, before + 1);
+    EXPECT_EQ(thread_nice(), before + 1);
+    for (const int nice : {-1, 20}) {
+      const RealtimeResult refused = make_current_thread_realtime(RealtimeRequest{0, -1, nice});
+      EXPECT_NE(refused.message.find("outside 0–19"), std::string::npos) << refused.message;
+      EXPECT_EQ(thread_nice(), before + 1);
+    }
+  });
+  EXPECT_EQ(thread_nice(), before);
 }
 
 TEST(Realtime, ThreadNameIsTruncatedTo15Characters) {
