@@ -118,6 +118,8 @@ std::string format_report(const SessionReport& r) {
     out += fmt::format("{:<28} {:>7.0f} {:>8}  {}  {}  {:>6} {:>8}\n", l.name, achieved, l.steps, summary_cells(l.compute),
                        rt ? summary_cells(l.period) : std::string(39, ' '), l.missed_deadlines, l.overruns);
   }
+  if (r.caught_up_steps > 0)
+    out += fmt::format("simulation: {} late steps spanned the missed periods too ([rates] catch_up)\n", r.caught_up_steps);
   if (rt) {
     out += fmt::format("\n{:<28} {:^39}\n", "start lateness", "p50 / p99 / p99.9 / max µs");
     for (const LoopStats& l : r.loops) out += fmt::format("{:<28} {}\n", l.name, summary_cells(l.lateness));
@@ -162,6 +164,7 @@ std::string report_json(const SessionReport& r) {
   out += fmt::format("  \"scene\": {},\n  \"scheduling\": \"{}\",\n  \"simulated_time_s\": {},\n  \"wall_time_s\": {},\n",
                      text::json_quoted(r.scene), r.scheduling == Scheduling::real_time ? "real_time" : "lockstep", r.simulated_time,
                      r.wall_time);
+  out += fmt::format("  \"caught_up_steps\": {},\n", r.caught_up_steps);
   out += "  \"loops\": [\n";
   for (std::size_t i = 0; i < r.loops.size(); ++i) {
     const LoopStats& l = r.loops[i];

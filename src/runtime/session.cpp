@@ -80,6 +80,7 @@ void complete_report(const scene::Model& model, const Loops& loops, SessionRepor
   for (const auto& p : loops.interaction->parts())
     if (p.time.count() > 0) report.parts.push_back({"interaction: " + p.name, p.time});
   report.dropped_steps = loops.simulation->dropped_steps();
+  report.caught_up_steps = loops.simulation->caught_up_steps();
   // A tool outside a space's grid box feels nothing there: say so, and for how long.
   for (std::size_t b = 0; b < loops.cspaces.size(); ++b)
     if (const auto& c = loops.cspaces[b]) {

@@ -158,6 +158,8 @@ struct SessionReport {
   std::uint64_t recording_bytes = 0;
   std::uint64_t vtk_frames = 0, vtk_bytes = 0;  ///< the --vtk series written
   std::uint64_t dropped_steps = 0;
+  /// Simulation steps that spanned more than one period to keep real time ([rates] catch_up).
+  std::uint64_t caught_up_steps = 0;
   bool visual = false;  ///< a viewer read the run (SessionOptions::visual)
   std::vector<HapticFrame> frames;  ///< only with SessionOptions::keep_frames
   std::optional<PalpationFeedback> palpation;  ///< scenes with nodules (docs/scenes.md)

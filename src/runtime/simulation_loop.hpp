@@ -50,6 +50,8 @@ class SimulationLoop {
   /// Simulation steps for the recorder.
   SpscRing<SimulationStep>& steps() { return steps_ring_; }
   [[nodiscard]] std::uint64_t dropped_steps() const { return dropped_steps_; }
+  /// Steps that spanned more than one period ([rates] catch_up). Read after the loop stopped.
+  [[nodiscard]] std::uint64_t caught_up_steps() const { return state_.late_steps; }
   /// Current positions of body i's simulation nodes (for tests and reports).
   [[nodiscard]] const VecX* positions(std::size_t body) const;
 

@@ -254,7 +254,7 @@ void write_patches(const SimulationModel& model, SimulationState& state, double 
     patch_in.radius = request.radius;
     patch_in.surface = sb.surface;
     patch_in.surface_previous = sb.surface_before;
-    patch_in.step_period = model.period;
+    patch_in.step_period = sb.span > 0.0 ? sb.span : model.period;
     patch_in.vertex_area = mb.surface_area;
     if (d.applied.active && d.applied.body == patch_in.body) {
       patch_in.load_shares = d.applied_shares;
@@ -401,7 +401,13 @@ void write_nodes(const SimulationModel& model, const SimulationState& state, dou
 int advance_bodies(const SimulationModel& model, SimulationState& state, const SimulationInputs& in,
                    std::span<PartStats> parts) {
   apply_live_materials(model, state, in);
+  // The time since the last step: one period but after missed periods in real time (a
+  // lockstep run never misses one, and its steps stay exactly one period long).
+  const double gap = in.t - state.t;
+  state.t = in.t;
   if (state.step == 0) return 0;  // the first step publishes the rest shapes
+  const double span = gap > 1.5 * model.period ? std::min(gap, model.scene->rates.catch_up * model.period) : model.period;
+  if (span > model.period) ++state.late_steps;
   const PartTimer loads(in.clock, in.start);
   apply_loads(model, state, in, parts);
   const PartTimer integration(in.clock, loads.record(parts, contact_loads));
@@ -413,7 +419,9 @@ int advance_bodies(const SimulationModel& model, SimulationState& state, const S
     SimulationState::Body& sb = state.bodies[b];
     const physics::Body& body = stepped(mb, sb);
     if (patches) sb.x_before = sb.state.x;
-    const double dt = model.period / mb.substeps;
+    // An implicit step stays stable over a longer span; an explicit one does not.
+    sb.span = body.settings.integrator == physics::Integrator::implicit_euler ? span : model.period;
+    const double dt = sb.span / mb.substeps;
     for (int k = 0; k < mb.substeps; ++k) {
       physics::step(body, sb.state, dt, sb.f_ext, sb.springs);
       for (physics::ContactSpring& c : sb.springs) c.force = c.force_end;

@@ -56,6 +56,7 @@ struct SimulationState {
     physics::BodyState state;
     VecX f_ext;
     VecX x_before;  ///< positions before the last step (the patches' border velocities)
+    double span = 0.0;  ///< the time the last step covered [s]
     std::vector<Vec3> surface, surface_before;
     /// Embedded surfaces: the forces on their vertices and their mapped positions, sized once.
     std::vector<Vec3> carried_forces, carried_positions;
@@ -79,6 +80,8 @@ struct SimulationState {
   std::vector<Device> devices;
   std::array<contact::LoadShare, 256> shares{};  ///< up to 32 per sphere of an 8-sphere finger
   std::uint64_t step = 0;
+  double t = 0.0;  ///< the time the last step reached [s]
+  std::uint64_t late_steps = 0;  ///< steps that spanned more than one period (catch_up)
   std::uint64_t materials_version = 0;  ///< of the live material edits last applied
 };
 /// `live_materials`: the bodies whose material the user may edit (LiveParameters) are
@@ -110,8 +113,11 @@ struct SimulationInputs {
 };
 
 /// Advances every deformable body one period (none at the first step, which publishes the
-/// rest shapes); returns the linear solver iterations. Throws std::runtime_error when a body
-/// diverges (NaN positions).
+/// rest shapes); returns the linear solver iterations. A step that reaches `in.t` more than
+/// one and a half periods after the last one (real time, after missed periods) advances the
+/// implicit bodies over that time, up to the scene's `catch_up` periods, in as many substeps
+/// as one period takes; explicit ones, bound to their time step, one period. Throws
+/// std::runtime_error when a body diverges (NaN positions).
 int advance_bodies(const SimulationModel& model, SimulationState& state, const SimulationInputs& in,
                    std::span<PartStats> parts);
 

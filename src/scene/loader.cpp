@@ -33,6 +33,7 @@ LoopRates read_rates(Reader& root) {
     rates.simulation = r->number("simulation", rates.simulation, Range::closed(1.0, 1000.0));
     rates.interaction = r->number("interaction", rates.interaction, Range::closed(1.0, 1000.0));
     rates.visual = r->number("visual", rates.visual, Range::closed(1.0, 240.0));
+    rates.catch_up = r->number("catch_up", rates.catch_up, Range::closed(1.0, 10.0));
     if (rates.simulation > rates.haptic)
       r->fail("simulation", fmt::format("{} Hz exceeds the haptic rate ({} Hz)", number_text(rates.simulation),
                                         number_text(rates.haptic)));

@@ -43,6 +43,11 @@ struct LoopRates {
   double simulation = 100.0;   ///< [1, 1000]
   double interaction = 120.0;  ///< [1, 1000]
   double visual = 60.0;        ///< [1, 240]
+  /// In real time, the most periods one late simulation step may span: a step that starts
+  /// after missed periods advances its implicit bodies over the time since the last step, up
+  /// to this many periods, so that the simulation keeps the hand's time on a machine too slow
+  /// for its rate. 1 steps one period whatever the lateness. [1, 10]
+  double catch_up = 1.0;
 };
 
 /// How the real-time scheduler asks the operating system for timing (docs/realtime.md);

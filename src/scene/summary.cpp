@@ -189,6 +189,8 @@ std::string summarize(const Model& m, bool real_time) {
                    m.realtime.haptic_cpu < 0 ? std::string("any") : std::to_string(m.realtime.haptic_cpu),
                    m.realtime.dedicated_core ? std::string("spinning through every period")
                                              : fmt::format("spin {} us before each deadline", g(m.realtime.spin * 1e6)));
+  if (real_time && m.rates.catch_up > 1.0)
+    s += fmt::format("  a late simulation step spans up to {} periods (catch_up)\n", g(m.rates.catch_up));
   s += fmt::format("  gravity: {} m/s^2\n", vec(m.gravity));
   s += fmt::format("materials: {}\n", m.materials.size());
   for (const auto& x : m.materials) s += material_line(x);

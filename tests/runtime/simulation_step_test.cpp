@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <vector>
 
@@ -45,16 +47,17 @@ ContactLoad press(double force, double stiffness) {
   return load;
 }
 
-/// How far the top's centre has sunk after `steps` steps under `load` (the first step
-/// publishes the rest shape) [m].
-double sinking(const SimulationModel& model, SimulationState& state, const ContactLoad& load, int steps,
-                  const LiveParameters::Materials* edits = nullptr, const LiveParameters::Materials* scene = nullptr) {
+/// How far the top's centre has sunk after steps at `periods` (in periods; the first step
+/// publishes the rest shape) under `load` [m].
+double sinking_at(const SimulationModel& model, SimulationState& state, const ContactLoad& load,
+                  const std::vector<int>& periods, const LiveParameters::Materials* edits = nullptr,
+                  const LiveParameters::Materials* scene = nullptr) {
   SurfaceSnapshot surfaces = rest_surfaces(model);
   SurfaceSnapshot* outputs[] = {&surfaces};
   const std::array<ContactLoad, 1> loads{load};
   const std::array<ToolState, 1> tools{};
   contact::LocalPatch* patches[] = {nullptr};
-  for (int k = 0; k < steps; ++k) {
+  for (const int k : periods) {
     SimulationInputs in;
     in.t = k * model.period;
     in.loads = loads;
@@ -68,6 +71,14 @@ double sinking(const SimulationModel& model, SimulationState& state, const Conta
   for (std::size_t v = 1; v < rest.size(); ++v)
     if (rest[v].norm() < rest[centre].norm()) centre = v;
   return rest[centre].z() - surfaces.positions[0][centre].z();
+}
+
+/// The same after `steps` steps on time.
+double sinking(const SimulationModel& model, SimulationState& state, const ContactLoad& load, int steps,
+               const LiveParameters::Materials* edits = nullptr, const LiveParameters::Materials* scene = nullptr) {
+  std::vector<int> periods(static_cast<std::size_t>(steps));
+  for (int k = 0; k < steps; ++k) periods[static_cast<std::size_t>(k)] = k;
+  return sinking_at(model, state, load, periods, edits, scene);
 }
 
 TEST(SimulationStep, TheFirstStepPublishesTheRestShapes) {
@@ -122,6 +133,34 @@ TEST(SimulationStep, MaterialEditsAreInputsFromTheirTime) {
   EXPECT_EQ(not_yet, soft);
   EXPECT_EQ(edited_state.materials_version, 1u);
   EXPECT_EQ(later_state.materials_version, 0u);
+}
+
+TEST(SimulationStep, ALateStepSpansTheMissedPeriodsUpToCatchUp) {
+  // A real-time step after two missed periods: with catch_up 3 the block advances over the
+  // three periods (one longer implicit step) and ends nearer the block stepped on time than
+  // the same step with catch_up 1, which advances one period and lets the body fall behind.
+  scene::Model catching_up = block();
+  catching_up.rates.catch_up = 3.0;
+  const SimulationModel model = make_simulation_model(block(), {std::nullopt});
+  const SimulationModel late_model = make_simulation_model(catching_up, {std::nullopt});
+  SimulationState on_time = make_simulation_state(model), behind = make_simulation_state(model),
+                  caught_up = make_simulation_state(late_model);
+  const double expected = sinking_at(model, on_time, press(1.0, 0.0), {0, 1, 2, 3, 4});
+  const double one_period = sinking_at(model, behind, press(1.0, 0.0), {0, 1, 4});
+  const double spanned = sinking_at(late_model, caught_up, press(1.0, 0.0), {0, 1, 4});
+  std::printf("sunk on time %.4f mm, one period late %.4f mm, spanning the late periods %.4f mm\n", 1e3 * expected,
+              1e3 * one_period, 1e3 * spanned);
+  EXPECT_GT(expected, 0.0);
+  EXPECT_LT(std::abs(spanned - expected), 0.5 * std::abs(one_period - expected));
+  EXPECT_EQ(on_time.late_steps, 0u);
+  EXPECT_EQ(behind.late_steps, 0u);
+  EXPECT_EQ(caught_up.late_steps, 1u);
+  EXPECT_DOUBLE_EQ(caught_up.bodies[0].span, 3 * model.period);
+  // Later than catch_up periods, it spans catch_up of them; on time, one period exactly.
+  SimulationState later = make_simulation_state(late_model);
+  (void)sinking_at(late_model, later, press(1.0, 0.0), {0, 1, 9, 10});
+  EXPECT_EQ(later.late_steps, 1u);
+  EXPECT_DOUBLE_EQ(later.bodies[0].span, late_model.period);
 }
 
 Nanos fake_clock() {

@@ -156,6 +156,8 @@ TEST(SceneErrors, OutOfRangeValues) {
             "dir/x.toml:11:13: bodies.block.time_step: 0 is out of range: must be in (0, 1]");
   EXPECT_EQ(error_of(kBase + "simulation = 2000\n"),
             "dir/x.toml:32:14: rates.simulation: 2000 is out of range: must be in [1, 1000]");
+  EXPECT_EQ(error_of(kBase + "catch_up = 0.5\n"),
+            "dir/x.toml:32:12: rates.catch_up: 0.5 is out of range: must be in [1, 10]");
   EXPECT_EQ(error_of(with_line(3, "young_modulus = nan")),
             "dir/x.toml:3:17: materials.skin.young_modulus: expected a finite number, got nan");
 }
