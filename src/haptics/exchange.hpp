@@ -4,6 +4,7 @@
 // force the hand was sent. Fixed-size, so the haptic loop never allocates.
 #include <array>
 #include <cstdint>
+#include <limits>
 
 #include "core/math.hpp"
 
@@ -41,6 +42,11 @@ struct ContactLoad {
   /// published when `force` was rendered (a local patch deforms between steps) [m]: where
   /// that surface stands, the push is stiffness·surface_offset more.
   double surface_offset = 0.0;
+  /// Where that published surface had the contact's material point [m]; NaN where no patch
+  /// gave one. In real time the simulation may have stepped again before it reads `force`:
+  /// from the surface it steps from, the push is stiffness times how far the point has moved
+  /// along `force` since then less.
+  Vec3 published_point = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   /// Radius of the contact disc the force is spread over (contact/load_spread.hpp) [m].
   double contact_radius = 0.0;
   /// A sphere-set finger on a patch: each touching sphere's contact and its share of `force`
@@ -61,6 +67,15 @@ struct ContactLoad {
   Vec3 shaft_force = Vec3::Zero();
 };
 
+/// A material point of a body's surface: its triangle in the body's numbering (−1: none) and
+/// barycentric coordinates. Every patch of the body finds it again by that triangle.
+struct SurfacePoint {
+  std::int32_t body = -1;
+  std::int32_t triangle = -1;
+  Vec3 barycentric = Vec3::Zero();
+  [[nodiscard]] bool valid() const { return body >= 0 && triangle >= 0; }
+};
+
 /// What a fingertip's loop tells its partner finger's loop each frame (seed 002: the thumb
 /// and the index, each on its own device): its pose and its side of the contact.
 struct PeerFinger {
@@ -69,6 +84,7 @@ struct PeerFinger {
   Quat orientation = Quat::Identity();
   bool on_fabric = false;         ///< its V-proxy touches the fabric, or it holds it in the grasp
   bool slipping = false;          ///< its contact slips (dynamic friction)
+  SurfacePoint held;              ///< the material point its grasp holds; invalid outside a grasp
 };
 
 }  // namespace tactus::haptics

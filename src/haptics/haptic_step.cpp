@@ -1,6 +1,7 @@
 #include "haptics/haptic_step.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace tactus::haptics {
@@ -169,6 +170,7 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   load.force = -reaction.sent;
   load.stiffness = 0.0;  // a constant push unless the algorithm knows its slope
   load.surface_offset = 0.0;
+  load.published_point = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   if (c < model.algorithms.size())
     model.algorithms[c]->react(f, r, reaction, *s.algorithms[c], load);
   else
@@ -181,7 +183,7 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   out.orientation = f.orientation;
   out.frame_point = r.frame_point;
   out.tool_axis = r.tool_axis;
-  out.finger = {true, f.position, f.orientation, r.on_fabric, r.slipping};
+  out.finger = {true, f.position, f.orientation, r.on_fabric, r.slipping, r.held};
   if (r.contact_state != 0 && r.contact_state != s.contact_state) {
     emit(out, Kind::contact_state, r.contact_state);
     s.contact_state = r.contact_state;

@@ -2,6 +2,7 @@
 // Triangle surface mesh as plain arrays; richer topology lives in half_edge.hpp.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/math.hpp"
@@ -17,6 +18,13 @@ using Tet = std::array<Index, 4>;
   const auto lo = static_cast<std::uint64_t>(static_cast<std::uint32_t>(a < b ? a : b));
   const auto hi = static_cast<std::uint64_t>(static_cast<std::uint32_t>(a < b ? b : a));
   return (lo << 32) | hi;
+}
+
+/// The point at `barycentric` on triangle `corners` of `vertices` (which must hold its corners).
+[[nodiscard]] inline Vec3 point_on(std::span<const Vec3> vertices, const Triangle& corners, const Vec3& barycentric) {
+  return barycentric[0] * vertices[static_cast<std::size_t>(corners[0])] +
+         barycentric[1] * vertices[static_cast<std::size_t>(corners[1])] +
+         barycentric[2] * vertices[static_cast<std::size_t>(corners[2])];
 }
 
 /// Triangles are counter-clockwise seen from outside (normals point out).

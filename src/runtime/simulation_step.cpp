@@ -93,6 +93,19 @@ void push_along_shaft(const SimulationModel& model, SimulationState& state, cons
 
 /// Scene loads and prescribed motions at the end of the period, then each device's push
 /// spread over the vertices around its contact point.
+/// How far the load's material point has moved along unit `direction` since the simulation
+/// published the surface its force was rendered on, to `surface` (the step starts from it)
+/// [m]; 0 where the load names no published point or the body keeps no patch surface.
+double drift_since_published(const std::vector<Vec3>& surface, const std::vector<mesh::Triangle>& triangles,
+                             const ContactLoad& load, const Vec3& direction) {
+  if (!load.published_point.allFinite() || load.triangle < 0 || static_cast<std::size_t>(load.triangle) >= triangles.size())
+    return 0.0;
+  const mesh::Triangle& corners = triangles[static_cast<std::size_t>(load.triangle)];
+  for (const mesh::Index v : corners)
+    if (v < 0 || static_cast<std::size_t>(v) >= surface.size()) return 0.0;
+  return (mesh::point_on(surface, corners, load.barycentric) - load.published_point).dot(direction);
+}
+
 void apply_loads(const SimulationModel& model, SimulationState& state, const SimulationInputs& in,
                  std::span<PartStats> parts) {
   const double t_end = static_cast<double>(state.step) / model.scene->rates.simulation;  // simulated time reached
@@ -128,10 +141,13 @@ void apply_loads(const SimulationModel& model, SimulationState& state, const Sim
         d.nodes.push_back({model.bodies[b].surface_to_node[static_cast<std::size_t>(s.vertex)], s.share});
       d.body = b;
       d.spring = static_cast<int>(sb.springs.size());
-      // The push where the published surface stands (the step starts from it), not where
-      // the haptic loop's patch had moved the contact point to.
+      // The push where the surface the step starts from stands, not where the haptic loop's
+      // patch had moved the contact point to, nor where the surface that patch was
+      // published from stood: in real time the simulation may have stepped since, and a
+      // push taken as it was rendered went on pushing a point that had already moved.
       const double stiffness = std::max(0.0, load.stiffness);
-      const double offset = stiffness * load.surface_offset;
+      const double drift = drift_since_published(sb.surface, model.scene->bodies[b].surface.triangles, load, load.force / push);
+      const double offset = stiffness * (load.surface_offset - drift);
       const double at_surface = std::isfinite(offset) ? push + offset : push;
       sb.springs.push_back({d.nodes, load.force / push, at_surface, stiffness, std::max(0.0, at_surface)});
     } else {

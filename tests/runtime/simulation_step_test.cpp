@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <utility>
 #include <vector>
 
 #include "core/counting_allocator.hpp"  // tests/core
@@ -113,6 +115,48 @@ TEST(SimulationStep, APushWithItsSlopeGivesWayAsTheTissueDoes) {
   EXPECT_LT(spring.force_end, 2.0);
   EXPECT_GT(spring.force_end, 0.0);
   EXPECT_EQ(constant.bodies[0].springs[0].force_end, 2.0);
+}
+
+// In real time the simulation may step again before the haptic loop renders on the surface
+// it published. A push rendered on an older surface is eased by its slope times how far the
+// contact point has moved along it since: the step goes as with that eased push rendered on
+// the surface it starts from (where, as in lockstep, nothing is eased).
+TEST(SimulationStep, APushRenderedOnAnOlderSurfaceEasesByHowFarThePointHasMovedSince) {
+  PatchRequest request;
+  request.kind = contact::LocalModelKind::compliance;
+  request.radius = 0.01;
+  request.bodies = {0};
+  const SimulationModel model = make_simulation_model(block(), {request});
+  const scene::Body& body = block().bodies.front();
+  const ContactLoad pressing = press(2.0, 300.0);
+  const mesh::Triangle& corners = body.surface.triangles[static_cast<std::size_t>(pressing.triangle)];
+  const Vec3 at_rest = mesh::point_on(body.surface.vertices, corners, pressing.barycentric);
+
+  // Three pressed steps, then one more with `load`: the push at its end and the top's sinking.
+  const auto step_with = [&](const std::function<ContactLoad(const Vec3& now)>& load_for) {
+    SimulationState state = make_simulation_state(model);
+    (void)sinking(model, state, pressing, 3);
+    const Vec3 now = mesh::point_on(state.bodies[0].surface, corners, pressing.barycentric);
+    const double sunk = sinking_at(model, state, load_for(now), {3});
+    return std::pair{state.bodies[0].springs[0].force_end, sunk};
+  };
+  double moved = 0.0;
+  const auto rendered_at_rest = step_with([&](const Vec3& now) {
+    moved = (now - at_rest).dot(Vec3(0, 0, -1));  // along the push
+    ContactLoad load = pressing;
+    load.published_point = at_rest;
+    return load;
+  });
+  ASSERT_GT(moved, 1e-5);
+  const auto eased_on_now = step_with([&](const Vec3& now) {
+    ContactLoad load = press(2.0 - 300.0 * moved, 300.0);
+    load.published_point = now;
+    return load;
+  });
+  const auto taken_as_it_came = step_with([&](const Vec3&) { return pressing; });
+  EXPECT_NEAR(rendered_at_rest.first, eased_on_now.first, 1e-12);
+  EXPECT_NEAR(rendered_at_rest.second, eased_on_now.second, 1e-15);
+  EXPECT_GT(taken_as_it_came.first, rendered_at_rest.first + 0.5 * 300.0 * moved);
 }
 
 TEST(SimulationStep, MaterialEditsAreInputsFromTheirTime) {

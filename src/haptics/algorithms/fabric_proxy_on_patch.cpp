@@ -5,6 +5,7 @@
 #include <numeric>
 #include <tuple>
 #include <utility>
+#include <cstdlib>
 
 #include "contact/closest_point.hpp"
 #include "contact/grasp_state.hpp"
@@ -14,7 +15,8 @@ namespace {
 
 /// When the pads open the grasp's force has faded with the squeeze, but the finger may still
 /// press the bunched fabric the grasp held between the pads, which the V-proxy meets afresh:
-/// its force comes in over this time instead of in one frame (it stepped by 1.09 N).
+/// its force comes in over this time instead of in one frame (it stepped by 1.09 N). A grasp
+/// that starts comes in over the same time.
 constexpr double kHandOverTime = 0.02;  // s
 
 /// The grasp's laws for a pair: the thumb is the finger on the front. A sheet held between
@@ -51,6 +53,28 @@ std::pair<std::int32_t, Vec3> nearest_point(const contact::LocalPatch& patch, st
     }
   }
   return {best, barycentric};
+}
+
+/// Where the patch's material point (triangle, barycentric) is now; NaN for no triangle.
+Vec3 patch_point(const contact::LocalModel& local, std::int32_t triangle, const Vec3& barycentric) {
+  if (!local.valid() || triangle < 0 || triangle >= local.patch().triangle_count)
+    return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  return mesh::point_on(local.positions(), local.patch().triangles[static_cast<std::size_t>(triangle)], barycentric);
+}
+
+/// The patch's triangle that is the body's surface triangle `surface_triangle`; −1 where the
+/// patch does not reach it.
+std::int32_t patch_triangle_of(const contact::LocalPatch& patch, std::int32_t surface_triangle) {
+  if (surface_triangle < 0) return -1;
+  for (int t = 0; t < patch.triangle_count; ++t)
+    if (patch.surface_triangle[static_cast<std::size_t>(t)] == surface_triangle) return t;
+  return -1;
+}
+
+/// The patch's triangle under a material point of its body; −1 for another body's point or
+/// one the patch does not reach.
+std::int32_t patch_triangle_of(const contact::LocalPatch& patch, const SurfacePoint& point) {
+  return point.valid() && point.body == patch.body ? patch_triangle_of(patch, point.triangle) : -1;
 }
 
 }  // namespace
@@ -101,16 +125,8 @@ void FabricProxyOnPatch::patch_replaced(PatchState& state) const {
   // The grasp's held point is found again the same way (lost: the grasp lets go).
   auto& s = static_cast<State&>(state);
   const contact::LocalPatch& patch = s.local.patch();
-  std::int32_t found = -1;
-  if (s.surface_triangle >= 0)
-    for (int t = 0; t < patch.triangle_count && found < 0; ++t)
-      if (patch.surface_triangle[static_cast<std::size_t>(t)] == s.surface_triangle) found = t;
-  s.proxy.triangle = found;
-  std::int32_t held = -1;
-  if (s.held_surface_triangle >= 0)
-    for (int t = 0; t < patch.triangle_count && held < 0; ++t)
-      if (patch.surface_triangle[static_cast<std::size_t>(t)] == s.held_surface_triangle) held = t;
-  s.held_triangle = held;
+  s.proxy.triangle = patch_triangle_of(patch, s.surface_triangle);
+  s.held_triangle = patch_triangle_of(patch, s.held_surface_triangle);
 }
 
 Rendering FabricProxyOnPatch::against(const FrameInputs& f, PatchState& state, bool trial) const {
@@ -164,25 +180,37 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
     const contact::GraspParams& gp = grasp_->params();
     contact::PointGraspState copy;
     contact::PointGraspState& held = trial ? (copy = s.grasp) : s.grasp;
-    // The grasp starts where both fingers touch the fabric, each on its side, and their pads
-    // close on it: it holds the fabric's point nearest the pads' centre.
+    // The grasp starts where the pads close on the fabric between them: it holds the fabric's
+    // point nearest the pads' centre, if that lies within the capture distance of both pads.
+    // The V-proxies need not touch the sheet at that frame: on a hanging sheet, which gives
+    // way under the lightest push, each loses and finds it again every few frames, and a
+    // real-time pair seldom had both on it in the same frame. The pinch is one grasp of one
+    // material point: a finger whose partner holds the fabric takes hold of the partner's
+    // point as soon as its patch reaches it (each loop's patch follows the simulation at its
+    // own frame, and one that lagged left a pad squeezing alone).
     std::int32_t triangle = s.held_triangle;
     Vec3 barycentric = s.held_barycentric;
-    if (!held.active && s.local.valid() && out.on_fabric && peer->on_fabric) {
-      const contact::CapsulePair pads =
-          contact::capsule_capsule(contact::posed(gp.thumb, thumb), contact::posed(gp.index, index));
-      if (pads.signed_distance < gp.fabric_thickness)
-        std::tie(triangle, barycentric) =
-            nearest_point(s.local.patch(), s.local.positions(), 0.5 * (pads.on_first + pads.on_second));
+    bool may_start = false;
+    if (!held.active && s.local.valid()) {
+      const std::int32_t partners = patch_triangle_of(s.local.patch(), peer->held);
+      if (partners >= 0) {
+        triangle = partners;
+        barycentric = peer->held.barycentric;
+        may_start = true;
+      } else {
+        const contact::Capsule thumb_pad = contact::posed(gp.thumb, thumb), index_pad = contact::posed(gp.index, index);
+        const contact::CapsulePair pads = contact::capsule_capsule(thumb_pad, index_pad);
+        if (pads.signed_distance < gp.fabric_thickness) {
+          std::tie(triangle, barycentric) =
+              nearest_point(s.local.patch(), s.local.positions(), 0.5 * (pads.on_first + pads.on_second));
+          const Vec3 between = patch_point(s.local, triangle, barycentric);
+          may_start = contact::point_capsule(between, thumb_pad).signed_distance <= gp.capture_distance &&
+                      contact::point_capsule(between, index_pad).signed_distance <= gp.capture_distance;
+        }
+      }
     }
-    Vec3 point = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
-    if (s.local.valid() && triangle >= 0 && triangle < s.local.patch().triangle_count) {
-      const mesh::Triangle& tri = s.local.patch().triangles[static_cast<std::size_t>(triangle)];
-      const std::span<const Vec3> x = s.local.positions();
-      point = barycentric.x() * x[static_cast<std::size_t>(tri[0])] + barycentric.y() * x[static_cast<std::size_t>(tri[1])] +
-              barycentric.z() * x[static_cast<std::size_t>(tri[2])];
-    }
-    const contact::PointGraspResult g = grasp_->update(held, thumb, index, point, out.on_fabric && peer->on_fabric);
+    const Vec3 point = patch_point(s.local, triangle, barycentric);
+    const contact::PointGraspResult g = grasp_->update(held, thumb, index, point, may_start);
     if (!trial && g.active && g.friction == contact::FrictionState::slip) {
       // The pinch slides over the fabric: it holds the material now between the pads, unless
       // that lies farther off the pads' plane than the material held (a fold of the sheet
@@ -190,11 +218,7 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
       // millimetres off it stepped that pull, and the force on both fingers, in a frame.
       const auto [moved_to, moved_barycentric] = nearest_point(s.local.patch(), s.local.positions(), g.frame.origin);
       if (moved_to >= 0) {
-        const mesh::Triangle& tri = s.local.patch().triangles[static_cast<std::size_t>(moved_to)];
-        const std::span<const Vec3> x = s.local.positions();
-        const Vec3 moved = moved_barycentric.x() * x[static_cast<std::size_t>(tri[0])] +
-                           moved_barycentric.y() * x[static_cast<std::size_t>(tri[1])] +
-                           moved_barycentric.z() * x[static_cast<std::size_t>(tri[2])];
+        const Vec3 moved = patch_point(s.local, moved_to, moved_barycentric);
         const Vec3 e3 = g.frame.normal();
         const double off_plane = std::abs(e3.dot(moved - g.frame.origin));
         if (off_plane <= std::max(std::abs(e3.dot(point - g.frame.origin)), gp.fabric_thickness)) {
@@ -222,6 +246,8 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
       out.law_force = magnitude;
       out.on_patch = {triangle, barycentric, magnitude > 0.0 ? Vec3(out.force / magnitude) : g.frame.normal(), magnitude,
                       grasp_->hold_stiffness(), disc_radius(0.0)};
+      out.held = {s.local.patch().body, s.local.patch().surface_triangle[static_cast<std::size_t>(triangle)],
+                  barycentric};
       // The V-proxy lets go: after the grasp it starts afresh at the finger.
       proxy = contact::make_fabric_proxy_state(f.position);
     }
@@ -240,20 +266,23 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
       }
     }
   }
-  // The hand-over: after a grasp ends the V-proxy's force (and what the fabric takes of it)
-  // ramps in from the force the grasp left.
-  const bool released_now = s.grasping && !grasping;
-  const double released_at = released_now ? f.t : s.released_at;
-  const Vec3 grasp_force = s.grasp_force;
-  if (!grasping && released_at >= 0.0 && f.t - released_at < kHandOverTime) {
-    const double w = std::clamp((f.t - released_at) / kHandOverTime, 0.0, 1.0);
-    out.force = (1.0 - w) * grasp_force + w * out.force;
+  // The hand-over: when a grasp ends, or starts, the new rendering's force (and what the
+  // fabric takes of it) ramps in from the force the last frame rendered: a finger whose
+  // patch lost the held point while its partner held on rejoins at its next patch, and that
+  // frame would step its force by the whole grasp.
+  const bool handed_now = s.grasping != grasping;
+  const double handed_at = handed_now ? f.t : s.handed_over_at;
+  const Vec3 from = handed_now ? s.last_force : s.handed_over_from;
+  if (handed_at >= 0.0 && f.t - handed_at < kHandOverTime) {
+    const double w = std::clamp((f.t - handed_at) / kHandOverTime, 0.0, 1.0);
+    out.force = (1.0 - w) * from + w * out.force;
     out.torque *= w;
     out.law_force = out.force.norm();
   }
   if (!trial) {
-    s.released_at = released_at;
-    if (grasping) s.grasp_force = out.force;
+    s.handed_over_at = handed_at;
+    s.handed_over_from = from;
+    s.last_force = out.force;
   }
   const bool own_on = out.on_fabric;
   const bool partner_on = partner_seen && peer->on_fabric;

@@ -50,10 +50,11 @@ class FabricProxyOnPatch final : public OnPatch {
     contact::FingerContactState fingers;
     contact::PointGraspState grasp;
     bool grasping = false;  ///< the last frame rendered the grasp
-    /// The hand-over from the grasp back to the V-proxy: when the last grasp ended and the
-    /// force it left this finger with.
-    double released_at = -1.0;
-    Vec3 grasp_force = Vec3::Zero();
+    /// The hand-over between the grasp and the V-proxy: when the last one began, the force it
+    /// began from, and the force of the last frame.
+    double handed_over_at = -1.0;
+    Vec3 handed_over_from = Vec3::Zero();
+    Vec3 last_force = Vec3::Zero();
     /// The material point the grasp holds: patch triangle, barycentric, the body's triangle.
     std::int32_t held_triangle = -1;
     Vec3 held_barycentric = Vec3::Zero();

@@ -58,8 +58,10 @@ void OnPatch::react(const FrameInputs& f, const Rendering& rendered, const React
   }
   advance(f, rendered, reaction, on, on_patch, s, load);
   const double push = load.force.norm();
-  if (on && push > 0.0)
+  if (on && push > 0.0) {
     load.surface_offset = s.local.moved_since_published(on_patch.triangle, on_patch.barycentric).dot(load.force / push);
+    load.published_point = s.local.published_point(on_patch.triangle, on_patch.barycentric);
+  }
 }
 
 }  // namespace tactus::haptics

@@ -200,6 +200,52 @@ TEST(FabricProxyOnPatch, ASlippingPinchTakesNoHoldOfAFoldOffItsPlane) {
   EXPECT_LT(largest_step, 0.02);
 }
 
+// Each finger's loop holds the fabric on its own patch, and each patch follows the simulation
+// at its own frame. Here the index's new patch leaves the held point out (it lets go), and
+// the next one shows the sheet 2 mm toward the thumb, lagging the squeeze: the index's
+// V-proxy misses it. The pinch is one grasp: the index takes hold of the thumb's material
+// point again at once, so the pads never squeeze the fabric one-sided.
+TEST(FabricProxyOnPatch, AFingerThatLostTheHeldPointTakesThePartnersHoldAgain) {
+  RigidSheet sheet;
+  RigidSheet lagging([](Vec3& v) { v.z() += 0.002; });
+  const contact::LocalPatch patch = sheet.around(Vec3::Zero());
+  const contact::LocalPatch elsewhere = sheet.around(Vec3(0.04, 0.04, 0), 0.005);
+  const contact::LocalPatch lagged = lagging.around(Vec3::Zero());
+  Pair pair(sheet.capacity, sheet.kind);
+  double t = pair.pinch(patch, 0.0);
+  const Vec3& thumb_at = Pair::kThumbPinching;
+  const Vec3& index_at = Pair::kIndexPinching;
+  ASSERT_EQ(state_of(pair.index), static_cast<std::uint8_t>(contact::ContactState::VIII));
+  const SurfacePoint held = pair.thumb.out.finger.held;
+  ASSERT_TRUE(held.valid());
+
+  pair.index.patch = &elsewhere;
+  pair.index.patch_fresh = true;
+  pair.step(t, thumb_at, index_at);
+  t += 1e-3;
+  EXPECT_FALSE(pair.index.out.finger.held.valid());  // its patch has nothing of the sheet there
+
+  pair.index.patch = &lagged;
+  pair.index.patch_fresh = true;
+  pair.step(t, thumb_at, index_at);
+  t += 1e-3;
+  EXPECT_EQ(state_of(pair.index), static_cast<std::uint8_t>(contact::ContactState::VIII));
+  EXPECT_EQ(pair.index.out.finger.held.triangle, held.triangle);
+  EXPECT_EQ(pair.index.out.finger.held.barycentric, held.barycentric);
+  // Its force comes back over 20 ms, never as a step; then the index feels the squeeze
+  // (thickness − gap, eq. 1), less half the hold that pulls the material it sees 2 mm off
+  // the pads' plane back onto it (at most 190 N/m · 2 mm).
+  const double squeeze = contact::FingerpadLaw{}.force(0.5e-3 + 0.9e-3);
+  Vec3 last = pair.index.sink.force;
+  for (int k = 0; k < 25; ++k, t += 1e-3) {
+    pair.step(t, thumb_at, index_at);
+    EXPECT_LE((pair.index.sink.force - last).norm(), squeeze / 20.0 * 1.001) << "frame " << k;
+    last = pair.index.sink.force;
+  }
+  EXPECT_NEAR(pair.index.sink.force.z(), -squeeze, 0.5 * 190.0 * 2e-3 * 1.001);
+  EXPECT_NEAR(pair.thumb.sink.force.z(), squeeze, 1e-9);
+}
+
 // When the pads open the V-proxy takes the contact back: its force comes in over 20 ms from
 // the force the grasp left, never as a step, and is the V-proxy's own after that.
 TEST(FabricProxyOnPatch, OpeningThePadsHandsTheFabricBackToTheProxyWithoutAStep) {
