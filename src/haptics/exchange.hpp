@@ -69,7 +69,7 @@ struct ContactLoad {
 
 /// A material point of a body's surface: its triangle in the body's numbering (−1: none) and
 /// barycentric coordinates. Every patch of the body finds it again by that triangle.
-struct SurfacePoint {
+struct MaterialPoint {
   std::int32_t body = -1;
   std::int32_t triangle = -1;
   Vec3 barycentric = Vec3::Zero();
@@ -84,7 +84,7 @@ struct PeerFinger {
   Quat orientation = Quat::Identity();
   bool on_fabric = false;         ///< its V-proxy touches the fabric, or it holds it in the grasp
   bool slipping = false;          ///< its contact slips (dynamic friction)
-  SurfacePoint held;              ///< the material point its grasp holds; invalid outside a grasp
+  MaterialPoint held;             ///< the material point its grasp holds; invalid outside a grasp
 };
 
 }  // namespace tactus::haptics

@@ -83,7 +83,7 @@ struct Rendering {
   std::uint8_t contact_state = 0;
   bool on_fabric = false;
   bool slipping = false;
-  SurfacePoint held;
+  MaterialPoint held;
 };
 
 /// The force that reached the hand, for the tissue's side of the contact.

@@ -5,7 +5,6 @@
 #include <numeric>
 #include <tuple>
 #include <utility>
-#include <cstdlib>
 
 #include "contact/closest_point.hpp"
 #include "contact/grasp_state.hpp"
@@ -73,7 +72,7 @@ std::int32_t patch_triangle_of(const contact::LocalPatch& patch, std::int32_t su
 
 /// The patch's triangle under a material point of its body; −1 for another body's point or
 /// one the patch does not reach.
-std::int32_t patch_triangle_of(const contact::LocalPatch& patch, const SurfacePoint& point) {
+std::int32_t patch_triangle_of(const contact::LocalPatch& patch, const MaterialPoint& point) {
   return point.valid() && point.body == patch.body ? patch_triangle_of(patch, point.triangle) : -1;
 }
 

@@ -216,7 +216,7 @@ TEST(FabricProxyOnPatch, AFingerThatLostTheHeldPointTakesThePartnersHoldAgain) {
   const Vec3& thumb_at = Pair::kThumbPinching;
   const Vec3& index_at = Pair::kIndexPinching;
   ASSERT_EQ(state_of(pair.index), static_cast<std::uint8_t>(contact::ContactState::VIII));
-  const SurfacePoint held = pair.thumb.out.finger.held;
+  const MaterialPoint held = pair.thumb.out.finger.held;
   ASSERT_TRUE(held.valid());
 
   pair.index.patch = &elsewhere;
