@@ -460,6 +460,12 @@ Vec3 LocalModel::moved_since_published(std::int32_t triangle, const Vec3& baryce
   return moved;
 }
 
+Vec3 LocalModel::point(std::int32_t triangle, const Vec3& barycentric) const {
+  if (!patch_->valid || triangle < 0 || triangle >= patch_->triangle_count)
+    return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  return mesh::point_on(positions(), patch_->triangles[static_cast<std::size_t>(triangle)], barycentric);
+}
+
 Vec3 LocalModel::published_point(std::int32_t triangle, const Vec3& barycentric) const {
   if (!patch_->valid || triangle < 0 || triangle >= patch_->triangle_count)
     return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());

@@ -228,8 +228,9 @@ class LocalModel {
   /// How far the point at `barycentric` on patch triangle `triangle` has moved from where
   /// the simulation published it [m] (zero for a triangle not in the patch).
   [[nodiscard]] Vec3 moved_since_published(std::int32_t triangle, const Vec3& barycentric) const;
-  /// Where the simulation published the point at `barycentric` on patch triangle `triangle`
-  /// [m] (NaN for a triangle not in the patch).
+  /// Where the point at `barycentric` on patch triangle `triangle` is now, and where the
+  /// simulation published it [m] (NaN for a triangle not in the patch).
+  [[nodiscard]] Vec3 point(std::int32_t triangle, const Vec3& barycentric) const;
   [[nodiscard]] Vec3 published_point(std::int32_t triangle, const Vec3& barycentric) const;
   /// Free-node displacement from the published shape (3·free) [m].
   [[nodiscard]] const VecX& displacement() const { return u_; }

@@ -91,8 +91,6 @@ void push_along_shaft(const SimulationModel& model, SimulationState& state, cons
   search.record(parts, shaft_node_search);
 }
 
-/// Scene loads and prescribed motions at the end of the period, then each device's push
-/// spread over the vertices around its contact point.
 /// How far the load's material point has moved along unit `direction` since the simulation
 /// published the surface its force was rendered on, to `surface` (the step starts from it)
 /// [m]; 0 where the load names no published point or the body keeps no patch surface.
@@ -106,6 +104,8 @@ double drift_since_published(const std::vector<Vec3>& surface, const std::vector
   return (mesh::point_on(surface, corners, load.barycentric) - load.published_point).dot(direction);
 }
 
+/// Scene loads and prescribed motions at the end of the period, then each device's push
+/// spread over the vertices around its contact point.
 void apply_loads(const SimulationModel& model, SimulationState& state, const SimulationInputs& in,
                  std::span<PartStats> parts) {
   const double t_end = static_cast<double>(state.step) / model.scene->rates.simulation;  // simulated time reached

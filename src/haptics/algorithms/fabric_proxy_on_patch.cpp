@@ -54,13 +54,6 @@ std::pair<std::int32_t, Vec3> nearest_point(const contact::LocalPatch& patch, st
   return {best, barycentric};
 }
 
-/// Where the patch's material point (triangle, barycentric) is now; NaN for no triangle.
-Vec3 patch_point(const contact::LocalModel& local, std::int32_t triangle, const Vec3& barycentric) {
-  if (!local.valid() || triangle < 0 || triangle >= local.patch().triangle_count)
-    return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
-  return mesh::point_on(local.positions(), local.patch().triangles[static_cast<std::size_t>(triangle)], barycentric);
-}
-
 /// The patch's triangle that is the body's surface triangle `surface_triangle`; −1 where the
 /// patch does not reach it.
 std::int32_t patch_triangle_of(const contact::LocalPatch& patch, std::int32_t surface_triangle) {
@@ -202,13 +195,13 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
         if (pads.signed_distance < gp.fabric_thickness) {
           std::tie(triangle, barycentric) =
               nearest_point(s.local.patch(), s.local.positions(), 0.5 * (pads.on_first + pads.on_second));
-          const Vec3 between = patch_point(s.local, triangle, barycentric);
+          const Vec3 between = s.local.point(triangle, barycentric);
           may_start = contact::point_capsule(between, thumb_pad).signed_distance <= gp.capture_distance &&
                       contact::point_capsule(between, index_pad).signed_distance <= gp.capture_distance;
         }
       }
     }
-    const Vec3 point = patch_point(s.local, triangle, barycentric);
+    const Vec3 point = s.local.point(triangle, barycentric);
     const contact::PointGraspResult g = grasp_->update(held, thumb, index, point, may_start);
     if (!trial && g.active && g.friction == contact::FrictionState::slip) {
       // The pinch slides over the fabric: it holds the material now between the pads, unless
@@ -217,7 +210,7 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
       // millimetres off it stepped that pull, and the force on both fingers, in a frame.
       const auto [moved_to, moved_barycentric] = nearest_point(s.local.patch(), s.local.positions(), g.frame.origin);
       if (moved_to >= 0) {
-        const Vec3 moved = patch_point(s.local, moved_to, moved_barycentric);
+        const Vec3 moved = s.local.point(moved_to, moved_barycentric);
         const Vec3 e3 = g.frame.normal();
         const double off_plane = std::abs(e3.dot(moved - g.frame.origin));
         if (off_plane <= std::max(std::abs(e3.dot(point - g.frame.origin)), gp.fabric_thickness)) {
