@@ -228,6 +228,13 @@ FabricProxyResult FabricProxy::update(FabricProxyState& state, const Pose& finge
     const double speed = v_star.norm();
     if (speed > stop) v = (1.0 - stop / speed) * v_star;
     x += dt * v;
+    // The fabric slides under the proxy faster than the proxy slides back (a stretched sheet
+    // let go springs back at metres a second, and carries the proxy it rests on): the pull
+    // stays on the friction cone, as Coulomb's law has it, instead of dragging the proxy
+    // millimetres off the finger, where it lost the sheet and found it again every frame.
+    const Vec3 behind = x - x_free;
+    const double cone = p.static_friction * fn / k;
+    if (behind.norm() > cone) x = x_free + cone / behind.norm() * behind;
     // On curved fabric the slide may reach another face: keep on its front.
     const Nearest after = nearest_face(x, e0, e1, positions, triangles, candidates, p.side, under.triangle);
     if (after.triangle >= 0 && after.triangle != under.triangle) {

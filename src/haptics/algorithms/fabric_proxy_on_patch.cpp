@@ -18,6 +18,11 @@ namespace {
 /// that starts comes in over the same time.
 constexpr double kHandOverTime = 0.02;  // s
 
+/// How far a slipping pinch's hold moves over the fabric in a frame, at most: 0.25 m/s at
+/// 1 kHz, faster than a pinch slides, and the pull onto the pads' plane changes by at most
+/// the hold's stiffness times this (0.05 N at 190 N/m) when the sheet there lies off it.
+constexpr double kHoldTravel = 0.25e-3;  // m
+
 /// The grasp's laws for a pair: the thumb is the finger on the front. A sheet held between
 /// two pads rubs on both, so the pinch holds twice the pad–fabric coefficients (grasp.hpp).
 contact::GraspParams grasp_params(const contact::FabricProxyParams& params, const TwoFingerParams& two) {
@@ -204,19 +209,27 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
     const Vec3 point = s.local.point(triangle, barycentric);
     const contact::PointGraspResult g = grasp_->update(held, thumb, index, point, may_start);
     if (!trial && g.active && g.friction == contact::FrictionState::slip) {
-      // The pinch slides over the fabric: it holds the material now between the pads, unless
-      // that lies farther off the pads' plane than the material held (a fold of the sheet
-      // beside the pinch): the hold pulls the held point onto the plane, and a point picked
-      // millimetres off it stepped that pull, and the force on both fingers, in a frame.
-      const auto [moved_to, moved_barycentric] = nearest_point(s.local.patch(), s.local.positions(), g.frame.origin);
-      if (moved_to >= 0) {
-        const Vec3 moved = s.local.point(moved_to, moved_barycentric);
-        const Vec3 e3 = g.frame.normal();
-        const double off_plane = std::abs(e3.dot(moved - g.frame.origin));
-        if (off_plane <= std::max(std::abs(e3.dot(point - g.frame.origin)), gp.fabric_thickness)) {
-          contact::PointGrasp::move_hold(held, point, moved);
-          triangle = moved_to;
-          barycentric = moved_barycentric;
+      // The pinch slides over the fabric: the hold moves over the material toward the pads'
+      // centre, at most kHoldTravel a frame. Where the sheet beside the held point lies off
+      // the pads' plane (it sags between them in the simulation, which keeps only the held
+      // point on the plane), the hold pulls each new point onto it: a jump to the material
+      // at the centre stepped that pull, and the force on both fingers, in a frame, and
+      // refusing it left the hold up to 15 mm behind the pinch, off the pads.
+      const Vec3 e3 = g.frame.normal();
+      const Vec3 to_centre = g.frame.origin - point;
+      const Vec3 in_plane = to_centre - e3 * e3.dot(to_centre);
+      const double distance = in_plane.norm();
+      if (distance > 0.0) {
+        const Vec3 probe = point + std::min(distance, kHoldTravel) / distance * in_plane;
+        const auto [moved_to, moved_barycentric] = nearest_point(s.local.patch(), s.local.positions(), probe);
+        if (moved_to >= 0) {
+          const Vec3 moved = s.local.point(moved_to, moved_barycentric);
+          const double off_plane = std::abs(e3.dot(moved - g.frame.origin));
+          if (off_plane <= std::max(std::abs(e3.dot(point - g.frame.origin)), gp.fabric_thickness) + kHoldTravel) {
+            contact::PointGrasp::move_hold(held, point, moved);
+            triangle = moved_to;
+            barycentric = moved_barycentric;
+          }
         }
       }
     }
