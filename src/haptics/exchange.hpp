@@ -60,6 +60,17 @@ struct ContactLoad {
   static constexpr int kMaxParts = 8;
   std::array<Part, kMaxParts> parts{};
   int part_count = 0;
+  /// A pad of a pinch that holds `body` (seed 002 §V-D): the simulation keeps the body's
+  /// nodes out of the pad's capsule on its own side of the pinch's plane, as real pads keep
+  /// the fabric between them; the grasp's share above holds one point of it.
+  struct Pad {
+    bool active = false;
+    Vec3 base = Vec3::Zero(), tip = Vec3::Zero();  ///< the capsule's axis [m]
+    double radius = 0.0;                           ///< [m]
+    Vec3 plane_point = Vec3::Zero();               ///< on the pinch's plane [m]
+    Vec3 toward_partner = Vec3::UnitZ();           ///< the plane's unit normal, toward the other pad
+  };
+  Pad pad;
   /// A needle's shaft inside the tissue: `shaft_force` (on the tissue) is shared by the
   /// tissue nodes near the segment shaft_from → shaft_to of `body` (or its host).
   bool shaft = false;

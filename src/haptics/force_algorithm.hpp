@@ -84,6 +84,8 @@ struct Rendering {
   bool on_fabric = false;
   bool slipping = false;
   MaterialPoint held;
+  /// A grasping finger's pad, which keeps the held body's nodes out (ContactLoad::Pad).
+  ContactLoad::Pad pad;
 };
 
 /// The force that reached the hand, for the tissue's side of the contact.

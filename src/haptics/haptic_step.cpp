@@ -176,6 +176,7 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   else
     plane_load(*in.contact, r.touching, load);
   load.contact_radius = model.spread_over_contact_disc ? r.contact_radius : -1.0;
+  load.pad = r.pad;
 
   out.requested_force = safe.force.norm();
   out.touching = r.touching;

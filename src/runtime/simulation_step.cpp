@@ -9,6 +9,7 @@
 
 #include "compile/bodies.hpp"
 #include "contact/closest_point.hpp"
+#include "contact/fingertip.hpp"
 
 namespace tactus::runtime {
 namespace {
@@ -414,6 +415,48 @@ void write_nodes(const SimulationModel& model, const SimulationState& state, dou
   }
 }
 
+/// The nodes of body `b` inside a grasping pad (ContactLoad::Pad) move out of it, to the
+/// nearer of its capsule's surface and the pinch's plane, and lose the velocity into it: the
+/// pads are rigid to the fabric between them. Without it only the held point kept to the
+/// pinch, and the sheet beside it passed through the pads (up to 7 mm into the thumb when
+/// the pads opened).
+void keep_out_of_pads(const SimulationModel& model, std::span<const ContactLoad> loads, std::size_t b,
+                      const physics::Body& body, physics::BodyState& s) {
+  const auto& triangles = model.scene->bodies[b].surface.triangles;
+  const auto& surface_to_node = model.bodies[b].surface_to_node;
+  for (const ContactLoad& load : loads) {
+    if (!load.active || !load.pad.active || load.body != static_cast<std::int32_t>(b)) continue;
+    const ContactLoad::Pad& pad = load.pad;
+    // The held point's corners follow the hold's springs, which the step has solved.
+    std::array<mesh::Index, 3> held{-1, -1, -1};
+    if (load.triangle >= 0 && static_cast<std::size_t>(load.triangle) < triangles.size())
+      for (int k = 0; k < 3; ++k) {
+        const mesh::Index v = triangles[static_cast<std::size_t>(load.triangle)][k];
+        if (v >= 0 && static_cast<std::size_t>(v) < surface_to_node.size())
+          held[static_cast<std::size_t>(k)] = surface_to_node[static_cast<std::size_t>(v)];
+      }
+    const Eigen::Index nodes = s.x.size() / 3;
+    for (Eigen::Index i = 0; i < nodes; ++i) {
+      if (!body.fixed_dofs.empty() && body.fixed_dofs[static_cast<std::size_t>(3 * i)]) continue;
+      if (std::find(held.begin(), held.end(), static_cast<mesh::Index>(i)) != held.end()) continue;
+      auto x = s.x.segment<3>(3 * i);
+      const Vec3 p = x;
+      const double to_plane = pad.toward_partner.dot(pad.plane_point - p);  // > 0 on the pad's side
+      if (!(to_plane > 0.0)) continue;
+      const Vec3 axis_point = contact::closest_point_on_segment(p, pad.base, pad.tip).point;
+      const Vec3 out = p - axis_point;
+      const double from_axis = out.norm();
+      const double to_surface = pad.radius - from_axis;
+      if (!(to_surface > 0.0)) continue;
+      const Vec3 normal = to_plane < to_surface || from_axis == 0.0 ? pad.toward_partner : Vec3(out / from_axis);
+      x = p + std::min(to_plane, to_surface) * normal;
+      auto v = s.v.segment<3>(3 * i);
+      const double into = normal.dot(Vec3(v));
+      if (into < 0.0) v -= into * normal;
+    }
+  }
+}
+
 int advance_bodies(const SimulationModel& model, SimulationState& state, const SimulationInputs& in,
                    std::span<PartStats> parts) {
   apply_live_materials(model, state, in);
@@ -443,6 +486,7 @@ int advance_bodies(const SimulationModel& model, SimulationState& state, const S
       for (physics::ContactSpring& c : sb.springs) c.force = c.force_end;
       iterations += sb.state.last_linear_iterations;
     }
+    keep_out_of_pads(model, in.loads, b, body, sb.state);
     if (!sb.state.x.allFinite())
       throw std::runtime_error(fmt::format("body '{}' diverged at t = {} s (NaN or infinite positions); reduce "
                                            "its time_step, soften the contact or use implicit_euler",

@@ -253,6 +253,8 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
                       grasp_->hold_stiffness(), disc_radius(0.0)};
       out.held = {s.local.patch().body, s.local.patch().surface_triangle[static_cast<std::size_t>(triangle)],
                   barycentric};
+      const contact::Capsule pad = contact::posed(is_thumb_ ? gp.thumb : gp.index, is_thumb_ ? thumb : index);
+      out.pad = {true, pad.base, pad.tip, pad.radius, g.frame.origin, is_thumb_ ? g.frame.normal() : Vec3(-g.frame.normal())};
       // The V-proxy lets go: after the grasp it starts afresh at the finger.
       proxy = contact::make_fabric_proxy_state(f.position);
     }
