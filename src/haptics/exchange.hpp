@@ -47,6 +47,9 @@ struct ContactLoad {
   /// from the surface it steps from, the push is stiffness times how far the point has moved
   /// along `force` since then less.
   Vec3 published_point = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// A hold (a grasp's, across the pads' plane): the simulation's spring pulls back as well
+  /// as it pushes, so the held point cannot overshoot the pads' plane and be let go.
+  bool bilateral = false;
   /// Radius of the contact disc the force is spread over (contact/load_spread.hpp) [m].
   double contact_radius = 0.0;
   /// A sphere-set finger on a patch: each touching sphere's contact and its share of `force`

@@ -167,6 +167,7 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   ContactLoad& load = *out.load;
   load.part_count = 0;
   load.shaft = false;
+  load.bilateral = false;
   load.force = -reaction.sent;
   load.stiffness = 0.0;  // a constant push unless the algorithm knows its slope
   load.surface_offset = 0.0;

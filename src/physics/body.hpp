@@ -72,6 +72,8 @@ struct ContactSpring {
   double force = 0.0;                ///< at the start of the step [N]
   double stiffness = 0.0;            ///< [N/m]; 0: a constant push
   double force_end = 0.0;            ///< out: the push at the end of the step [N]
+  /// A hold rather than a contact: it pulls back (a negative push) as well as pushes.
+  bool bilateral = false;
 };
 inline constexpr std::size_t kMaxContactSprings = 8;
 

@@ -580,14 +580,16 @@ int couple_springs(const Body& body, BodyState& s, double h, std::span<ContactSp
     force = system.partialPivLu().solve(rhs);
     Eigen::Index most_negative = -1;
     for (Eigen::Index i = 0; i < n; ++i)
-      if (active[static_cast<std::size_t>(i)] && force[i] < 0.0 && (most_negative < 0 || force[i] < force[most_negative]))
+      if (active[static_cast<std::size_t>(i)] && !springs[static_cast<std::size_t>(i)].bilateral && force[i] < 0.0 &&
+          (most_negative < 0 || force[i] < force[most_negative]))
         most_negative = i;
     if (most_negative < 0) break;
     active[static_cast<std::size_t>(most_negative)] = false;
   }
   for (Eigen::Index j = 0; j < n; ++j) {
     double f = force[j];
-    if (!active[static_cast<std::size_t>(j)] || !std::isfinite(f) || f < 0.0) f = 0.0;
+    if (!active[static_cast<std::size_t>(j)] || !std::isfinite(f) || (f < 0.0 && !springs[static_cast<std::size_t>(j)].bilateral))
+      f = 0.0;
     delta += (h * f) * w.spring_response[static_cast<std::size_t>(j)];
     springs[static_cast<std::size_t>(j)].force_end = f;
   }
@@ -621,8 +623,8 @@ int settle_folded(const Body& body, BodyState& s, double h, std::span<ContactSpr
     for (std::size_t j = 0; j < springs.size(); ++j) {
       if (let_go[j]) continue;
       const double f = push_at(w, springs[j], j, v_base + delta, h);
-      springs[j].force_end = std::max(0.0, f);
-      if (f < lowest) lowest = f, most_negative = j;
+      springs[j].force_end = springs[j].bilateral ? f : std::max(0.0, f);
+      if (f < lowest && !springs[j].bilateral) lowest = f, most_negative = j;
     }
     if (most_negative == springs.size()) break;
     rhs -= (h * push_at(w, springs[most_negative], most_negative, v_base, h)) * w.spring_push[most_negative];

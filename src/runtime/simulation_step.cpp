@@ -150,7 +150,8 @@ void apply_loads(const SimulationModel& model, SimulationState& state, const Sim
       const double drift = drift_since_published(sb.surface, model.scene->bodies[b].surface.triangles, load, load.force / push);
       const double offset = stiffness * (load.surface_offset - drift);
       const double at_surface = std::isfinite(offset) ? push + offset : push;
-      sb.springs.push_back({d.nodes, load.force / push, at_surface, stiffness, std::max(0.0, at_surface)});
+      sb.springs.push_back({d.nodes, load.force / push, at_surface, stiffness,
+                            load.bilateral ? at_surface : std::max(0.0, at_surface), load.bilateral});
     } else {
       for (const contact::LoadShare& s : shares)
         sb.f_ext.segment<3>(3 * static_cast<Eigen::Index>(model.bodies[b].surface_to_node[static_cast<std::size_t>(s.vertex)])) +=

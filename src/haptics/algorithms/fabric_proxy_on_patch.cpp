@@ -251,6 +251,13 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
       out.law_force = magnitude;
       out.on_patch = {triangle, barycentric, magnitude > 0.0 ? Vec3(out.force / magnitude) : g.frame.normal(), magnitude,
                       grasp_->hold_stiffness(), disc_radius(0.0)};
+      // The fabric takes the hold (the pads' squeezes cancel on it), split between the two
+      // loops: the thumb's across the pads' plane, the index's along it.
+      if (!trial) {
+        const Vec3 e3 = g.frame.normal();
+        const Vec3 across = e3.dot(g.hold) * e3;
+        s.fabric_share = is_thumb_ ? across : Vec3(g.hold - across);
+      }
       out.held = {s.local.patch().body, s.local.patch().surface_triangle[static_cast<std::size_t>(triangle)],
                   barycentric};
       const contact::Capsule pad = contact::posed(is_thumb_ ? gp.thumb : gp.index, is_thumb_ ? thumb : index);
@@ -285,6 +292,7 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
     out.force = (1.0 - w) * from + w * out.force;
     out.torque *= w;
     out.law_force = out.force.norm();
+    if (!trial && grasping) s.fabric_share *= w;
   }
   if (!trial) {
     s.handed_over_at = handed_at;
@@ -302,9 +310,9 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
   if (!trial) s.grasping = grasping;
 }
 
-void FabricProxyOnPatch::advance(const FrameInputs& f, const Rendering& /*rendered*/, const Reaction& /*reaction*/,
-                                 bool /*on*/, const contact::PatchContact& on_patch, PatchState& state,
-                                 ContactLoad& /*load*/) const {
+void FabricProxyOnPatch::advance(const FrameInputs& f, const Rendering& /*rendered*/, const Reaction& reaction,
+                                 bool on, const contact::PatchContact& on_patch, PatchState& state,
+                                 ContactLoad& load) const {
   // The patch moves under the force sent; the proxy follows the material point it rests on
   // at its next update (FabricProxyState keeps it). In a grasp the patch keeps the shape the
   // simulation published: this finger's share, mostly the squeeze, would dent it alone (the
@@ -312,7 +320,23 @@ void FabricProxyOnPatch::advance(const FrameInputs& f, const Rendering& /*render
   // its free nodes run away within milliseconds of an update. The simulation gets the share
   // (OnPatch::react has set the load), and the two shares leave the hold.
   auto& s = static_cast<State&>(state);
-  if (!s.grasping) state.local.advance(on_patch, f.dt);
+  if (!s.grasping) {
+    state.local.advance(on_patch, f.dt);
+    return;
+  }
+  // The fabric takes this finger's part of the hold, scaled as the safety layer scaled the
+  // force sent, with the hold's slope: the thumb's across the pads' plane, as a spring that
+  // pulls back as well (the hold holds the point on the plane from both sides), the index's
+  // along it. Sent along each finger's force, mostly the squeeze, the push coupled the held
+  // point into the simulation's step across the plane only; along it the hold came from
+  // where the point was when the patch was published, and in real time, with steps late by
+  // tens of milliseconds, the held point swung ±8 mm between steps.
+  if (on && grasp_) {
+    const double kept = std::clamp(reaction.kept, 0.0, 1.0);
+    load.force = kept * s.fabric_share;
+    load.stiffness = kept * grasp_->hold_stiffness();
+    load.bilateral = is_thumb_;
+  }
 }
 
 }  // namespace tactus::haptics

@@ -50,6 +50,10 @@ class FabricProxyOnPatch final : public OnPatch {
     contact::FingerContactState fingers;
     contact::PointGraspState grasp;
     bool grasping = false;  ///< the last frame rendered the grasp
+    /// This finger's part of what the grasp does to the fabric, the last frame: of the hold
+    /// (the pads' squeezes cancel on the fabric), across the pads' plane for the thumb and
+    /// along it for the index, ramped in with the grasp [N].
+    Vec3 fabric_share = Vec3::Zero();
     /// The hand-over between the grasp and the V-proxy: when the last one began, the force it
     /// began from, and the force of the last frame.
     double handed_over_at = -1.0;
