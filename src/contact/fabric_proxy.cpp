@@ -155,6 +155,7 @@ FabricProxyResult FabricProxy::update(FabricProxyState& state, const Pose& finge
   };
 
   bool new_contact = false;
+  bool carried = false;  // the fabric moved under the resting proxy since the last frame
   if (!state.in_contact) {
     // Free: the proxy was at the last device position. Sweep it toward the new one (a
     // translation) and stop at the first face it meets from its own side.
@@ -186,8 +187,11 @@ FabricProxyResult FabricProxy::update(FabricProxyState& state, const Pose& finge
   } else {
     // Resting on moving fabric: carried with the material point it rests on.
     Face f;
-    if (face_of(state.triangle, positions, triangles, p.side, f))
-      x += material_point(f, state.barycentric) - state.surface_point;
+    if (face_of(state.triangle, positions, triangles, p.side, f)) {
+      const Vec3 motion = material_point(f, state.barycentric) - state.surface_point;
+      x += motion;
+      carried = motion.squaredNorm() > 0.0;
+    }
   }
 
   // The face under the proxy, and the proxy put on its plane (pushed out if the fabric
@@ -215,7 +219,14 @@ FabricProxyResult FabricProxy::update(FabricProxyState& state, const Pose& finge
       !new_contact && state.friction == FrictionState::slip ? p.kinetic_friction : p.static_friction;
   FrictionState friction = FrictionState::stick;
   Vec3 v = Vec3::Zero();
-  if (ft > mu * fn) {
+  if (carried && ft > p.static_friction * fn) {
+    // The fabric slid under the proxy past the friction cone (a stretched sheet let go springs
+    // back at metres a second): the proxy slips on it and pulls with μ_k·F^N, as Coulomb's law
+    // has it. Carried on with the fabric and then slid back by its own dynamics, it ended
+    // millimetres off the finger, lost the sheet and found it again every other frame.
+    friction = FrictionState::slip;
+    x = x_free + (p.kinetic_friction * fn / ft) * (x - x_free);
+  } else if (ft > mu * fn) {
     friction = FrictionState::slip;
     // m·(v − u) = dt·(k·(x_free − x_new) − b·v − μ_k·F^N·v/|v|), x_new = x + dt·v: backward
     // Euler in the spring and the damping. The spring and the damping act the same way in
@@ -228,13 +239,6 @@ FabricProxyResult FabricProxy::update(FabricProxyState& state, const Pose& finge
     const double speed = v_star.norm();
     if (speed > stop) v = (1.0 - stop / speed) * v_star;
     x += dt * v;
-    // The fabric slides under the proxy faster than the proxy slides back (a stretched sheet
-    // let go springs back at metres a second, and carries the proxy it rests on): the pull
-    // stays on the friction cone, as Coulomb's law has it, instead of dragging the proxy
-    // millimetres off the finger, where it lost the sheet and found it again every frame.
-    const Vec3 behind = x - x_free;
-    const double cone = p.static_friction * fn / k;
-    if (behind.norm() > cone) x = x_free + cone / behind.norm() * behind;
     // On curved fabric the slide may reach another face: keep on its front.
     const Nearest after = nearest_face(x, e0, e1, positions, triangles, candidates, p.side, under.triangle);
     if (after.triangle >= 0 && after.triangle != under.triangle) {

@@ -241,6 +241,26 @@ TEST(FabricProxy, MovingFabricCarriesAStuckProxyAndPushesIt) {
   EXPECT_NEAR((res.force - Vec3(0.2, 0, 1.3)).norm(), 0.0, 1e-9);
 }
 
+TEST(FabricProxy, FabricSlidingPastTheConeUnderAStillFingerPullsItWithTheKineticForce) {
+  // A stretched sheet let go springs back under the finger at about a metre a second: 1 mm a
+  // frame along x. The proxy slips on it at once and is pulled with μ_k·F^N, every frame in
+  // contact; carried with the sheet, it ended millimetres off the finger and lost the sheet.
+  const double r = lying_finger().radius, depth = 1e-3;
+  const FabricProxyParams p = params_for();
+  Touch run(p);
+  (void)run.move(Vec3(0, 0, 0.02), Vec3(0, 0, r - depth), 20);
+  const double fn = p.stiffness * depth;
+  for (int k = 0; k < 10; ++k) {
+    for (Vec3& v : run.patch.positions) v.x() += 1e-3;
+    const FabricProxyResult res = run.step(at(Vec3(0, 0, r - depth)));
+    ASSERT_TRUE(res.in_contact) << "frame " << k;
+    EXPECT_EQ(res.friction, FrictionState::slip);
+    EXPECT_NEAR(res.normal_force, fn, 1e-9);
+    EXPECT_NEAR(res.tangential_force, p.kinetic_friction * fn, 1e-9);
+    EXPECT_GT(res.force.x(), 0.0);  // dragged along with the sheet
+  }
+}
+
 TEST(FabricProxy, LetsGoPastTheEdgeOfTheCandidatesAndIgnoresOthers) {
   const double r = lying_finger().radius;
   Touch run(params_for(+1, 0.0, 0.0));  // frictionless: the proxy follows the finger sideways

@@ -344,6 +344,26 @@ TEST(ContactSprings, NeverPull) {
   }
 }
 
+TEST(ContactSprings, BilateralOnesPullBack) {
+  // A grasp's hold across the pads' plane: the same node flying away, now held by a spring
+  // that pulls as well as pushes. It ends pulling, by its slope times how far the node went,
+  // and the node goes less far than a free one. Both ways of coupling, as above.
+  for (const bool path_known : {false, true}) {
+    const Body b = tissue_node();
+    BodyState held = make_state(b), free = make_state(b);
+    if (path_known) step(b, held, 0.01), step(b, free, 0.01);
+    held.v[3] = free.v[3] = 2.0;
+    const double start = held.x[3];
+    const std::array<NodeShare, 1> node{{{1, 1.0}}};
+    std::array<ContactSpring, 1> spring{{{node, Vec3::UnitX(), 0.1, 1000.0, 0.1, true}}};
+    step(b, held, 0.01, {}, spring);
+    step(b, free, 0.01);
+    EXPECT_LT(spring[0].force_end, 0.0) << path_known;
+    EXPECT_NEAR(spring[0].force_end, 0.1 - 1000.0 * (held.x[3] - start), 1e-9) << path_known;
+    EXPECT_LT(held.x[3], free.x[3] - 5e-4) << path_known;  // 0.25 mm against 0.91 mm
+  }
+}
+
 TEST(ContactSprings, ExplicitIntegratorsHoldTheStartingPush) {
   Body b = tissue_node();
   b.settings.integrator = Integrator::symplectic_euler;

@@ -3,6 +3,7 @@
 // inputs, and the parts are timed only with a clock given.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -157,6 +158,54 @@ TEST(SimulationStep, APushRenderedOnAnOlderSurfaceEasesByHowFarThePointHasMovedS
   EXPECT_NEAR(rendered_at_rest.first, eased_on_now.first, 1e-12);
   EXPECT_NEAR(rendered_at_rest.second, eased_on_now.second, 1e-15);
   EXPECT_GT(taken_as_it_came.first, rendered_at_rest.first + 0.5 * 300.0 * moved);
+}
+
+// A pad of a pinch over the block's top, 5 mm into it, the pinch's plane 3 mm below the top:
+// after two steps no node lies in the pad on its side of the plane (but the held point's
+// corners, which the hold's spring places). Nodes near the pad's centre land on the plane, the
+// others on the pad's sphere.
+TEST(SimulationStep, AGraspingPadKeepsTheBodysNodesOutOfIt) {
+  const SimulationModel model = make_simulation_model(block(), {std::nullopt});
+  SimulationState state = make_simulation_state(model);
+  const auto& rest = block().bodies.front().surface.vertices;
+  double top = -1e9;
+  for (const Vec3& v : rest) top = std::max(top, v.z());
+  const double radius = 0.02;  // the block's nodes are 10 mm apart
+  ContactLoad load = press(0.0, 0.0);
+  // The held point on the bottom, out of the pad's way.
+  const auto& triangles = block().bodies.front().surface.triangles;
+  const auto centroid_z = [&](std::size_t t) {
+    return (rest[triangles[t][0]].z() + rest[triangles[t][1]].z() + rest[triangles[t][2]].z()) / 3.0;
+  };
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    if (centroid_z(t) < centroid_z(static_cast<std::size_t>(load.triangle))) load.triangle = static_cast<std::int32_t>(t);
+  load.pad = {true, Vec3(0, 0, top + radius - 5e-3), Vec3(0, 0, top + radius - 5e-3), radius, Vec3(0, 0, top - 3e-3),
+              Vec3(0, 0, -1)};
+  const auto inside = [&](const Vec3& p) {
+    const double to_plane = load.pad.toward_partner.dot(load.pad.plane_point - p);
+    return std::min(to_plane, radius - (p - load.pad.base).norm());
+  };
+  const physics::BodyState& nodes = state.bodies[0].state;
+  const auto held = block().bodies.front().surface.triangles[static_cast<std::size_t>(load.triangle)];
+  const auto is_held = [&](Eigen::Index i) {
+    for (const auto v : held)
+      if (model.bodies[0].surface_to_node[static_cast<std::size_t>(v)] == i) return true;
+    return false;
+  };
+  int in_at_rest = 0;
+  for (Eigen::Index i = 0; i < nodes.x.size() / 3; ++i) in_at_rest += inside(nodes.x.segment<3>(3 * i)) > 1e-4 ? 1 : 0;
+  ASSERT_GT(in_at_rest, 3);
+  (void)sinking(model, state, load, 2);
+  int on_plane = 0, on_sphere = 0;
+  for (Eigen::Index i = 0; i < nodes.x.size() / 3; ++i) {
+    if (is_held(i)) continue;
+    const Vec3 p = nodes.x.segment<3>(3 * i);
+    EXPECT_LE(inside(p), 1e-12) << "node " << i;
+    if (std::abs(p.z() - (top - 3e-3)) < 1e-12) ++on_plane;
+    if (std::abs((p - load.pad.base).norm() - radius) < 1e-12) ++on_sphere;
+  }
+  EXPECT_GT(on_plane, 0);
+  EXPECT_GT(on_sphere, 0);
 }
 
 TEST(SimulationStep, MaterialEditsAreInputsFromTheirTime) {
