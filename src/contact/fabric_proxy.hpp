@@ -8,7 +8,8 @@
 // finger. Friction: the proxy sticks while |F^T| ≤ μ_s·F^N; otherwise it moves by
 //   F − μ_k·F^N·ẋ/|ẋ| = m·ẍ + b·ẋ   (F the spring's pull on the proxy, along the fabric),
 // stepped with the spring and the damping implicit, and sticks again once its pull falls
-// to μ_k·F^N. The fabric gets −F^d on the three vertices of the touched triangle
+// to μ_k·F^N. Fabric that slides under the proxy past μ_s·F^N drags it with μ_k·F^N
+// (the proxy slips on it). The fabric gets −F^d on the three vertices of the touched triangle
 // (barycentric). See docs/grasp.md.
 //
 // The fabric is given as plain arrays, with a caller's list of candidate triangles near the

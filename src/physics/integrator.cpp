@@ -588,8 +588,8 @@ int couple_springs(const Body& body, BodyState& s, double h, std::span<ContactSp
   }
   for (Eigen::Index j = 0; j < n; ++j) {
     double f = force[j];
-    if (!active[static_cast<std::size_t>(j)] || !std::isfinite(f) || (f < 0.0 && !springs[static_cast<std::size_t>(j)].bilateral))
-      f = 0.0;
+    const bool pulls = f < 0.0 && !springs[static_cast<std::size_t>(j)].bilateral;
+    if (!active[static_cast<std::size_t>(j)] || !std::isfinite(f) || pulls) f = 0.0;
     delta += (h * f) * w.spring_response[static_cast<std::size_t>(j)];
     springs[static_cast<std::size_t>(j)].force_end = f;
   }

@@ -178,7 +178,8 @@ TEST(SimulationStep, AGraspingPadKeepsTheBodysNodesOutOfIt) {
     return (rest[triangles[t][0]].z() + rest[triangles[t][1]].z() + rest[triangles[t][2]].z()) / 3.0;
   };
   for (std::size_t t = 0; t < triangles.size(); ++t)
-    if (centroid_z(t) < centroid_z(static_cast<std::size_t>(load.triangle))) load.triangle = static_cast<std::int32_t>(t);
+    if (centroid_z(t) < centroid_z(static_cast<std::size_t>(load.triangle)))
+      load.triangle = static_cast<std::int32_t>(t);
   load.pad = {true, Vec3(0, 0, top + radius - 5e-3), Vec3(0, 0, top + radius - 5e-3), radius, Vec3(0, 0, top - 3e-3),
               Vec3(0, 0, -1)};
   const auto inside = [&](const Vec3& p) {

@@ -99,9 +99,18 @@ const std::vector<KnownDefect> kKnownDefects = {
     // starts where the pads close on the sheet (one held point for both fingers) 34 / 0 and
     // 373 / 27, largest steps 0.117 N (thumb, 3.850 s) and 0.181 N (index, 4.277 s). The
     // index's extra flickers are in its light rub (0.8-1.6 s, 10-20 mN: 174 contact onsets
-    // where it had 107), where the force sent now holds through each of them.
-    {"fabric", "thumb", 34, 0, 0.12},
-    {"fabric", "index", 377, 32, 0.23},
+    // where it had 107), where the force sent now holds through each of them. Most of those
+    // flickers were one defect: fabric sliding under a V-proxy carried it past the friction
+    // cone, millimetres off the finger, where it lost the sheet and found it again a frame
+    // later. Since the proxy slips on such fabric with the kinetic force, and the grasp holds
+    // the sheet between the pads in the simulation, the index has 0 / 0 and 0.123 N (5.600 s,
+    // skin on skin). The thumb then has 28 / 17 and 0.170 N (4.228 s): the pinch's hold no
+    // longer lags 13 mm behind the pads, so when they open the stretched sheet springs back
+    // onto the thumb, which it touches for 70 ms at up to 0.40 N, slipping down its pad; the
+    // V-proxy loses it where the sheet curves round the pad (a face's plane, not the sheet,
+    // under the proxy) and finds it again.
+    {"fabric", "thumb", 28, 17, 0.171},
+    {"fabric", "index", 0, 0, 0.13},
 };
 
 Smoothness measure(const SessionReport& r, std::size_t device, const std::string& name) {

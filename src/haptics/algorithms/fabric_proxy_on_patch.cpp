@@ -211,10 +211,9 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
     if (!trial && g.active && g.friction == contact::FrictionState::slip) {
       // The pinch slides over the fabric: the hold moves over the material toward the pads'
       // centre, at most kHoldTravel a frame. Where the sheet beside the held point lies off
-      // the pads' plane (it sags between them in the simulation, which keeps only the held
-      // point on the plane), the hold pulls each new point onto it: a jump to the material
-      // at the centre stepped that pull, and the force on both fingers, in a frame, and
-      // refusing it left the hold up to 15 mm behind the pinch, off the pads.
+      // the pads' plane (a fold beside the pinch), the hold pulls each new point onto it: a
+      // jump to the material at the centre stepped that pull, and the force on both fingers,
+      // in a frame, and refusing it left the hold up to 15 mm behind the pinch, off the pads.
       const Vec3 e3 = g.frame.normal();
       const Vec3 to_centre = g.frame.origin - point;
       const Vec3 in_plane = to_centre - e3 * e3.dot(to_centre);
@@ -261,7 +260,8 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
       out.held = {s.local.patch().body, s.local.patch().surface_triangle[static_cast<std::size_t>(triangle)],
                   barycentric};
       const contact::Capsule pad = contact::posed(is_thumb_ ? gp.thumb : gp.index, is_thumb_ ? thumb : index);
-      out.pad = {true, pad.base, pad.tip, pad.radius, g.frame.origin, is_thumb_ ? g.frame.normal() : Vec3(-g.frame.normal())};
+      const Vec3 toward_partner = is_thumb_ ? g.frame.normal() : Vec3(-g.frame.normal());
+      out.pad = {true, pad.base, pad.tip, pad.radius, g.frame.origin, toward_partner};
       // The V-proxy lets go: after the grasp it starts afresh at the finger.
       proxy = contact::make_fabric_proxy_state(f.position);
     }
@@ -330,7 +330,7 @@ void FabricProxyOnPatch::advance(const FrameInputs& f, const Rendering& /*render
   // along it. Sent along each finger's force, mostly the squeeze, the push coupled the held
   // point into the simulation's step across the plane only; along it the hold came from
   // where the point was when the patch was published, and in real time, with steps late by
-  // tens of milliseconds, the held point swung ±8 mm between steps.
+  // tens of milliseconds, the held point moved by up to 9 mm from one step to the next.
   if (on && grasp_) {
     const double kept = std::clamp(reaction.kept, 0.0, 1.0);
     load.force = kept * s.fabric_share;
