@@ -104,9 +104,9 @@ const std::vector<KnownDefect> kKnownDefects = {
     // cone, millimetres off the finger, where it lost the sheet and found it again a frame
     // later. Since the proxy slips on such fabric with the kinetic force, and the grasp holds
     // the sheet between the pads in the simulation, the index has 0 / 0 and 0.123 N (5.600 s,
-    // skin on skin). The thumb then has 28 / 17 and 0.170 N (4.228 s): the pinch's hold no
-    // longer lags 13 mm behind the pads, so when they open the stretched sheet springs back
-    // onto the thumb, which it touches for 70 ms at up to 0.40 N, slipping down its pad; the
+    // skin on skin). The thumb then has 28 / 17 and 0.170 N (4.228 s): the pinch's hold is
+    // at the pads when they open (it lagged 13 mm behind them), and the stretched sheet springs
+    // back onto the thumb, which it touches for 70 ms at up to 0.40 N, slipping down its pad; the
     // V-proxy loses it where the sheet curves round the pad (a face's plane, not the sheet,
     // under the proxy) and finds it again.
     {"fabric", "thumb", 28, 17, 0.171},
