@@ -428,6 +428,9 @@ void keep_out_of_pads(const SimulationModel& model, std::span<const ContactLoad>
   for (const ContactLoad& load : loads) {
     if (!load.active || !load.pad.active || load.body != static_cast<std::int32_t>(b)) continue;
     const ContactLoad::Pad& pad = load.pad;
+    if (!(pad.radius > 0.0) || !std::isfinite(pad.radius) || !pad.base.allFinite() || !pad.tip.allFinite() ||
+        !pad.plane_point.allFinite() || !pad.toward_partner.allFinite())
+      continue;
     // The held point's corners follow the hold's springs, which the step has solved.
     std::array<mesh::Index, 3> held{-1, -1, -1};
     if (load.triangle >= 0 && static_cast<std::size_t>(load.triangle) < triangles.size())
@@ -449,8 +452,9 @@ void keep_out_of_pads(const SimulationModel& model, std::span<const ContactLoad>
       const double from_axis = out.norm();
       const double to_surface = pad.radius - from_axis;
       if (!(to_surface > 0.0)) continue;
-      const Vec3 normal = to_plane < to_surface || from_axis == 0.0 ? pad.toward_partner : Vec3(out / from_axis);
-      x = p + std::min(to_plane, to_surface) * normal;
+      const bool onto_plane = to_plane < to_surface || from_axis == 0.0;
+      const Vec3 normal = onto_plane ? pad.toward_partner : Vec3(out / from_axis);
+      x = p + (onto_plane ? to_plane : to_surface) * normal;
       auto v = s.v.segment<3>(3 * i);
       const double into = normal.dot(Vec3(v));
       if (into < 0.0) v -= into * normal;
