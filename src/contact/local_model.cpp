@@ -460,16 +460,18 @@ Vec3 LocalModel::moved_since_published(std::int32_t triangle, const Vec3& baryce
   return moved;
 }
 
-Vec3 LocalModel::point(std::int32_t triangle, const Vec3& barycentric) const {
+Vec3 LocalModel::point_of(std::span<const Vec3> vertices, std::int32_t triangle, const Vec3& barycentric) const {
   if (!patch_->valid || triangle < 0 || triangle >= patch_->triangle_count)
     return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
-  return mesh::point_on(positions(), patch_->triangles[static_cast<std::size_t>(triangle)], barycentric);
+  return mesh::point_on(vertices, patch_->triangles[static_cast<std::size_t>(triangle)], barycentric);
+}
+
+Vec3 LocalModel::point(std::int32_t triangle, const Vec3& barycentric) const {
+  return point_of(positions(), triangle, barycentric);
 }
 
 Vec3 LocalModel::published_point(std::int32_t triangle, const Vec3& barycentric) const {
-  if (!patch_->valid || triangle < 0 || triangle >= patch_->triangle_count)
-    return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
-  return mesh::point_on(patch_->position, patch_->triangles[static_cast<std::size_t>(triangle)], barycentric);
+  return point_of(patch_->position, triangle, barycentric);
 }
 
 double LocalModel::advance(const PatchContact& contact, double dt) {

@@ -237,6 +237,8 @@ class LocalModel {
 
  private:
   void place_nodes();
+  /// The point at `barycentric` on patch triangle `triangle` of `vertices` (NaN off the patch).
+  [[nodiscard]] Vec3 point_of(std::span<const Vec3> vertices, std::int32_t triangle, const Vec3& barycentric) const;
 
   LocalPatch none_;  ///< an empty patch of the capacity, until the first reset
   const LocalPatch* patch_ = &none_;

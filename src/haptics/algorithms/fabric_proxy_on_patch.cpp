@@ -315,10 +315,9 @@ void FabricProxyOnPatch::advance(const FrameInputs& f, const Rendering& /*render
                                  ContactLoad& load) const {
   // The patch moves under the force sent; the proxy follows the material point it rests on
   // at its next update (FabricProxyState keeps it). In a grasp the patch keeps the shape the
-  // simulation published: this finger's share, mostly the squeeze, would dent it alone (the
+  // simulation published: this finger's force, mostly the squeeze, would dent it alone (the
   // other pad pushes back on the same point in its own patch), and left without a contact
-  // its free nodes run away within milliseconds of an update. The simulation gets the share
-  // (OnPatch::react has set the load), and the two shares leave the hold.
+  // its free nodes run away within milliseconds of an update.
   auto& s = static_cast<State&>(state);
   if (!s.grasping) {
     state.local.advance(on_patch, f.dt);
