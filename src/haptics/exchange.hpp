@@ -50,6 +50,11 @@ struct ContactLoad {
   /// A hold (a grasp's, across the pads' plane): the simulation's spring pulls back as well
   /// as it pushes, so the held point cannot overshoot the pads' plane and be let go.
   bool bilateral = false;
+  /// A hold along a plane (a grasp's part along the pads' plane), as a unit normal of that
+  /// plane; zero: none. The simulation holds the point in the whole plane, with `stiffness`
+  /// across `force` as well as along it, both ways: along `force` alone the point was free
+  /// to slide across it during a step, and the next patch stepped the hold.
+  Vec3 hold_plane_normal = Vec3::Zero();
   /// Radius of the contact disc the force is spread over (contact/load_spread.hpp) [m].
   double contact_radius = 0.0;
   /// A sphere-set finger on a patch: each touching sphere's contact and its share of `force`

@@ -168,6 +168,7 @@ void haptic_step(const HapticModel& model, HapticState& s, const HapticInputs& i
   load.part_count = 0;
   load.shaft = false;
   load.bilateral = false;
+  load.hold_plane_normal = Vec3::Zero();
   load.force = -reaction.sent;
   load.stiffness = 0.0;  // a constant push unless the algorithm knows its slope
   load.surface_offset = 0.0;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "compile/bodies.hpp"
@@ -105,6 +106,19 @@ double drift_since_published(const std::vector<Vec3>& surface, const std::vector
   return (mesh::point_on(surface, corners, load.barycentric) - load.published_point).dot(direction);
 }
 
+/// A hold along a plane (ContactLoad::hold_plane_normal): two unit directions spanning the
+/// plane, the first along the load's force where it has a part in the plane; none for any
+/// other load, or a normal that is not a finite nonzero vector.
+std::optional<std::array<Vec3, 2>> hold_plane_directions(const ContactLoad& load) {
+  const double length = load.hold_plane_normal.norm();
+  if (!(length > 0.0) || !std::isfinite(length) || !load.force.allFinite()) return std::nullopt;
+  const Vec3 n = load.hold_plane_normal / length;
+  const Vec3 in_plane = load.force - n * n.dot(load.force);
+  const double norm = in_plane.norm();
+  const Vec3 first = norm > 1e-12 * std::max(1.0, load.force.norm()) ? Vec3(in_plane / norm) : Vec3(n.unitOrthogonal());
+  return std::array<Vec3, 2>{first, n.cross(first)};
+}
+
 /// Scene loads and prescribed motions at the end of the period, then each device's push
 /// spread over the vertices around its contact point.
 void apply_loads(const SimulationModel& model, SimulationState& state, const SimulationInputs& in,
@@ -121,7 +135,7 @@ void apply_loads(const SimulationModel& model, SimulationState& state, const Sim
   for (SimulationState::Body& sb : state.bodies) sb.springs.clear();
   for (std::size_t device = 0; device < in.loads.size() && device < state.devices.size(); ++device) {
     SimulationState::Device& d = state.devices[device];
-    d.spring = -1;
+    d.spring = -1, d.spring_count = 0;
     const ContactLoad& load = in.loads[device];
     if (load.shaft) push_along_shaft(model, state, load, in, parts);
     if (!load.active || load.body < 0 || static_cast<std::size_t>(load.body) >= model.bodies.size()) continue;
@@ -135,23 +149,38 @@ void apply_loads(const SimulationModel& model, SimulationState& state, const Sim
     if (!model.bodies[b].physics) continue;
     const std::span<const contact::LoadShare> shares = spread(model, state, b, load);
     const double push = load.force.norm();
-    if (push > 0.0 && sb.springs.size() < physics::kMaxContactSprings) {
+    const std::optional<std::array<Vec3, 2>> plane = hold_plane_directions(load);
+    const std::size_t wanted = plane ? 2 : 1;
+    if ((push > 0.0 || plane) && sb.springs.size() + wanted <= physics::kMaxContactSprings) {
       // Coupled into the step: the push eases as the tissue gives way under it.
       d.nodes.clear();
       for (const contact::LoadShare& s : shares)
         d.nodes.push_back({model.bodies[b].surface_to_node[static_cast<std::size_t>(s.vertex)], s.share});
       d.body = b;
       d.spring = static_cast<int>(sb.springs.size());
+      d.spring_count = static_cast<int>(wanted);
       // The push where the surface the step starts from stands, not where the haptic loop's
       // patch had moved the contact point to, nor where the surface that patch was
       // published from stood: in real time the simulation may have stepped since, and a
       // push taken as it was rendered went on pushing a point that had already moved.
       const double stiffness = std::max(0.0, load.stiffness);
-      const double drift = drift_since_published(sb.surface, model.scene->bodies[b].surface.triangles, load, load.force / push);
-      const double offset = stiffness * (load.surface_offset - drift);
-      const double at_surface = std::isfinite(offset) ? push + offset : push;
-      sb.springs.push_back({d.nodes, load.force / push, at_surface, stiffness,
-                            load.bilateral ? at_surface : std::max(0.0, at_surface), load.bilateral});
+      const bool bilateral = load.bilateral || plane.has_value();
+      const Vec3 along_force = push > 0.0 ? Vec3(load.force / push) : Vec3::Zero();
+      const auto& triangles = model.scene->bodies[b].surface.triangles;
+      const auto add_spring = [&](const Vec3& direction, double start, double surface_offset) {
+        const double drift = drift_since_published(sb.surface, triangles, load, direction);
+        const double offset = stiffness * (surface_offset - drift);
+        const double at_surface = std::isfinite(offset) ? start + offset : start;
+        sb.springs.push_back({d.nodes, direction, at_surface, stiffness,
+                              bilateral ? at_surface : std::max(0.0, at_surface), bilateral});
+      };
+      if (plane) {
+        // surface_offset is measured along the force, which lies along the first direction.
+        for (const Vec3& direction : *plane)
+          add_spring(direction, load.force.dot(direction), load.surface_offset * direction.dot(along_force));
+      } else {
+        add_spring(along_force, push, load.surface_offset);
+      }
     } else {
       for (const contact::LoadShare& s : shares)
         sb.f_ext.segment<3>(3 * static_cast<Eigen::Index>(model.bodies[b].surface_to_node[static_cast<std::size_t>(s.vertex)])) +=
@@ -501,8 +530,11 @@ int advance_bodies(const SimulationModel& model, SimulationState& state, const S
   // The patches are built around the push the tissue took at the end of the step.
   for (SimulationState::Device& d : state.devices)
     if (d.spring >= 0 && !d.builders.empty()) {
-      const physics::ContactSpring& c = state.bodies[d.body].springs[static_cast<std::size_t>(d.spring)];
-      d.applied.force = c.force * c.direction;
+      d.applied.force.setZero();
+      for (int k = 0; k < d.spring_count; ++k) {
+        const physics::ContactSpring& c = state.bodies[d.body].springs[static_cast<std::size_t>(d.spring + k)];
+        d.applied.force += c.force * c.direction;
+      }
     }
   integration.record(parts, integrate);
   return iterations;

@@ -71,7 +71,8 @@ struct SimulationState {
   struct Device {
     std::vector<physics::NodeShare> nodes;
     std::size_t body = 0;
-    int spring = -1;  ///< index into that body's springs; −1: none this step
+    int spring = -1;        ///< index into that body's springs; −1: none this step
+    int spring_count = 0;   ///< its springs from `spring` on: 2 for a hold along a plane
     std::vector<std::unique_ptr<contact::PatchBuilder>> builders;
     ContactLoad applied;
     std::vector<contact::LoadShare> applied_shares;

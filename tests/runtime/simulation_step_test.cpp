@@ -209,6 +209,60 @@ TEST(SimulationStep, AGraspingPadKeepsTheBodysNodesOutOfIt) {
   EXPECT_GT(on_sphere, 0);
 }
 
+// A grasp's hold along the pads' plane (the block's top) pulls along +x; a push along +y on
+// the same point stands for the sheet dragging it sideways. As two springs in the plane the
+// hold resists that drag as well, pulling back along −y; along its force alone the point
+// slid sideways freely during the step.
+TEST(SimulationStep, AHoldAlongAPlaneHoldsThePointAcrossItsForceToo) {
+  const SimulationModel model = make_simulation_model(block(), {std::nullopt, std::nullopt});
+  const scene::Body& body = block().bodies.front();
+  const std::int32_t triangle = top_centre_triangle();
+  const mesh::Triangle& corners = body.surface.triangles[static_cast<std::size_t>(triangle)];
+  const Vec3 at_rest = mesh::point_on(body.surface.vertices, corners, Vec3::Constant(1.0 / 3.0));
+  const auto run = [&](const Vec3& plane_normal, const Vec3& hold) {
+    ContactLoad holding = press(0.0, 3000.0);
+    holding.force = hold;
+    holding.hold_plane_normal = plane_normal;
+    ContactLoad drag = press(0.0, 0.0);
+    drag.force = Vec3(0, 0.3, 0);
+    const std::array<ContactLoad, 2> loads{holding, drag};
+    SimulationState state = make_simulation_state(model);
+    for (int k = 0; k < 4; ++k) {
+      SimulationInputs in;
+      in.t = k * model.period;
+      in.loads = loads;
+      (void)advance_bodies(model, state, in, {});
+      SurfaceSnapshot surfaces = rest_surfaces(model);
+      SurfaceSnapshot* outputs[] = {&surfaces};
+      const std::array<ToolState, 2> tools{};
+      contact::LocalPatch* patches[] = {nullptr, nullptr};
+      publish_shapes(model, state, in, tools, {outputs, patches, {}});
+    }
+    return state;
+  };
+  const SimulationState along_force = run(Vec3::Zero(), Vec3(0.2, 0, 0));
+  const SimulationState in_plane = run(Vec3(0, 0, 1), Vec3(0.2, 0, 0));
+  ASSERT_EQ(along_force.devices[0].spring_count, 1);
+  ASSERT_EQ(in_plane.devices[0].spring_count, 2);
+  const auto& springs = in_plane.bodies[0].springs;
+  ASSERT_EQ(springs.size(), 3u);  // the hold's two, the drag's one
+  EXPECT_NEAR(springs[0].direction.dot(Vec3(1, 0, 0)), 1.0, 1e-12);
+  EXPECT_NEAR(std::abs(springs[1].direction.dot(Vec3(0, 1, 0))), 1.0, 1e-12);
+  EXPECT_TRUE(springs[0].bilateral && springs[1].bilateral);
+  const double pull_back = springs[1].force_end * springs[1].direction.y();
+  EXPECT_LT(pull_back, -0.05);
+  EXPECT_GT(pull_back, -0.3);
+  const auto sideways = [&](const SimulationState& state) {
+    return (mesh::point_on(state.bodies[0].surface, corners, Vec3::Constant(1.0 / 3.0)) - at_rest).y();
+  };
+  EXPECT_GT(sideways(along_force), 0.0);
+  EXPECT_LT(sideways(in_plane), 0.5 * sideways(along_force));
+  // A hold with no force in the plane still holds the point there.
+  const SimulationState unloaded = run(Vec3(0, 0, 1), Vec3::Zero());
+  ASSERT_EQ(unloaded.devices[0].spring_count, 2);
+  EXPECT_LT(sideways(unloaded), 0.5 * sideways(along_force));
+}
+
 TEST(SimulationStep, MaterialEditsAreInputsFromTheirTime) {
   // The block twice as stiff by an edit sinks about half as far under the same push (small
   // strains of a corotational body: linear in E); an edit dated later is not applied yet.

@@ -108,9 +108,12 @@ const std::vector<KnownDefect> kKnownDefects = {
     // at the pads when they open (it lagged 13 mm behind them), and the stretched sheet springs
     // back onto the thumb, which it touches for 70 ms at up to 0.40 N, slipping down its pad; the
     // V-proxy loses it where the sheet curves round the pad (a face's plane, not the sheet,
-    // under the proxy) and finds it again.
-    {"fabric", "thumb", 28, 17, 0.171},
-    {"fabric", "index", 0, 0, 0.13},
+    // under the proxy) and finds it again. Since the hold along the pads' plane holds the point
+    // in the whole plane in the simulation (the real-time grasp's 0.3-0.5 N steps at updates,
+    // gone) the release goes otherwise: the thumb 24 / 13 and 0.172 N (4.224 s), the index
+    // one unfelt touch of 24 mN at 4.261 s (1 / 0).
+    {"fabric", "thumb", 24, 13, 0.173},
+    {"fabric", "index", 1, 0, 0.13},
 };
 
 Smoothness measure(const SessionReport& r, std::size_t device, const std::string& name) {

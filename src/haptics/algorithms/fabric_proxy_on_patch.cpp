@@ -256,6 +256,7 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
         const Vec3 e3 = g.frame.normal();
         const Vec3 across = e3.dot(g.hold) * e3;
         s.fabric_share = is_thumb_ ? across : Vec3(g.hold - across);
+        s.pads_normal = e3;
       }
       out.held = {s.local.patch().body, s.local.patch().surface_triangle[static_cast<std::size_t>(triangle)],
                   barycentric};
@@ -326,15 +327,17 @@ void FabricProxyOnPatch::advance(const FrameInputs& f, const Rendering& /*render
   // The fabric takes this finger's part of the hold, scaled as the safety layer scaled the
   // force sent, with the hold's slope: the thumb's across the pads' plane, as a spring that
   // pulls back as well (the hold holds the point on the plane from both sides), the index's
-  // along it. Sent along each finger's force, mostly the squeeze, the push coupled the held
-  // point into the simulation's step across the plane only; along it the hold came from
-  // where the point was when the patch was published, and in real time, with steps late by
-  // tens of milliseconds, the held point moved by up to 9 mm from one step to the next.
+  // along it, in the whole plane. Sent along each finger's force, mostly the squeeze, the
+  // push coupled the held point into the simulation's step across the plane only; along it
+  // the hold came from where the point was when the patch was published, and in real time,
+  // with steps late by tens of milliseconds, the held point moved by up to 9 mm from one step
+  // to the next.
   if (on && grasp_) {
     const double kept = std::clamp(reaction.kept, 0.0, 1.0);
     load.force = kept * s.fabric_share;
     load.stiffness = kept * grasp_->hold_stiffness();
     load.bilateral = is_thumb_;
+    load.hold_plane_normal = is_thumb_ ? Vec3::Zero() : s.pads_normal;
   }
 }
 

@@ -54,6 +54,7 @@ class FabricProxyOnPatch final : public OnPatch {
     /// (the pads' squeezes cancel on the fabric), across the pads' plane for the thumb and
     /// along it for the index, ramped in with the grasp [N].
     Vec3 fabric_share = Vec3::Zero();
+    Vec3 pads_normal = Vec3::UnitZ();  ///< the pads' plane's normal, the last frame
     /// The hand-over between the grasp and the V-proxy: when the last one began, the force it
     /// began from, and the force of the last frame.
     double handed_over_at = -1.0;

@@ -183,6 +183,12 @@ TEST(FabricProxyOnPatch, FabricSqueezedBetweenThePairIsGraspedWithTheSqueezeLaw)
   EXPECT_TRUE(pair.thumb.load.bilateral);
   EXPECT_FALSE(pair.index.load.bilateral);
   EXPECT_GT(pair.index.load.force.x(), 0.0);
+  // The index's part holds the point in the whole pads' plane (the sheet's, z = 0).
+  EXPECT_EQ(pair.thumb.load.hold_plane_normal, Vec3::Zero());
+  EXPECT_NEAR(std::abs(pair.index.load.hold_plane_normal.z()), 1.0, 1e-12);
+  // Once the pads open, the index's next load is a V-proxy's push again, not a hold.
+  for (int k = 0; k < 30; ++k, t += 1e-3) pair.step(t, thumb_at + Vec3(0, 0, 0.02), index_at - Vec3(0, 0, 0.02));
+  EXPECT_EQ(pair.index.load.hold_plane_normal, Vec3::Zero());
 }
 
 // A pinch slipping toward a fold of the sheet: past x = 5 mm the sheet rises 3 mm off the
