@@ -209,6 +209,36 @@ TEST(SimulationStep, AGraspingPadKeepsTheBodysNodesOutOfIt) {
   EXPECT_GT(on_sphere, 0);
 }
 
+// The held point's corners are the hold's springs' to place: a pad over the held triangle
+// (the top's centre) leaves its corners in the pad where the step put them, and moves the
+// top's other nodes in the pad out of it.
+TEST(SimulationStep, AGraspingPadLeavesTheHeldTrianglesCornersToTheHold) {
+  const SimulationModel model = make_simulation_model(block(), {std::nullopt});
+  SimulationState state = make_simulation_state(model);
+  const auto& rest = block().bodies.front().surface.vertices;
+  double top = -1e9;
+  for (const Vec3& v : rest) top = std::max(top, v.z());
+  const double radius = 0.02;
+  ContactLoad load = press(0.0, 0.0);  // the top's centre triangle held
+  load.pad = {true, Vec3(0, 0, top + radius - 5e-3), Vec3(0, 0, top + radius - 5e-3), radius, Vec3(0, 0, top - 3e-3),
+              Vec3(0, 0, -1)};
+  const auto inside = [&](const Vec3& p) {
+    return std::min(load.pad.toward_partner.dot(load.pad.plane_point - p), radius - (p - load.pad.base).norm());
+  };
+  const auto held = block().bodies.front().surface.triangles[static_cast<std::size_t>(load.triangle)];
+  std::vector<Eigen::Index> corners;
+  for (const auto v : held) corners.push_back(model.bodies[0].surface_to_node[static_cast<std::size_t>(v)]);
+  const physics::BodyState& nodes = state.bodies[0].state;
+  std::vector<Eigen::Index> others_inside;
+  for (Eigen::Index i = 0; i < nodes.x.size() / 3; ++i)
+    if (inside(nodes.x.segment<3>(3 * i)) > 1e-4 && std::find(corners.begin(), corners.end(), i) == corners.end())
+      others_inside.push_back(i);
+  ASSERT_FALSE(others_inside.empty());
+  (void)sinking(model, state, load, 2);
+  for (const Eigen::Index i : corners) EXPECT_GT(inside(nodes.x.segment<3>(3 * i)), 1e-3) << "held corner " << i;
+  for (const Eigen::Index i : others_inside) EXPECT_LE(inside(nodes.x.segment<3>(3 * i)), 1e-12) << "node " << i;
+}
+
 // A grasp's hold along the pads' plane (the block's top) pulls along +x; a push along +y on
 // the same point stands for the sheet dragging it sideways. As two springs in the plane the
 // hold resists that drag as well, pulling back along −y; along its force alone the point
