@@ -160,19 +160,41 @@ TEST(SimulationStep, APushRenderedOnAnOlderSurfaceEasesByHowFarThePointHasMovedS
   EXPECT_GT(taken_as_it_came.first, rendered_at_rest.first + 0.5 * 300.0 * moved);
 }
 
-// A pad of a pinch over the block's top, 5 mm into it, the pinch's plane 3 mm below the top:
-// after two steps no node lies in the pad on its side of the plane (but the held point's
+/// A pad of a pinch over the block's top, 5 mm into it (radius 20 mm: the block's nodes are
+/// 10 mm apart), the pinch's plane 3 mm below the top, its partner below.
+struct PadOverTheTop {
+  double top = -1e9;
+  double radius = 0.02;
+  ContactLoad::Pad pad;
+  PadOverTheTop() {
+    for (const Vec3& v : block().bodies.front().surface.vertices) top = std::max(top, v.z());
+    const Vec3 centre(0, 0, top + radius - 5e-3);
+    pad = {true, centre, centre, radius, Vec3(0, 0, top - 3e-3), Vec3(0, 0, -1)};
+  }
+  /// How deep `p` lies in the pad on the pad's side of the plane (≤ 0: out of it).
+  [[nodiscard]] double inside(const Vec3& p) const {
+    return std::min(pad.toward_partner.dot(pad.plane_point - p), radius - (p - pad.base).norm());
+  }
+};
+
+/// The body's nodes at the corners of the load's triangle.
+std::vector<Eigen::Index> corner_nodes(const SimulationModel& model, const ContactLoad& load) {
+  std::vector<Eigen::Index> nodes;
+  for (const auto v : block().bodies.front().surface.triangles[static_cast<std::size_t>(load.triangle)])
+    nodes.push_back(model.bodies[0].surface_to_node[static_cast<std::size_t>(v)]);
+  return nodes;
+}
+
+// After two steps no node lies in the pad on its side of the plane (but the held point's
 // corners, which the hold's spring places). Nodes near the pad's centre land on the plane, the
 // others on the pad's sphere.
 TEST(SimulationStep, AGraspingPadKeepsTheBodysNodesOutOfIt) {
   const SimulationModel model = make_simulation_model(block(), {std::nullopt});
   SimulationState state = make_simulation_state(model);
-  const auto& rest = block().bodies.front().surface.vertices;
-  double top = -1e9;
-  for (const Vec3& v : rest) top = std::max(top, v.z());
-  const double radius = 0.02;  // the block's nodes are 10 mm apart
+  const PadOverTheTop over;
   ContactLoad load = press(0.0, 0.0);
   // The held point on the bottom, out of the pad's way.
+  const auto& rest = block().bodies.front().surface.vertices;
   const auto& triangles = block().bodies.front().surface.triangles;
   const auto centroid_z = [&](std::size_t t) {
     return (rest[triangles[t][0]].z() + rest[triangles[t][1]].z() + rest[triangles[t][2]].z()) / 3.0;
@@ -180,30 +202,21 @@ TEST(SimulationStep, AGraspingPadKeepsTheBodysNodesOutOfIt) {
   for (std::size_t t = 0; t < triangles.size(); ++t)
     if (centroid_z(t) < centroid_z(static_cast<std::size_t>(load.triangle)))
       load.triangle = static_cast<std::int32_t>(t);
-  load.pad = {true, Vec3(0, 0, top + radius - 5e-3), Vec3(0, 0, top + radius - 5e-3), radius, Vec3(0, 0, top - 3e-3),
-              Vec3(0, 0, -1)};
-  const auto inside = [&](const Vec3& p) {
-    const double to_plane = load.pad.toward_partner.dot(load.pad.plane_point - p);
-    return std::min(to_plane, radius - (p - load.pad.base).norm());
-  };
+  load.pad = over.pad;
   const physics::BodyState& nodes = state.bodies[0].state;
-  const auto held = block().bodies.front().surface.triangles[static_cast<std::size_t>(load.triangle)];
-  const auto is_held = [&](Eigen::Index i) {
-    for (const auto v : held)
-      if (model.bodies[0].surface_to_node[static_cast<std::size_t>(v)] == i) return true;
-    return false;
-  };
+  const std::vector<Eigen::Index> held = corner_nodes(model, load);
   int in_at_rest = 0;
-  for (Eigen::Index i = 0; i < nodes.x.size() / 3; ++i) in_at_rest += inside(nodes.x.segment<3>(3 * i)) > 1e-4 ? 1 : 0;
+  for (Eigen::Index i = 0; i < nodes.x.size() / 3; ++i)
+    in_at_rest += over.inside(nodes.x.segment<3>(3 * i)) > 1e-4 ? 1 : 0;
   ASSERT_GT(in_at_rest, 3);
   (void)sinking(model, state, load, 2);
   int on_plane = 0, on_sphere = 0;
   for (Eigen::Index i = 0; i < nodes.x.size() / 3; ++i) {
-    if (is_held(i)) continue;
+    if (std::find(held.begin(), held.end(), i) != held.end()) continue;
     const Vec3 p = nodes.x.segment<3>(3 * i);
-    EXPECT_LE(inside(p), 1e-12) << "node " << i;
-    if (std::abs(p.z() - (top - 3e-3)) < 1e-12) ++on_plane;
-    if (std::abs((p - load.pad.base).norm() - radius) < 1e-12) ++on_sphere;
+    EXPECT_LE(over.inside(p), 1e-12) << "node " << i;
+    if (std::abs(p.z() - (over.top - 3e-3)) < 1e-12) ++on_plane;
+    if (std::abs((p - over.pad.base).norm() - over.radius) < 1e-12) ++on_sphere;
   }
   EXPECT_GT(on_plane, 0);
   EXPECT_GT(on_sphere, 0);
@@ -215,28 +228,20 @@ TEST(SimulationStep, AGraspingPadKeepsTheBodysNodesOutOfIt) {
 TEST(SimulationStep, AGraspingPadLeavesTheHeldTrianglesCornersToTheHold) {
   const SimulationModel model = make_simulation_model(block(), {std::nullopt});
   SimulationState state = make_simulation_state(model);
-  const auto& rest = block().bodies.front().surface.vertices;
-  double top = -1e9;
-  for (const Vec3& v : rest) top = std::max(top, v.z());
-  const double radius = 0.02;
+  const PadOverTheTop over;
   ContactLoad load = press(0.0, 0.0);  // the top's centre triangle held
-  load.pad = {true, Vec3(0, 0, top + radius - 5e-3), Vec3(0, 0, top + radius - 5e-3), radius, Vec3(0, 0, top - 3e-3),
-              Vec3(0, 0, -1)};
-  const auto inside = [&](const Vec3& p) {
-    return std::min(load.pad.toward_partner.dot(load.pad.plane_point - p), radius - (p - load.pad.base).norm());
-  };
-  const auto held = block().bodies.front().surface.triangles[static_cast<std::size_t>(load.triangle)];
-  std::vector<Eigen::Index> corners;
-  for (const auto v : held) corners.push_back(model.bodies[0].surface_to_node[static_cast<std::size_t>(v)]);
+  load.pad = over.pad;
+  const std::vector<Eigen::Index> corners = corner_nodes(model, load);
   const physics::BodyState& nodes = state.bodies[0].state;
   std::vector<Eigen::Index> others_inside;
-  for (Eigen::Index i = 0; i < nodes.x.size() / 3; ++i)
-    if (inside(nodes.x.segment<3>(3 * i)) > 1e-4 && std::find(corners.begin(), corners.end(), i) == corners.end())
-      others_inside.push_back(i);
+  for (Eigen::Index i = 0; i < nodes.x.size() / 3; ++i) {
+    const bool corner = std::find(corners.begin(), corners.end(), i) != corners.end();
+    if (!corner && over.inside(nodes.x.segment<3>(3 * i)) > 1e-4) others_inside.push_back(i);
+  }
   ASSERT_FALSE(others_inside.empty());
   (void)sinking(model, state, load, 2);
-  for (const Eigen::Index i : corners) EXPECT_GT(inside(nodes.x.segment<3>(3 * i)), 1e-3) << "held corner " << i;
-  for (const Eigen::Index i : others_inside) EXPECT_LE(inside(nodes.x.segment<3>(3 * i)), 1e-12) << "node " << i;
+  for (const Eigen::Index i : corners) EXPECT_GT(over.inside(nodes.x.segment<3>(3 * i)), 1e-3) << "held corner " << i;
+  for (const Eigen::Index i : others_inside) EXPECT_LE(over.inside(nodes.x.segment<3>(3 * i)), 1e-12) << "node " << i;
 }
 
 // A grasp's hold along the pads' plane (the block's top) pulls along +x; a push along +y on
