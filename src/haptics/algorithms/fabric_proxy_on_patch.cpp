@@ -263,6 +263,10 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
       const contact::Capsule pad = contact::posed(is_thumb_ ? gp.thumb : gp.index, is_thumb_ ? thumb : index);
       const Vec3 toward_partner = is_thumb_ ? g.frame.normal() : Vec3(-g.frame.normal());
       out.pad = {true, pad.base, pad.tip, pad.radius, g.frame.origin, toward_partner};
+      // The pinch acts on the pad where it meets the fabric, the pad's point nearest the held
+      // point: about the tool's origin its pull along the plane turns the finger, as the
+      // V-proxy's drag does.
+      out.torque = (contact::point_capsule(point, pad).surface_point - f.position).cross(out.force);
       // The V-proxy lets go: after the grasp it starts afresh at the finger.
       proxy = contact::make_fabric_proxy_state(f.position);
     }
@@ -274,31 +278,36 @@ void FabricProxyOnPatch::with_partner(const FrameInputs& f, State& s, bool trial
       const contact::FingerContactResult c = fingers_->update(touch, thumb, index);
       if (c.in_contact) {
         fingers_touch = true;
-        out.force += is_thumb_ ? c.force_on_thumb : c.force_on_index;
+        const Vec3& on_this = is_thumb_ ? c.force_on_thumb : c.force_on_index;
+        out.force += on_this;
+        out.torque += (c.contact_point - f.position).cross(on_this);
         if (!out.touching) out.point = c.contact_point;
         out.touching = true;
         out.slipping = out.slipping || c.friction == contact::FrictionState::slip;
       }
     }
   }
-  // The hand-over: when a grasp ends, or starts, the new rendering's force (and what the
-  // fabric takes of it) ramps in from the force the last frame rendered: a finger whose
+  // The hand-over: when a grasp ends, or starts, the new rendering's force and torque (and
+  // what the fabric takes of it) ramp in from those the last frame rendered: a finger whose
   // patch lost the held point while its partner held on rejoins at its next patch, and that
   // frame would step its force by the whole grasp.
   const bool handed_now = s.grasping != grasping;
   const double handed_at = handed_now ? f.t : s.handed_over_at;
   const Vec3 from = handed_now ? s.last_force : s.handed_over_from;
+  const Vec3 from_torque = handed_now ? s.last_torque : s.handed_over_torque;
   if (handed_at >= 0.0 && f.t - handed_at < kHandOverTime) {
     const double w = std::clamp((f.t - handed_at) / kHandOverTime, 0.0, 1.0);
     out.force = (1.0 - w) * from + w * out.force;
-    out.torque *= w;
+    out.torque = (1.0 - w) * from_torque + w * out.torque;
     out.law_force = out.force.norm();
     if (!trial && grasping) s.fabric_share *= w;
   }
   if (!trial) {
     s.handed_over_at = handed_at;
     s.handed_over_from = from;
+    s.handed_over_torque = from_torque;
     s.last_force = out.force;
+    s.last_torque = out.torque;
   }
   const bool own_on = out.on_fabric;
   const bool partner_on = partner_seen && peer->on_fabric;

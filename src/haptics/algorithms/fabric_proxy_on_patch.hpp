@@ -55,11 +55,11 @@ class FabricProxyOnPatch final : public OnPatch {
     /// along it for the index, ramped in with the grasp [N].
     Vec3 fabric_share = Vec3::Zero();
     Vec3 pads_normal = Vec3::UnitZ();  ///< the pads' plane's normal, the last frame
-    /// The hand-over between the grasp and the V-proxy: when the last one began, the force it
-    /// began from, and the force of the last frame.
+    /// The hand-over between the grasp and the V-proxy: when the last one began, the force and
+    /// torque it began from, and those of the last frame.
     double handed_over_at = -1.0;
-    Vec3 handed_over_from = Vec3::Zero();
-    Vec3 last_force = Vec3::Zero();
+    Vec3 handed_over_from = Vec3::Zero(), handed_over_torque = Vec3::Zero();
+    Vec3 last_force = Vec3::Zero(), last_torque = Vec3::Zero();
     /// The material point the grasp holds: patch triangle, barycentric, the body's triangle.
     std::int32_t held_triangle = -1;
     Vec3 held_barycentric = Vec3::Zero();

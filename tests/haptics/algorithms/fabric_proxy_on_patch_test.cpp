@@ -135,6 +135,20 @@ TEST(FabricProxyOnPatch, FingersMeetingWithoutFabricFeelThePadLawEqualAndOpposit
   EXPECT_EQ(state_of(pair.index), static_cast<std::uint8_t>(contact::ContactState::III));
   const double mu_s = contact::FingerContactParams{}.static_friction;
   EXPECT_LE(std::abs(pair.index.sink.force.x()), mu_s * expected * 1.001);
+  // The rub turns each finger about its origin: the force acts where the pads meet, midway
+  // between their surface points. The index saw the thumb's frame of this step, the thumb
+  // the index's one frame before (one frame's 0.02 mm of slide apart).
+  const auto torque_at = [](const Vec3& own, double own_radius, const Vec3& other, double other_radius,
+                            const Vec3& force) {
+    const Vec3 n = (other - own).normalized();
+    const Vec3 where = 0.5 * ((own + own_radius * n) + (other - other_radius * n));
+    return Vec3((where - own).cross(force));
+  };
+  const Vec3 index_now = pair.index.out.position, thumb_now = pair.thumb.out.position;
+  const Vec3 on_index = torque_at(index_now, 0.008, thumb_now, 0.009, pair.index.sink.force);
+  EXPECT_GT(std::abs(pair.index.sink.torque.y()), 1e-5);  // 8 mm × the friction, 0.1 N or more
+  EXPECT_LT((pair.index.sink.torque - on_index).norm(), 1e-12);
+  EXPECT_LT(pair.thumb.sink.torque.dot(pair.thumb.sink.force), 1e-12);
 }
 
 TEST(FabricProxyOnPatch, FabricSqueezedBetweenThePairIsGraspedWithTheSqueezeLaw) {
@@ -172,6 +186,17 @@ TEST(FabricProxyOnPatch, FabricSqueezedBetweenThePairIsGraspedWithTheSqueezeLaw)
   const double pull = -(pair.thumb.sink.force.x() + pair.index.sink.force.x());
   EXPECT_GT(pull, 0.0);
   EXPECT_LE(pull, 2.0 * 0.5 * squeeze * 1.001);  // μs of the pads on the fabric, doubled
+  // The pinch acts on each pad where it meets the fabric, the pad's point nearest the held
+  // point (the frame's contact point): its drag along the sheet turns the finger about its
+  // origin.
+  for (const auto* finger : {&pair.thumb, &pair.index}) {
+    const Vec3 at = finger->out.position;
+    const double radius = finger == &pair.thumb ? 0.009 : 0.008;
+    EXPECT_LT(std::abs(finger->out.frame_point.z()), 1e-12);  // on the sheet
+    const Vec3 on_pad = at + radius * (finger->out.frame_point - at).normalized();
+    EXPECT_LT((finger->sink.torque - (on_pad - at).cross(finger->sink.force)).norm(), 1e-12);
+    EXPECT_GT(std::abs(finger->sink.torque.y()), 0.9 * radius * std::abs(finger->sink.force.x()));
+  }
   // The fabric takes the hold, the fingers' reaction: the thumb's loop the part across the
   // pads' plane, as a spring that pulls back too, the index's the part along it. Each loop
   // sees the other's pose of its last frame: they differ by one frame of the pull's 0.05 mm
