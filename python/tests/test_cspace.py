@@ -124,11 +124,81 @@ def test_build_space_needs_a_precompute_table(tmp_path):
         tactus.build_space(tactus.default_scene(), tmp_path / "x.h5")
 
 
-def test_probe_and_two_point_spaces_are_left_to_the_command(space_file, tmp_path):
+# The block under a probe leaning up to 12 degrees either way, its end the contact node and
+# its neighbours 1 cm away: 9 levels (leans) of 27 points, pressed at most 3 mm.
+PROBE_SCENE = SCENE.replace("min = [-0.003, -0.003, 0.004]\nmax = [0.003, 0.003, 0.013]\n",
+                            "min = [-0.003, -0.003, 0.007]\nmax = [0.003, 0.003, 0.013]\npatch_radius = 0.0105\n"
+                            "probe_axis = [0.0, 0.0, -1.0]\nprobe_tilt = 12.0\n")
+
+
+@pytest.fixture(scope="module")
+def probe_file(tmp_path_factory):
+    binary = os.environ.get("TACTUS_BINARY")
+    if not binary:
+        pytest.skip("TACTUS_BINARY is not set")
+    folder = tmp_path_factory.mktemp("probe")
+    (folder / "probe.toml").write_text(PROBE_SCENE)
+    subprocess.run([binary, "-q", "precompute", "probe.toml", "-o", "probe.h5", "--threads", "1"],
+                   cwd=folder, check=True, capture_output=True, env={**os.environ, "CI": "1"})
+    return folder / "probe.h5"
+
+
+def test_a_probe_space_is_queried_with_the_probes_direction(probe_file):
+    space = tactus.ConfigurationSpace(probe_file, "tricubic_hermite")
+    assert space.level_count == 9
+    probe = space.probe
+    assert probe["tilt_levels"] == 3 and probe["max_tilt"] == pytest.approx(np.radians(12.0))
+    np.testing.assert_allclose(probe["axis"], [[0.0, 0.0, -1.0]])
+    directions = probe["directions"]
+    assert directions.shape == (9, 3)
+    np.testing.assert_allclose(directions[4], [0.0, 0.0, -1.0], atol=1e-15)  # the middle lean: the axis
+    np.testing.assert_allclose(np.degrees(np.arccos(-directions[5, 2])), 12.0, rtol=1e-12)
+    # At each level's own lean and its grid points, the stored forces.
+    for k in range(9):
+        level = space.level(k)
+        assert level.probe is None and level.level_count == 1 and level.solved.all()
+        forces, valid = space.force(level.points, directions[k])
+        assert valid.all()
+        scale = np.abs(level.point_forces).max()
+        assert scale > 0.1
+        np.testing.assert_allclose(forces, level.point_forces, rtol=0, atol=1e-12 * scale)
+    # Halfway between two leans along the first tangent axis (6 degrees toward +x), the
+    # quadratic Lagrange weights over that row of leans, -1/8, 3/4, 3/8.
+    between = np.array([np.sin(np.radians(6.0)), 0.0, -np.cos(np.radians(6.0))])
+    row = [space.level(k).point_forces for k in (3, 4, 5)]
+    forces, valid = space.force(space.level(4).points, between)
+    assert valid.all()
+    np.testing.assert_allclose(forces, -0.125 * row[0] + 0.75 * row[1] + 0.375 * row[2], rtol=0, atol=1e-12)
+    # One direction per point, and the direction's length does not matter.
+    points = space.level(4).points[:2]
+    one_each, _ = space.force(points, np.array([directions[5], 3.0 * directions[5]]))
+    np.testing.assert_allclose(one_each, space.level(5).point_forces[:2], rtol=0, atol=1e-12)
+    force, displacement, ok = space.shape(points[1], directions[5])
+    assert ok and displacement.shape == (75, 3)
+    np.testing.assert_allclose(force[0], space.level(5).point_forces[1], rtol=0, atol=1e-12)
+
+
+def test_a_probe_space_refuses_queries_without_a_direction(probe_file, space_file):
+    space = tactus.ConfigurationSpace(probe_file)
+    x = space.level(4).points[0]
+    with pytest.raises(ValueError, match="needs the probe's direction"):
+        space.force(x)
+    with pytest.raises(ValueError, match="finite and not zero"):
+        space.force(x, [0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="one per point"):
+        space.force(np.array([x, x]), np.zeros((3, 3)) + [0.0, 0.0, -1.0])
+    with pytest.raises(ValueError, match="per lean"):
+        space.point_forces
+    with pytest.raises(IndexError):
+        space.level(9)
+    with pytest.raises(ValueError, match="takes no probe direction"):
+        tactus.ConfigurationSpace(space_file).force(x, [0.0, 0.0, -1.0])
+
+
+def test_probe_and_two_point_spaces_are_built_by_the_command(space_file, tmp_path):
     # build_space writes one level: a table with a probe or a second point is refused by name,
-    # and so is such a file in ConfigurationSpace.
-    probe = SCENE.replace("max = [0.003, 0.003, 0.013]\n", "max = [0.003, 0.003, 0.013]\npatch_radius = 0.0105\n"
-                          "probe_axis = [0.0, 0.0, -1.0]\nprobe_tilt = 12.0\n")
+    # and a two-point file in ConfigurationSpace.
+    probe = PROBE_SCENE
     with pytest.raises(tactus.InputError, match="has a probe: build_space builds point spaces"):
         tactus.build_space(tactus.parse_scene(probe, str(tmp_path / "probe.toml")), tmp_path / "p.h5")
     pair = SCENE.replace("max = [0.003, 0.003, 0.013]\n", "max = [0.003, 0.003, 0.013]\n"
