@@ -1,6 +1,7 @@
 """tactus.ConfigurationSpace: a space built by `tactus precompute` on a small block, read
 back and queried. At its grid points the interpolators give the stored forces (both are
-interpolating); halfway along a grid edge trilinear gives the two ends' mean; bad input raises."""
+interpolating); halfway along a grid edge trilinear gives the two ends' mean; bad input raises.
+A probe space of the same block is queried with the probe's direction."""
 import os
 import subprocess
 
@@ -37,16 +38,20 @@ max = [0.003, 0.003, 0.013]
 """
 
 
-@pytest.fixture(scope="module")
-def space_file(tmp_path_factory):
+def built_by_the_command(folder, scene):
+    """The space of `scene` built by `tactus precompute` on one thread, in `folder`."""
     binary = os.environ.get("TACTUS_BINARY")
     if not binary:
         pytest.skip("TACTUS_BINARY is not set")
-    folder = tmp_path_factory.mktemp("cspace")
-    (folder / "block.toml").write_text(SCENE)
-    subprocess.run([binary, "-q", "precompute", "block.toml", "-o", "space.h5", "--threads", "1"],
+    (folder / "scene.toml").write_text(scene)
+    subprocess.run([binary, "-q", "precompute", "scene.toml", "-o", "space.h5", "--threads", "1"],
                    cwd=folder, check=True, capture_output=True, env={**os.environ, "CI": "1"})
     return folder / "space.h5"
+
+
+@pytest.fixture(scope="module")
+def space_file(tmp_path_factory):
+    return built_by_the_command(tmp_path_factory.mktemp("cspace"), SCENE)
 
 
 def test_the_grid_and_its_stored_forces(space_file):
@@ -133,14 +138,7 @@ PROBE_SCENE = SCENE.replace("min = [-0.003, -0.003, 0.004]\nmax = [0.003, 0.003,
 
 @pytest.fixture(scope="module")
 def probe_file(tmp_path_factory):
-    binary = os.environ.get("TACTUS_BINARY")
-    if not binary:
-        pytest.skip("TACTUS_BINARY is not set")
-    folder = tmp_path_factory.mktemp("probe")
-    (folder / "probe.toml").write_text(PROBE_SCENE)
-    subprocess.run([binary, "-q", "precompute", "probe.toml", "-o", "probe.h5", "--threads", "1"],
-                   cwd=folder, check=True, capture_output=True, env={**os.environ, "CI": "1"})
-    return folder / "probe.h5"
+    return built_by_the_command(tmp_path_factory.mktemp("probe"), PROBE_SCENE)
 
 
 def test_a_probe_space_is_queried_with_the_probes_direction(probe_file):
