@@ -46,6 +46,7 @@ TEST(FabricScene, GraspStretchRubLiftPassesTableIAsDocumented) {
   const scene::Model m = scene::load_scene(fs::path(TACTUS_SOURCE_DIR) / "scenes/fabric.toml");
   runtime::SessionOptions o;
   o.scheduling = runtime::Scheduling::lockstep;
+  o.keep_frames = true;
   const runtime::SessionReport r = runtime::run_session(m, o);
   ASSERT_EQ(r.devices.size(), 2u);
 
@@ -70,6 +71,15 @@ TEST(FabricScene, GraspStretchRubLiftPassesTableIAsDocumented) {
     EXPECT_NEAR(d.max_force_sent, d.name == "thumb" ? 2.15 : 2.17, 0.01) << d.name;
     EXPECT_EQ(d.safety.clamped, 0u) << d.name;
     EXPECT_EQ(d.safety.non_finite, 0u) << d.name;
+  }
+  // docs/grasp.md ("Torques"): the torques peak at 14.8 mN·m on the thumb and 13.1 mN·m on the
+  // index at 2.71 s, the stretch's pull a pad radius off the pads' centres.
+  for (std::uint16_t d = 0; d < 2; ++d) {
+    double peak = 0.0, at = 0.0;
+    for (const runtime::HapticFrame& f : r.frames)
+      if (f.device == d && f.torque.norm() > peak) peak = f.torque.norm(), at = f.t;
+    EXPECT_NEAR(1e3 * peak, r.devices[d].name == "thumb" ? 14.8 : 13.1, 0.05) << r.devices[d].name;
+    EXPECT_NEAR(at, 2.71, 0.005) << r.devices[d].name;
   }
 }
 

@@ -80,7 +80,8 @@ const std::vector<KnownDefect> kKnownDefects = {
     // for a frame, a 100 Hz sawtooth; where the press is lighter than that (the thumb held on
     // a swinging sheet, the index rubbing) the touch is lost for that frame. Seed 002 §IV
     // hands the local patch's geometry back to the global model at each step, which the
-    // runtime does not do (tried: it made real-time runs unstable, docs/BENCHMARKS.md). When the pads open after the lift (4.23 s) the V-proxies meet
+    // runtime does not do (tried: it made real-time runs unstable, docs/BENCHMARKS.md). When
+    // the pads open after the lift (4.23 s) the V-proxies meet
     // the bunched fabric afresh; their force now comes in over 20 ms (it stepped by 1.09 N
     // and 0.94 N). The slipping pinch stepped the force by 0.58 N and 0.71 N at 2.71 s when it
     // took hold of a fold of the sheet off the pads' plane; it holds no such point since, and
