@@ -8,6 +8,7 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/realtime.hpp"
 #include "core/reproducible.hpp"
 
 namespace {
@@ -23,6 +24,7 @@ int main(int argc, char** argv) {
   // The same numbers on every machine: a recording replays bit for bit elsewhere.
   tactus::fix_dense_blocking();
   tactus::fix_blas_threads();
+  tactus::keep_freed_memory();
   CLI::App cli{"Tactus: real-time haptic interaction with deformable objects", "tactus"};
   cli.require_subcommand(1);
   bool verbose = false;

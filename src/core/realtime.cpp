@@ -1,5 +1,6 @@
 #include "core/realtime.hpp"
 
+#include <malloc.h>
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
@@ -103,6 +104,15 @@ RealtimeResult make_current_thread_realtime(const RealtimeRequest& request) {
 }
 
 bool lock_memory() { return mlockall(MCL_CURRENT | MCL_FUTURE) == 0; }
+
+bool keep_freed_memory() {
+#if defined(__GLIBC__)
+  // 32 MiB is the largest mapping threshold glibc accepts on 64-bit systems.
+  return mallopt(M_MMAP_THRESHOLD, 32 << 20) == 1 && mallopt(M_TRIM_THRESHOLD, 256 << 20) == 1;
+#else
+  return false;
+#endif
+}
 
 bool minimize_timer_slack() { return prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL) == 0; }
 

@@ -31,6 +31,14 @@ RealtimeResult make_current_thread_realtime(const RealtimeRequest& request);
 /// a page fault to disk. False when not permitted (RLIMIT_MEMLOCK, no CAP_IPC_LOCK).
 bool lock_memory();
 
+/// Keeps the memory the process frees for its next allocations (glibc's malloc: blocks up to
+/// 32 MiB from the heap, not from a mapping of their own, and up to 256 MiB of free heap kept).
+/// A solve or step that allocates what an earlier one freed then takes pages already mapped,
+/// where it would fault each page in again (a few µs a page, over 10 µs on a virtual machine),
+/// and a loop's frees unmap nothing, so the other loops' cores see no TLB shootdowns. Process
+/// wide: `tactus` calls it first thing. False where the allocator is not glibc's or refused.
+bool keep_freed_memory();
+
 /// Lets the kernel wake the calling thread's timed sleeps on time: sets its timer slack to
 /// 1 ns instead of the default 50 µs that Linux may add to batch wake-ups (SCHED_FIFO
 /// threads have no slack anyway). Allowed without privileges; false if the kernel refused.

@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -159,6 +160,35 @@ TEST(Realtime, LockMemoryReportsWhetherPagesAreLocked) {
   } else if (kib >= 0) {
     EXPECT_EQ(kib, 0);
   }
+}
+
+long minor_faults() {
+  rusage usage{};
+  getrusage(RUSAGE_THREAD, &usage);
+  return usage.ru_minflt;
+}
+
+/// Allocates `bytes`, writes each of its pages and frees it.
+void touch_and_free(std::size_t bytes) {
+  volatile char* block = static_cast<volatile char*>(std::malloc(bytes));
+  ASSERT_NE(block, nullptr);
+  for (std::size_t i = 0; i < bytes; i += 4096) block[i] = 1;
+  std::free(const_cast<char*>(block));
+}
+
+TEST(Realtime, FreedMemoryIsKeptForTheNextAllocation) {
+#if !defined(__GLIBC__) || defined(TACTUS_SANITIZED)
+  GTEST_SKIP() << "the allocator is not glibc's";
+#else
+  ASSERT_TRUE(keep_freed_memory());
+  // 8 MiB: glibc's default would map it on its own and unmap it when freed, and the next
+  // 8 MiB (taken from the heap once its threshold has risen) would fault its 2,048 pages in.
+  constexpr std::size_t kBytes = std::size_t{8} << 20;
+  touch_and_free(kBytes);
+  const long before = minor_faults();
+  touch_and_free(kBytes);
+  EXPECT_LT(minor_faults() - before, 64);
+#endif
 }
 
 }  // namespace

@@ -55,6 +55,9 @@ struct Case {
   /// Tactus's force_tolerance), for timing them alike. 0: GetFEM at 1e-12 of its residual at
   /// rest, Tactus at 1e-10 of the loads and reactions.
   double force_tolerance = 0.0;
+  /// GetFEM solves the case this many times from rest in one process; its times are the last
+  /// run's (> 1: with its matrices and the allocator's memory in hand, as a long-running program).
+  int getfem_runs = 1;
 };
 
 inline constexpr double kBlock = 0.02, kLength = 0.1, kSide = 0.01;
@@ -230,7 +233,7 @@ struct GetFemSolution {
   VecX u;  ///< nodal displacements (3N); empty when GetFEM failed (`error` says why)
   std::string error;
   int newton_iterations = 0;  ///< over every load step
-  double seconds = 0.0;       ///< its Newton solves (assembly included), without Python's start
+  double seconds = 0.0;       ///< its Newton solves (assembly included), of the last run, without Python's start
   double cpu_seconds = 0.0;   ///< the same in CPU time of the Python process, every thread
 };
 
@@ -242,6 +245,7 @@ inline GetFemSolution solve_getfem(const Case& c, const fs::path& dir) {
     f.precision(17);
     f << "law " << to_string(c.material.law) << (c.material.nodal_pressure ? "_nodal" : "") << "\nparams " << law_params(c) << "\nsteps " << c.steps << "\n";
     if (c.force_tolerance > 0.0) f << "tolerance " << c.force_tolerance << "\n";
+    if (c.getfem_runs > 1) f << "runs " << c.getfem_runs << "\n";
     f << "nodes " << c.mesh.vertices.size() << "\n";
     for (const auto& v : c.mesh.vertices) f << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
     f << "tets " << c.mesh.tets.size() << "\n";
