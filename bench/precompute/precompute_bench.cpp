@@ -749,8 +749,11 @@ int probe(const Options& o) {
   double mean_force = 0.0;
   for (const auto& r : refs) mean_force += r.force.norm() / static_cast<double>(refs.size());
   std::printf("  %zu reference positions and leans (mean |force| %.4g N)\n", refs.size(), mean_force);
+  double largest_torque = 0.0;
+  for (const auto& r : refs) largest_torque = std::max(largest_torque, r.torque.norm());
   std::printf("| method | force error mean | force error max | at the levels' leans: mean | max | lean ignored: mean | "
               "max | query p50 | query p99 |\n|---|---|---|---|---|---|---|---|---|\n");
+  std::vector<std::string> torque_rows;
   for (const auto method : {pc::Interpolation::trilinear, pc::Interpolation::tricubic_hermite}) {
     const pc::ProbeInterpolator in(levels, method);
     const std::size_t upright = s.probe.level_count() / 2;
@@ -786,7 +789,39 @@ int probe(const Options& o) {
                 100 * worst_level, 100 * mean_upright, 100 * worst_upright, 1e-3 * ns[ns.size() / 2],
                 1e-3 * ns[ns.size() * 99 / 100]);
     if (!sink.allFinite()) std::printf("  (a query was not finite)\n");
+
+    // The torque about the probe's end, its errors relative to the sample's largest torque
+    // (it passes through zero where the probe presses straight), and the force-and-torque
+    // query's latency along the same path.
+    double torque_mean = 0.0, torque_worst = 0.0;
+    for (std::size_t i = 0; i < refs.size(); ++i) {
+      const double e = (in.force_and_torque(where[i].first, where[i].second).torque - refs[i].torque).norm() /
+                       largest_torque;
+      torque_mean += e / static_cast<double>(refs.size());
+      torque_worst = std::max(torque_worst, e);
+    }
+    ns.clear();
+    for (int i = 0; i < 100'000; ++i) {
+      const double a = 1e-4 * i;
+      const Vec3 p = lo + o.box * Vec3(0.5 + 0.4 * std::sin(a), 0.5 + 0.4 * std::cos(1.3 * a), 0.5 + 0.4 * std::sin(0.7 * a));
+      const Vec3 d = frame.direction(s.probe.max_tilt * Vec2(std::sin(2.1 * a), std::cos(1.7 * a)));
+      const auto t0 = std::chrono::steady_clock::now();
+      sink += in.force_and_torque(p, d).torque;
+      ns.push_back(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(ns.begin(), ns.end());
+    torque_rows.push_back(fmt::format("| {} | {:.2f}% | {:.2f}% | {:.2f} µs | {:.2f} µs |", pc::to_string(method),
+                                      100 * torque_mean, 100 * torque_worst, 1e-3 * ns[ns.size() / 2],
+                                      1e-3 * ns[ns.size() * 99 / 100]));
   }
+  if (largest_torque == 0.0) {
+    std::printf("\n  no torque about the probe's end: an end of one node has no lever\n");
+    return 0;
+  }
+  std::printf("\n  torque about the probe's end (largest in the sample %.4g N·m), errors relative to it:\n"
+              "| method | torque error mean | torque error max | force and torque query p50 | p99 |\n|---|---|---|---|---|\n",
+              largest_torque);
+  for (const auto& row : torque_rows) std::printf("%s\n", row.c_str());
   return 0;
 }
 

@@ -196,6 +196,10 @@ void bind_cspace(py::module_& m) {
           },
           "∂force/∂x at each point (n, 3, 3) [N/m]: [p, i, k] = ∂F_i/∂x_k, the stiffness the tool feels\n"
           "there; zero where not solved or the file (version 1) has no derivatives.")
+      .def_property_readonly(
+          "point_torques", [](const ConfigurationSpace& c) { return vec3_copy(c.one_level("point_torques").torque); },
+          "The torque stored at each point (n, 3) [N·m] about the interaction point; zero where not solved\n"
+          "or the file (before version 3) has no torques.")
       .def(
           "force",
           [](const ConfigurationSpace& c, const py::array_t<double>& p, const std::optional<py::array_t<double>>& d) {
@@ -218,6 +222,29 @@ void bind_cspace(py::module_& m) {
           "solved grid point is near. Points outside the grid are clamped onto its box. A probe space needs\n"
           "the probe's direction, pointing into the body: one (3,) for every point or one per point (n, 3);\n"
           "a lean beyond max_tilt is clamped onto it. A point space takes none.")
+      .def(
+          "torque",
+          [](const ConfigurationSpace& c, const py::array_t<double>& p, const std::optional<py::array_t<double>>& d) {
+            if (!c.space().has_torques)
+              throw py::value_error("the space's file (before version 3) stores no torques: build it again");
+            const auto points = points_of(p);
+            const std::vector<Vec3> directions = query_directions(c, d, points.rows());
+            py::array_t<double> torques({points.rows(), Eigen::Index{3}});
+            py::array_t<bool> valid(points.rows());
+            auto t = torques.mutable_unchecked<2>();
+            for (Eigen::Index i = 0; i < points.rows(); ++i) {
+              const Vec3 at = points.row(i).transpose();
+              const precompute::Query q = c.probe ? c.probe->force_and_torque(at, directions[static_cast<std::size_t>(i)])
+                                                  : c.point->force_and_torque(at);
+              for (py::ssize_t k = 0; k < 3; ++k) t(i, k) = q.torque[k];
+              valid.mutable_at(i) = q.valid;
+            }
+            return py::make_tuple(torques, valid);
+          },
+          py::arg("points"), py::arg("directions") = py::none(),
+          "The interpolated torque the body exerts on the tool about the interaction point (a probe's end),\n"
+          "(torques (n, 3) [N·m], valid (n,)), taken as force() is: the moment of the contact patch's\n"
+          "reactions (zero for a patch of one node). ValueError for a file without torques (before version 3).")
       .def(
           "shape",
           [](const ConfigurationSpace& c, const py::array_t<double>& p, const std::optional<py::array_t<double>>& d) {

@@ -176,6 +176,32 @@ def test_a_probe_space_is_queried_with_the_probes_direction(probe_file):
     np.testing.assert_allclose(force[0], space.level(5).point_forces[1], rtol=0, atol=1e-12)
 
 
+def test_a_probe_space_gives_the_torque_on_the_probe(probe_file, space_file):
+    space = tactus.ConfigurationSpace(probe_file, "tricubic_hermite")
+    directions = space.probe["directions"]
+    # At a leaning level's grid points, its stored torques; a leaning probe bends the block,
+    # so they are not round-off.
+    level = space.level(5)
+    torques, valid = space.torque(level.points, directions[5])
+    assert valid.all()
+    scale = np.abs(level.point_torques).max()
+    assert scale > 1e-4
+    np.testing.assert_allclose(torques, level.point_torques, rtol=0, atol=1e-12 * scale)
+    # Between leans, the same Lagrange weights as the force's.
+    between = np.array([np.sin(np.radians(6.0)), 0.0, -np.cos(np.radians(6.0))])
+    row = [space.level(k).point_torques for k in (3, 4, 5)]
+    torques, valid = space.torque(space.level(4).points, between)
+    assert valid.all()
+    np.testing.assert_allclose(torques, -0.125 * row[0] + 0.75 * row[1] + 0.375 * row[2], rtol=0, atol=1e-12 * scale)
+    # A patch of one node has no lever: the point space's torques are zero.
+    point = tactus.ConfigurationSpace(space_file)
+    torques, valid = point.torque(point.points)
+    assert valid.all()
+    np.testing.assert_array_equal(torques, 0.0)
+    with pytest.raises(ValueError, match="needs the probe's direction"):
+        space.torque(level.points[0])
+
+
 def test_a_probe_space_refuses_queries_without_a_direction(probe_file, space_file):
     space = tactus.ConfigurationSpace(probe_file)
     x = space.level(4).points[0]

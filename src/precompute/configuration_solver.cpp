@@ -71,16 +71,19 @@ void ConfigurationSolver::place_patch(const Pose& pose) {
   }
 }
 
-Vec3 ConfigurationSolver::reaction() {
+void ConfigurationSolver::reaction(PointResult& r) {
   body_.model->forces(state_.x, state_.v, state_.q, force_, *state_.model_scratch);
   const VecX& mass = body_.model->lumped_mass();
-  Vec3 f = Vec3::Zero();
+  const Vec3 contact = state_.x.segment<3>(3 * static_cast<Eigen::Index>(settings_.contact_node));
+  r.force.setZero();
+  r.torque.setZero();
   for (auto n : settings_.patch_nodes) {
     const auto i = 3 * static_cast<Eigen::Index>(n);
-    f += force_.segment<3>(i);
+    Vec3 f = force_.segment<3>(i);
     if (settings_.gravity) f += mass.segment<3>(i).cwiseProduct(body_.gravity);
+    r.force += f;
+    r.torque += (state_.x.segment<3>(i) - contact).cross(f);
   }
-  return f;
 }
 
 bool ConfigurationSolver::derivatives(PointResult& r) {
@@ -90,11 +93,20 @@ bool ConfigurationSolver::derivatives(PointResult& r) {
   for (auto n : settings_.patch_nodes)
     held_.block<3, 3>(3 * static_cast<Eigen::Index>(n), 0).setIdentity();
   if (!physics::static_response(body_, state_, held_, r.displacement_gradient, force_change_)) return false;
-  // The reaction sums the patch nodes' internal forces (gravity does not move).
+  // The reaction sums the patch nodes' internal forces (gravity does not move). The patch
+  // translates, so each node's lever about the contact node stays: the torque changes by the
+  // levers crossed with the forces' changes.
   r.force_gradient.setZero();
-  for (auto n : settings_.patch_nodes)
-    r.force_gradient += force_change_.block<3, 3>(3 * static_cast<Eigen::Index>(n), 0);
-  return r.force_gradient.allFinite();
+  r.torque_gradient.setZero();
+  const Vec3 contact = state_.x.segment<3>(3 * static_cast<Eigen::Index>(settings_.contact_node));
+  for (auto n : settings_.patch_nodes) {
+    const auto i = 3 * static_cast<Eigen::Index>(n);
+    const auto change = force_change_.block<3, 3>(i, 0);
+    r.force_gradient += change;
+    const Vec3 lever = state_.x.segment<3>(i) - contact;
+    for (int k = 0; k < 3; ++k) r.torque_gradient.col(k) += lever.cross(Vec3(change.col(k)));
+  }
+  return r.force_gradient.allFinite() && r.torque_gradient.allFinite();
 }
 
 PointResult ConfigurationSolver::solve_start(std::size_t point, const Vec3& target) {
@@ -192,15 +204,17 @@ PointResult ConfigurationSolver::run(std::size_t point, std::int64_t source, con
   }
   newton_iterations_ += r.iterations;
   if (r.status == PointStatus::solved) {
-    r.force = reaction();
-    if (!r.force.allFinite()) {
+    reaction(r);
+    if (!r.force.allFinite() || !r.torque.allFinite()) {
       r.status = PointStatus::failed;
       r.reason = "non-finite reaction force";
       r.force.setZero();
+      r.torque.setZero();
     } else if (const auto d0 = std::chrono::steady_clock::now(); !derivatives(r)) {
       r.status = PointStatus::failed;
       r.reason = "the balanced state's stiffness could not be solved for the derivatives";
       r.force.setZero();
+      r.torque.setZero();
     } else {
       r.derivative_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
       r.displacement = state_.x - rest;

@@ -59,7 +59,9 @@ class ConfigurationSolver {
   PointResult run(std::size_t point, std::int64_t source, const VecX* start, const Pose& from, const Pose& target,
                   int steps);
   void place_patch(const Pose& pose);
-  [[nodiscard]] Vec3 reaction();
+  /// The patch's reactions at the balanced state: their sum into r.force, their moment about
+  /// the contact node into r.torque.
+  void reaction(PointResult& r);
   /// Fills r's force and displacement gradients at the balanced state; false where the
   /// stiffness does not solve.
   bool derivatives(PointResult& r);

@@ -76,12 +76,14 @@ namespace {
 /// and when the scheduler may see it (0: at once; the latency emulation's far ranks).
 constexpr int kTaskHead = 3;
 constexpr int kResultHead = 6;
+/// A result's numbers: residual, seconds, force (3), ∂force/∂x (9), torque (3), ∂torque/∂x (9).
+constexpr int kResultValues = 26;
 
 /// The rest of a result whose head came from `from`: its parts follow from the same rank in
 /// order.
 PointResult receive_result(const std::int64_t (&head)[kResultHead], int from, int dofs, std::vector<char>& reason) {
-  double values[14];
-  MPI_Recv(values, 14, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  double values[kResultValues];
+  MPI_Recv(values, kResultValues, MPI_DOUBLE, from, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   PointResult r;
   r.point = static_cast<std::size_t>(head[0]);
   r.status = static_cast<PointStatus>(head[1]);
@@ -91,6 +93,8 @@ PointResult receive_result(const std::int64_t (&head)[kResultHead], int from, in
   r.seconds = values[1];
   r.force = Vec3(values[2], values[3], values[4]);
   r.force_gradient = Eigen::Map<const Mat3>(values + 5);
+  r.torque = Vec3(values[14], values[15], values[16]);
+  r.torque_gradient = Eigen::Map<const Mat3>(values + 17);
   if (head[4] > 0) {
     reason.resize(static_cast<std::size_t>(head[4]));
     MPI_Recv(reason.data(), static_cast<int>(head[4]), MPI_CHAR, from, kResultTag, MPI_COMM_WORLD,
@@ -400,10 +404,12 @@ void serve(ConfigurationSolver& solver, const Space& space, const Session& sessi
     const std::int64_t out[kResultHead] = {static_cast<std::int64_t>(r.point), static_cast<std::int64_t>(r.status),
                                            r.source, r.iterations, static_cast<std::int64_t>(r.reason.size()),
                                            travel > 0 ? now_ns() + travel : 0};
-    double values[14] = {r.residual, r.seconds, r.force.x(), r.force.y(), r.force.z()};
+    double values[kResultValues] = {r.residual, r.seconds, r.force.x(), r.force.y(), r.force.z()};
     Eigen::Map<Mat3>(values + 5) = r.force_gradient;
+    for (int k = 0; k < 3; ++k) values[14 + k] = r.torque[k];
+    Eigen::Map<Mat3>(values + 17) = r.torque_gradient;
     MPI_Send(out, kResultHead, MPI_INT64_T, 0, kResultTag, MPI_COMM_WORLD);
-    MPI_Send(values, 14, MPI_DOUBLE, 0, kResultTag, MPI_COMM_WORLD);
+    MPI_Send(values, kResultValues, MPI_DOUBLE, 0, kResultTag, MPI_COMM_WORLD);
     if (!r.reason.empty())
       MPI_Send(r.reason.data(), static_cast<int>(r.reason.size()), MPI_CHAR, 0, kResultTag, MPI_COMM_WORLD);
     if (r.status == PointStatus::solved) {

@@ -649,6 +649,22 @@ Query Interpolator::weighted_force(Weights& w) const noexcept {
   return w.query;
 }
 
+Query Interpolator::force_and_torque(const Vec3& p) const noexcept {
+  Weights w;
+  weights(p, w);
+  weighted_force(w);
+  if (!space_->has_torques) return w.query;
+  Vec3 torque = Vec3::Zero();
+  for (int i = 0; i < w.count; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const auto point = static_cast<std::size_t>(w.point[k]);
+    torque += w.weight[k] * space_->torque[point];
+    if (w.with_gradients) torque.noalias() += space_->torque_gradient[point] * w.gradient[k];
+  }
+  w.query.torque = torque;
+  return w.query;
+}
+
 Query Interpolator::shape(const Vec3& p, VecX& displacement) const {
   Weights w;
   weights(p, w);

@@ -30,6 +30,9 @@ namespace tactus::precompute {
 
 struct Query {
   Vec3 force = Vec3::Zero();  ///< force the body exerts on the tool [N]
+  /// Torque the body exerts on the tool about the interaction point [N·m]: force_and_torque
+  /// only, zero where the space stores none (files before version 3).
+  Vec3 torque = Vec3::Zero();
   bool valid = false;         ///< false: no solved point near p
   bool outside = false;       ///< p lay outside the grid and was clamped onto its box
   bool fallback = false;      ///< the method lacked points and trilinear was used
@@ -71,6 +74,10 @@ class Interpolator {
   /// the same grid): a grid cell whose corners are solved (tricubic Hermite) costs no basis
   /// and no search, and trilinear weights need no second search.
   [[nodiscard]] Query force(const Vec3& p, const Located& at) const noexcept;
+  /// The force and the torque at p, both by the space's method (the Hermite methods from the
+  /// stored ∂torque/∂x as from ∂force/∂x). Allocation-free; slower than force(p), which keeps
+  /// the corners' mixed derivatives of the force evaluated.
+  [[nodiscard]] Query force_and_torque(const Vec3& p) const noexcept;
   /// The force and the nodal displacements (3N) at p. `displacement` is resized only when its
   /// size differs (size it once: then this allocates nothing either).
   Query shape(const Vec3& p, VecX& displacement) const;

@@ -12,9 +12,10 @@ namespace tactus::precompute {
 
 namespace {
 
-// Version 2 adds the derivatives; a version 1 journal is refused by name.
-constexpr char kMagic[8] = {'T', 'C', 'S', 'P', 'J', 'N', 'L', '2'};
+// Version 2 adds the derivatives, version 3 the torques; older journals are refused by name.
+constexpr char kMagic[8] = {'T', 'C', 'S', 'P', 'J', 'N', 'L', '3'};
 constexpr char kMagicVersion1[8] = {'T', 'C', 'S', 'P', 'J', 'N', 'L', '1'};
+constexpr char kMagicVersion2[8] = {'T', 'C', 'S', 'P', 'J', 'N', 'L', '2'};
 constexpr std::uint32_t kRecordMark = 0x52435054u;  // "TPCR"
 
 struct Header {
@@ -37,6 +38,8 @@ struct RecordHead {
   double seconds;
   double force[3];
   double force_gradient[9];  ///< column-major ∂force/∂x
+  double torque[3];
+  double torque_gradient[9];  ///< column-major ∂torque/∂x
   std::uint64_t dofs;  ///< displacement values that follow (0 unless solved)
 };
 
@@ -66,6 +69,8 @@ Journal Journal::resume(const std::filesystem::path& path, Space& space) {
   Header h{};
   if (std::fread(&h, sizeof h, 1, f) == 1 && std::memcmp(h.magic, kMagicVersion1, sizeof kMagic) == 0)
     throw InputError(where(path), "a journal of an older version (without derivatives); delete it to start over");
+  if (std::memcmp(h.magic, kMagicVersion2, sizeof kMagic) == 0)
+    throw InputError(where(path), "a journal of an older version (without torques); delete it to start over");
   if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0)
     throw InputError(where(path), "not a Tactus precompute journal");
   if (h.model_hash != space.identity.model_hash)
@@ -108,6 +113,8 @@ Journal Journal::resume(const std::filesystem::path& path, Space& space) {
     p.force = Vec3(r.force[0], r.force[1], r.force[2]);
     p.reason.assign(reason.begin(), reason.end());
     p.force_gradient = Eigen::Map<const Mat3>(r.force_gradient);
+    p.torque = Vec3(r.torque[0], r.torque[1], r.torque[2]);
+    p.torque_gradient = Eigen::Map<const Mat3>(r.torque_gradient);
     p.displacement = displacement;
     p.displacement_gradient = gradient;
     space.store(p);
@@ -148,6 +155,8 @@ void Journal::append(const PointResult& p) {
   r.seconds = p.seconds;
   for (int k = 0; k < 3; ++k) r.force[k] = p.force[k];
   Eigen::Map<Mat3>(r.force_gradient) = p.force_gradient;
+  for (int k = 0; k < 3; ++k) r.torque[k] = p.torque[k];
+  Eigen::Map<Mat3>(r.torque_gradient) = p.torque_gradient;
   const bool with_shape = p.status == PointStatus::solved;
   // A result made without derivatives (none of the solvers makes one) keeps zeros in their place.
   const bool has_gradient =

@@ -121,6 +121,25 @@ Query ProbeInterpolator::force(const Vec3& p, const Vec3& direction) const noexc
   return out;
 }
 
+Query ProbeInterpolator::force_and_torque(const Vec3& p, const Vec3& direction) const noexcept {
+  const Stencil s = stencil(direction);
+  Query out;
+  out.valid = true;
+  for (std::size_t i = 0; i < s.level.size(); ++i) {
+    const Query q = levels_[s.level[i]].force_and_torque(p);
+    out.valid = out.valid && q.valid;
+    out.outside = out.outside || q.outside;
+    out.fallback = out.fallback || q.fallback;
+    out.force += s.weight[i] * q.force;
+    out.torque += s.weight[i] * q.torque;
+  }
+  if (!out.valid) {
+    out.force.setZero();
+    out.torque.setZero();
+  }
+  return out;
+}
+
 Query ProbeInterpolator::shape(const Vec3& p, const Vec3& direction, VecX& displacement) const {
   const Stencil s = stencil(direction);
   Query out;

@@ -60,6 +60,9 @@ class ProbeInterpolator {
   /// beyond max_tilt is clamped onto it). Allocation-free. Valid where every level used has a
   /// value at p; outside and fallback where any level's query was.
   [[nodiscard]] Query force(const Vec3& p, const Vec3& direction) const noexcept;
+  /// The force and the torque about the probe's end (Interpolator::force_and_torque), between
+  /// the leans as force() is. Allocation-free.
+  [[nodiscard]] Query force_and_torque(const Vec3& p, const Vec3& direction) const noexcept;
   /// The force and the nodal displacements (3N). Allocates only when `displacement` has
   /// another size; one thread at a time (it keeps a scratch vector).
   Query shape(const Vec3& p, const Vec3& direction, VecX& displacement) const;

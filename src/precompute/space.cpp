@@ -28,6 +28,8 @@ void Space::allocate(std::size_t node_count) {
   reason.assign(n, std::string());
   displacement = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * node_count), static_cast<Eigen::Index>(n));
   force_gradient.assign(n, Mat3::Zero());
+  torque.assign(n, Vec3::Zero());
+  torque_gradient.assign(n, Mat3::Zero());
   displacement_gradient =
       Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * node_count), static_cast<Eigen::Index>(3 * n));
   refined_points.clear();
@@ -96,6 +98,8 @@ std::size_t Space::add_point(const LatticeIndex& at) {
   seconds.push_back(0.0);
   reason.emplace_back();
   force_gradient.push_back(Mat3::Zero());
+  torque.push_back(Vec3::Zero());
+  torque_gradient.push_back(Mat3::Zero());
   displacement.conservativeResize(Eigen::NoChange, displacement.cols() + 1);
   displacement.col(displacement.cols() - 1).setZero();
   displacement_gradient.conservativeResize(Eigen::NoChange, displacement_gradient.cols() + 3);
@@ -114,6 +118,7 @@ void Space::refine_cell(const LatticeIndex& cell) {
 void Space::store(const PointResult& r) {
   status[r.point] = r.status;
   force[r.point] = r.force;
+  torque[r.point] = r.status == PointStatus::solved ? r.torque : Vec3::Zero();
   source[r.point] = r.source;
   iterations[r.point] = r.iterations;
   residual[r.point] = r.residual;
@@ -127,6 +132,7 @@ void Space::store(const PointResult& r) {
   const bool with_gradient = r.status == PointStatus::solved && r.displacement_gradient.rows() == displacement.rows() &&
                              r.displacement_gradient.cols() == 3;
   force_gradient[r.point] = with_gradient ? r.force_gradient : Mat3::Zero();
+  torque_gradient[r.point] = with_gradient ? r.torque_gradient : Mat3::Zero();
   if (with_gradient)
     displacement_gradient.middleCols<3>(3 * p) = r.displacement_gradient;
   else

@@ -1,6 +1,6 @@
 #pragma once
-// A configuration space in memory: per grid point its status, the reaction force at the
-// interaction point and the nodal displacements, plus what identifies the model it was
+// A configuration space in memory: per grid point its status, the reaction force and torque
+// at the interaction point and the nodal displacements, plus what identifies the model it was
 // built from.
 #include <array>
 #include <cstdint>
@@ -35,11 +35,15 @@ struct PointResult {
   double seconds = 0.0;      ///< wall time of the solve on its worker
   double derivative_seconds = 0.0;  ///< of which the derivatives (not stored in the file)
   Vec3 force = Vec3::Zero(); ///< force the body exerts on the tool [N]
+  /// Torque the body exerts on the tool about the interaction point [N·m]: the moment of the
+  /// contact patch's reactions (a probe space's probe feels it; a one-node patch has none).
+  Vec3 torque = Vec3::Zero();
   std::string reason;        ///< why it failed (empty when solved)
   VecX displacement;         ///< 3N, x − rest (solved points only)
   /// Derivatives with respect to the interaction point's position (solved points only):
   /// column k of each is along axis k. ∂force/∂x is the stiffness the tool feels [N/m].
   Mat3 force_gradient = Mat3::Zero();
+  Mat3 torque_gradient = Mat3::Zero();  ///< ∂torque/∂x [N]
   MatX displacement_gradient;  ///< 3N × 3, ∂displacement/∂x
 };
 
@@ -85,6 +89,11 @@ struct Space {
   std::vector<Mat3> force_gradient;
   Eigen::MatrixXd displacement_gradient;
   bool has_gradients = true;
+  /// Per point the torque about the interaction point and ∂torque/∂x. A space read from a file
+  /// of version 1 or 2 has none (has_torques false).
+  std::vector<Vec3> torque;
+  std::vector<Mat3> torque_gradient;
+  bool has_torques = true;
 
   /// Adaptive refinement (docs/precompute.md, "Refinement"): points beyond the grid's, at
   /// index grid.size() + r of every per-point array, with refined_points[r] their place; and

@@ -20,9 +20,12 @@ using hdf5::Writer;
 namespace {
 
 constexpr const char* kFormat = "tactus-configuration-space";
-// Version 2 adds the derivatives (points/force_gradient, points/displacement_gradient);
-// version 1 files are still read, without them.
-constexpr int kVersion = 2;
+// Version 2 adds the derivatives (points/force_gradient, points/displacement_gradient),
+// version 3 the torques (points/torque, points/torque_gradient); older files are still read,
+// without them.
+constexpr int kVersion = 3;
+// The per-point tables are written and read straight from the vectors of Eigen types.
+static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Mat3) == 9 * sizeof(double));
 
 }  // namespace
 
@@ -94,6 +97,8 @@ void write_into(Writer& w, hid_t file, const Space& space) {
     w.dataset(pts, "displacement", H5T_NATIVE_DOUBLE, {points, dofs}, space.displacement.data(), true);
     // [p][k][i]: ∂force_i/∂x_k and ∂displacement_i/∂x_k (the column-major Eigen layouts).
     w.dataset(pts, "force_gradient", H5T_NATIVE_DOUBLE, {points, 3, 3}, space.force_gradient.data());
+    w.dataset(pts, "torque", H5T_NATIVE_DOUBLE, {points, 3}, space.torque.data());
+    w.dataset(pts, "torque_gradient", H5T_NATIVE_DOUBLE, {points, 3, 3}, space.torque_gradient.data());
     w.dataset(pts, "displacement_gradient", H5T_NATIVE_DOUBLE, {points, 3, dofs}, space.displacement_gradient.data(),
               true);
 
@@ -148,8 +153,8 @@ void write_file(const std::filesystem::path& path, const std::vector<const Space
 Space read_from(Reader& r, hid_t file, const std::filesystem::path& path) {
   if (r.text(file, "format") != kFormat) fail(path, "not a Tactus configuration space");
   const int version = r.scalar<int>(file, "version", H5T_NATIVE_INT);
-  if (version != 1 && version != kVersion)
-    fail(path, fmt::format("space file version {} (this build reads versions 1 and {})", version, kVersion));
+  if (version < 1 || version > kVersion)
+    fail(path, fmt::format("space file version {} (this build reads versions 1 to {})", version, kVersion));
 
   Space space;
   space.identity.model_hash = r.scalar<std::uint64_t>(file, "model_hash", H5T_NATIVE_UINT64);
@@ -265,6 +270,11 @@ Space read_from(Reader& r, hid_t file, const std::filesystem::path& path) {
   if (space.has_gradients) {
     r.dataset(pts, "force_gradient", H5T_NATIVE_DOUBLE, points * 9, space.force_gradient.data());
     r.dataset(pts, "displacement_gradient", H5T_NATIVE_DOUBLE, points * 9 * nodes, space.displacement_gradient.data());
+  }
+  space.has_torques = version >= 3;
+  if (space.has_torques) {
+    r.dataset(pts, "torque", H5T_NATIVE_DOUBLE, points * 3, space.torque.data());
+    r.dataset(pts, "torque_gradient", H5T_NATIVE_DOUBLE, points * 9, space.torque_gradient.data());
   }
 
   Handle model(H5Gopen2(file, "model", H5P_DEFAULT), H5Gclose);

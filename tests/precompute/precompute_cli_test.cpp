@@ -134,9 +134,14 @@ void expect_same_levels(const fs::path& a, const fs::path& b) {
     EXPECT_EQ(x[k].count(PointStatus::solved), x[k].grid.size());
     EXPECT_EQ(x[k].status, y[k].status);
     EXPECT_EQ(x[k].force, y[k].force);
+    // The torques and their derivatives travel with the forces (MPI, the journal).
+    EXPECT_EQ(x[k].torque, y[k].torque);
+    EXPECT_EQ(x[k].torque_gradient, y[k].torque_gradient);
     EXPECT_TRUE(x[k].displacement == y[k].displacement);
     EXPECT_EQ(x[k].identity.model_hash, y[k].identity.model_hash);
   }
+  // A leaning probe's end turns the block: its torques are not zero, so the above compares.
+  EXPECT_GT(x.back().torque[x.back().start].norm(), 1e-4);
 }
 
 TEST_F(PrecomputeCli, AProbeSpaceIsBuiltLevelByLevelAndResumesAtTheLevelItStoppedIn) {

@@ -129,10 +129,10 @@ TEST(ProbeSpace, ALeaningLevelHoldsItsPatchTurnedAboutTheContactNode) {
 
 /// Mean and largest relative error of `predict` against direct solves at random positions
 /// in the grid's box and random leans within the space's, relative to the largest force
-/// of the sample (the accuracy study's measure, validation.md).
+/// of the sample (the accuracy study's measure, validation.md); of the torque with `torque`.
 template <class Predict>
 std::pair<double, double> errors_against_direct(const physics::Body& body, const SpaceSettings& s, Predict predict,
-                                                int samples) {
+                                                int samples, bool torque = false) {
   ConfigurationSolver solver(body, level_settings(s, 0));
   const ProbeFrame frame(s.probe.axis);
   const Space layout = make_space(body, s, "");
@@ -147,7 +147,7 @@ std::pair<double, double> errors_against_direct(const physics::Body& body, const
     const Vec2 t = s.probe.max_tilt * Vec2(2.0 * u(rng) - 1.0, 2.0 * u(rng) - 1.0);
     const PointResult r = solver.solve_direct(p, frame.rotation(t), 4);
     EXPECT_EQ(r.status, PointStatus::solved) << r.reason;
-    truth.push_back(r.force);
+    truth.push_back(torque ? r.torque : r.force);
     guess.push_back(predict(p, frame.direction(t)));
   }
   return testing::relative_errors(truth, guess);
@@ -177,6 +177,75 @@ TEST(ProbeSpace, BetweenLeansTheForceFollowsDirectSolvesOfTheLeaningProbe) {
   EXPECT_LT(mean, 0.005);
   EXPECT_LT(worst, 0.05);
   EXPECT_LT(mean, 0.1 * mean_upright);
+
+  // The torque about the probe's end: exact at a level's grid points, and between them and
+  // between the leans against the same direct solves' torques.
+  for (std::size_t p = 0; p < level5.grid.size(); ++p) {
+    const Query q = probe.force_and_torque(level5.grid.point(p), probe.frame().direction(level5.settings.tilt));
+    ASSERT_TRUE(q.valid);
+    EXPECT_LT((q.force - level5.force[p]).norm(), 1e-12 * (1.0 + level5.force[p].norm()));
+    EXPECT_LT((q.torque - level5.torque[p]).norm(), 1e-12 * (1.0 + level5.torque[p].norm()));
+  }
+  const auto [torque_mean, torque_worst] = errors_against_direct(
+      body, s, [&](const Vec3& p, const Vec3& d) { return probe.force_and_torque(p, d).torque; }, 40, true);
+  const auto [torque_mean_upright, torque_worst_upright] = errors_against_direct(
+      body, s, [&](const Vec3& p, const Vec3&) { return probe.level(4).force_and_torque(p).torque; }, 40, true);
+  std::printf("torque: mean %.3f %%, max %.3f %%; upright level alone: mean %.3f %%, max %.3f %%\n",
+              100 * torque_mean, 100 * torque_worst, 100 * torque_mean_upright, 100 * torque_worst_upright);
+  EXPECT_LT(torque_mean, 0.005);
+  EXPECT_LT(torque_worst, 0.05);
+  EXPECT_LT(torque_mean, 0.1 * torque_mean_upright);
+}
+
+TEST(ProbeSpace, TheTorqueOnTheProbeBalancesTheMomentOfTheSupports) {
+  // A static body is in moment balance: the probe's torque about its end and the moments of
+  // the held base's reactions about the same point cancel, as the forces do. The reactions
+  // are summed here from the model's nodal forces on the solved shape, a path the solver's
+  // torque does not take; what is left is the free nodes' out-of-balance, below 1e-9.
+  const physics::Body body = testing::block_body();
+  const SpaceSettings s = level_settings(probe_settings(body), 5);  // leaning (+12°, 0)
+  ConfigurationSolver solver(body, s);
+  const PointResult r = solver.solve_direct(solver.contact_rest() + Vec3(0.002, -0.001, -0.004), 6);
+  ASSERT_EQ(r.status, PointStatus::solved) << r.reason;
+  const VecX x = body.model->rest_positions() + r.displacement;
+  physics::BodyState state = physics::make_state(body);
+  VecX f = VecX::Zero(x.size());
+  body.model->forces(x, state.v, state.q, f, *state.model_scratch);
+  const Vec3 end = x.segment<3>(3 * s.contact_node);
+  Vec3 support_force = Vec3::Zero(), support_moment = Vec3::Zero();
+  for (Eigen::Index n = 0; n < x.size() / 3; ++n)
+    if (body.fixed_dofs[static_cast<std::size_t>(3 * n)]) {
+      support_force += f.segment<3>(3 * n);
+      support_moment += (x.segment<3>(3 * n) - end).cross(Vec3(f.segment<3>(3 * n)));
+    }
+  EXPECT_GT(r.torque.norm(), 1e-4);  // the leaning probe bends the block: N·m, not round-off
+  EXPECT_LT((r.force + support_force).norm(), 1e-9 * (1.0 + r.force.norm()));
+  EXPECT_LT((r.torque + support_moment).norm(), 1e-9 * (1.0 + r.torque.norm())) << r.torque.transpose() << " / "
+                                                                                  << support_moment.transpose();
+}
+
+TEST(ProbeSpace, TheTorquesDerivativeMatchesCentralDifferences) {
+  // As Build.DerivativesMatchCentralDifferencesOfSolvedConfigurations does for the force:
+  // configurations solved 20 µm either side along each axis, to 1e-5 of the slope.
+  const physics::Body body = testing::block_body();
+  SpaceSettings s = level_settings(probe_settings(body), 5);
+  s.tolerance = 1e-12;
+  ConfigurationSolver solver(body, s);
+  const Vec3 at = solver.contact_rest() + Vec3(0.002, -0.001, -0.004);
+  const PointResult centre = solver.solve_direct(at, 8);
+  ASSERT_EQ(centre.status, PointStatus::solved) << centre.reason;
+  constexpr double kStep = 2e-5;
+  Mat3 slope;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 d = kStep * Vec3::Unit(k);
+    const PointResult plus = solver.transition(1, 0, centre.displacement, at, at + d);
+    const PointResult minus = solver.transition(2, 0, centre.displacement, at, at - d);
+    ASSERT_EQ(plus.status, PointStatus::solved) << plus.reason;
+    ASSERT_EQ(minus.status, PointStatus::solved) << minus.reason;
+    slope.col(k) = (plus.torque - minus.torque) / (2 * kStep);
+  }
+  EXPECT_GT(slope.norm(), 1e-3);
+  EXPECT_LT((centre.torque_gradient - slope).norm(), 1e-5 * slope.norm()) << centre.torque_gradient << "\n" << slope;
 }
 
 TEST(ProbeSpace, AFileHoldsEveryLevel) {
@@ -195,6 +264,8 @@ TEST(ProbeSpace, AFileHoldsEveryLevel) {
     EXPECT_EQ(read[k].settings.probe.max_tilt, s.probe.max_tilt);
     EXPECT_TRUE(read[k].displacement == levels[k].displacement);
     EXPECT_EQ(read[k].force, levels[k].force);
+    EXPECT_EQ(read[k].torque, levels[k].torque);
+    EXPECT_EQ(read[k].torque_gradient, levels[k].torque_gradient);
   }
   // Levels out of order, or missing, do not make a probe space.
   std::vector<Space> swapped = read;

@@ -49,6 +49,9 @@ TEST(SpaceFile, RoundTripsEverything) {
   EXPECT_EQ(back.force_gradient, space.force_gradient);
   EXPECT_TRUE(back.displacement_gradient == space.displacement_gradient);
   EXPECT_GT(space.displacement_gradient.norm(), 0.0);
+  EXPECT_TRUE(back.has_torques);
+  EXPECT_EQ(back.torque, space.torque);
+  EXPECT_EQ(back.torque_gradient, space.torque_gradient);
   EXPECT_EQ(back.scene_text, space.scene_text);
   EXPECT_TRUE(back.rest_positions == space.rest_positions);
   EXPECT_EQ(back.elements, space.elements);
@@ -139,6 +142,9 @@ TEST(Journal, RecoversCompleteRecordsAndDropsACutOne) {
       r.reason = full.reason[p];
       r.displacement = full.displacement.col(static_cast<Eigen::Index>(p));
       r.force_gradient = full.force_gradient[p];
+      // Made up: the block's one-node patch has no torque, and the journal must keep any.
+      r.torque = Vec3(1.0, -2.0, 3.0) * static_cast<double>(p + 1);
+      r.torque_gradient = Mat3::Constant(0.5 * static_cast<double>(p));
       r.displacement_gradient = full.displacement_gradient.middleCols<3>(3 * static_cast<Eigen::Index>(p));
       j.append(r);
     }
@@ -158,6 +164,10 @@ TEST(Journal, RecoversCompleteRecordsAndDropsACutOne) {
     EXPECT_TRUE(resumed.displacement.col(static_cast<Eigen::Index>(p)) ==
                 full.displacement.col(static_cast<Eigen::Index>(p)));
     EXPECT_EQ(resumed.force_gradient[p], full.force_gradient[p]);
+    if (resumed.status[p] == PointStatus::solved) {
+      EXPECT_EQ(resumed.torque[p], (Vec3(1.0, -2.0, 3.0) * static_cast<double>(p + 1)).eval());
+      EXPECT_EQ(resumed.torque_gradient[p], Mat3::Constant(0.5 * static_cast<double>(p)).eval());
+    }
     EXPECT_TRUE(resumed.displacement_gradient.middleCols<3>(3 * static_cast<Eigen::Index>(p)) ==
                 full.displacement_gradient.middleCols<3>(3 * static_cast<Eigen::Index>(p)));
   }
@@ -166,18 +176,21 @@ TEST(Journal, RecoversCompleteRecordsAndDropsACutOne) {
   Space other = partial;
   other.identity.model_hash ^= 1;
   EXPECT_THROW(Journal::resume(path, other), InputError);
-  // A journal of the version before the derivatives is refused by name, not misread.
-  {
-    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-    f.seekp(7);
-    f.put('1');
-  }
-  Space older = partial;
-  try {
-    Journal::resume(path, older);
-    ADD_FAILURE() << "a version 1 journal was read";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("older version"), std::string::npos) << e.what();
+  // Journals of the versions before the derivatives and before the torques are refused by
+  // name, not misread.
+  for (const char version : {'1', '2'}) {
+    {
+      std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+      f.seekp(7);
+      f.put(version);
+    }
+    Space older = partial;
+    try {
+      Journal::resume(path, older);
+      ADD_FAILURE() << "a version " << version << " journal was read";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("older version"), std::string::npos) << e.what();
+    }
   }
   fs::remove_all(path.parent_path());
 }
