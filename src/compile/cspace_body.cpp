@@ -140,9 +140,13 @@ CspaceForce CspaceBody::force(const Vec3& p, const Quat& orientation, double t) 
     }
     return out;
   }
-  const precompute::Query q = probe_ ? probe_->force(p, probe_direction(orientation)) : interpolator_->force(p);
-  if (q.valid && !q.outside && q.force.allFinite()) {
+  // A probe space renders the torque on the probe as well; a point space's patch has one too,
+  // but the tool there is a point.
+  const precompute::Query q =
+      probe_ ? probe_->force_and_torque(p, probe_direction(orientation)) : interpolator_->force(p);
+  if (q.valid && !q.outside && q.force.allFinite() && q.torque.allFinite()) {
     out.force = q.force;
+    out.torque = q.torque;
     out.touching = true;
   }
   return out;

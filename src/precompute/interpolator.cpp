@@ -233,9 +233,13 @@ Interpolator::Mixed Interpolator::mixed_at(const LatticeIndex& at) const {
   Mixed m;
   for (std::size_t d = 0; d < kMixed.size(); ++d) {
     m.force[d].setZero();
+    m.torque[d].setZero();
     mixed_terms(at, kMixed[d], 1.0, m.terms[d]);
-    for (const Term& t : m.terms[d])
+    for (const Term& t : m.terms[d]) {
       m.force[d] += t.coeff * space_->force_gradient[static_cast<std::size_t>(t.point)].col(t.axis);
+      if (space_->has_torques)
+        m.torque[d] += t.coeff * space_->torque_gradient[static_cast<std::size_t>(t.point)].col(t.axis);
+    }
   }
   return m;
 }
@@ -354,20 +358,24 @@ bool Interpolator::tricubic_force(const Place& place, Vec3& force) const noexcep
 }
 
 // Inlined into both callers: as a call, the located query's p50 rose by 13 % (9 levels a probe).
+template <bool Torque>
 [[gnu::always_inline]] inline Vec3 Interpolator::hermite_sum(const std::array<std::size_t, 8>& points, int level,
                                const std::array<CornerBasis, 8>& basis) const noexcept {
-  Vec3 force = Vec3::Zero();
+  const std::vector<Vec3>& value = Torque ? space_->torque : space_->force;
+  const std::vector<Mat3>& gradient = Torque ? space_->torque_gradient : space_->force_gradient;
+  Vec3 sum = Vec3::Zero();
   for (std::size_t c = 0; c < 8; ++c) {
     const std::size_t p = points[c];
     const CornerBasis& b = basis[c];
-    force += b.value * space_->force[p];
-    force.noalias() += space_->force_gradient[p] * b.gradient;
+    sum += b.value * value[p];
+    sum.noalias() += gradient[p] * b.gradient;
     // A grid cell's corners (the common case) index the grid's table directly: corners() has
     // checked them.
     const Mixed& m = level == 0 ? mixed_[p] : *mixed(p, level);
-    for (std::size_t d = 0; d < b.mixed.size(); ++d) force += b.mixed[d] * m.force[d];
+    const std::array<Vec3, 4>& mixed_derivatives = Torque ? m.torque : m.force;
+    for (std::size_t d = 0; d < b.mixed.size(); ++d) sum += b.mixed[d] * mixed_derivatives[d];
   }
-  return force;
+  return sum;
 }
 
 double Interpolator::cell_disagreement(const LatticeIndex& cell) const {
@@ -663,6 +671,21 @@ Query Interpolator::force_and_torque(const Vec3& p) const noexcept {
   }
   w.query.torque = torque;
   return w.query;
+}
+
+Query Interpolator::force_and_torque(const Vec3& p, const Located& at) const noexcept {
+  if (method_ == Interpolation::tricubic_hermite && !space_->is_refined({0, at.cell})) {
+    std::array<std::size_t, 8> points{};
+    if (corners({0, at.cell}, points)) {
+      Query q;
+      q.outside = at.outside;
+      q.valid = true;
+      q.force = hermite_sum(points, 0, at.basis);
+      if (space_->has_torques) q.torque = hermite_sum<true>(points, 0, at.basis);
+      return q;
+    }
+  }
+  return force_and_torque(p);
 }
 
 Query Interpolator::shape(const Vec3& p, VecX& displacement) const {

@@ -78,6 +78,9 @@ class Interpolator {
   /// stored ∂torque/∂x as from ∂force/∂x). Allocation-free; slower than force(p), which keeps
   /// the corners' mixed derivatives of the force evaluated.
   [[nodiscard]] Query force_and_torque(const Vec3& p) const noexcept;
+  /// force_and_torque(p) with p located by `at`, as force(p, at): a grid cell whose corners
+  /// are solved (tricubic Hermite) costs two Hermite sums, each as cheap as the force's.
+  [[nodiscard]] Query force_and_torque(const Vec3& p, const Located& at) const noexcept;
   /// The force and the nodal displacements (3N) at p. `displacement` is resized only when its
   /// size differs (size it once: then this allocates nothing either).
   Query shape(const Vec3& p, VecX& displacement) const;
@@ -116,10 +119,10 @@ class Interpolator {
     double coeff = 0.0;
   };
   /// A point's mixed derivatives ∂xy, ∂xz, ∂yz, ∂xyz on one level: as terms on gradients, and
-  /// those of the force evaluated.
+  /// those of the force and of the torque evaluated.
   struct Mixed {
     std::array<std::vector<Term>, 4> terms;
-    std::array<Vec3, 4> force{};
+    std::array<Vec3, 4> force{}, torque{};
   };
   static constexpr int kLevels = Space::kMaxLevel + 1;
   /// A cell of some level and a place in it, [0, 1]³.
@@ -141,7 +144,9 @@ class Interpolator {
   bool tricubic(const Place& place, Weights& out) const noexcept;
   /// The tricubic Hermite force straight from the corners' data; false unless all 8 are solved.
   bool tricubic_force(const Place& place, Vec3& force) const noexcept;
-  /// The tricubic Hermite sum over a cell's 8 solved corners (points) at `level` with their weights.
+  /// The tricubic Hermite sum over a cell's 8 solved corners (points) at `level` with their
+  /// weights: of the force, or with Torque of the torque.
+  template <bool Torque = false>
   [[nodiscard]] Vec3 hermite_sum(const std::array<std::size_t, 8>& points, int level,
                                  const std::array<CornerBasis, 8>& basis) const noexcept;
   [[nodiscard]] const Mixed* mixed(std::size_t point, int level) const noexcept;

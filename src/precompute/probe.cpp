@@ -123,10 +123,11 @@ Query ProbeInterpolator::force(const Vec3& p, const Vec3& direction) const noexc
 
 Query ProbeInterpolator::force_and_torque(const Vec3& p, const Vec3& direction) const noexcept {
   const Stencil s = stencil(direction);
+  const Interpolator::Located at = levels_.front().locate(p);
   Query out;
   out.valid = true;
   for (std::size_t i = 0; i < s.level.size(); ++i) {
-    const Query q = levels_[s.level[i]].force_and_torque(p);
+    const Query q = levels_[s.level[i]].force_and_torque(p, at);
     out.valid = out.valid && q.valid;
     out.outside = out.outside || q.outside;
     out.fallback = out.fallback || q.fallback;

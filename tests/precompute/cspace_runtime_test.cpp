@@ -147,7 +147,7 @@ TEST_F(CspaceRuntime, LockstepRunRendersTheInterpolatedForce) {
   }
 }
 
-TEST_F(CspaceRuntime, AProbeSpaceRendersTheForceOfTheToolsLean) {
+TEST_F(CspaceRuntime, AProbeSpaceRendersTheForceAndTorqueOfTheToolsLean) {
   // A probe space of the block (9 leans of up to 12 degrees), and a hand that presses 2.5 mm
   // while its −z axis leans 10 degrees about y.
   std::ofstream(dir_ / "probe.toml") << testing::probe_block_scene();
@@ -188,6 +188,13 @@ points = [
   const Vec3 upright = body->probe()->force(last.position, Vec3(0, 0, -1)).force;
   EXPECT_GT((last.force - upright).norm(), 0.05 * upright.norm()) << last.force.transpose() << " / "
                                                                     << upright.transpose();
+  // The torque on the probe about its end (the point looked up is the tool's origin here).
+  for (const runtime::HapticFrame& f : r.frames) {
+    if (f.flags != 0) continue;
+    const Query q = body->probe()->force_and_torque(f.position, compile::CspaceBody::probe_direction(f.orientation));
+    EXPECT_LT((f.torque - q.torque).norm(), 1e-15 + 1e-9 * q.torque.norm()) << "t = " << f.t;
+  }
+  EXPECT_GT(last.torque.norm(), 1e-4) << last.torque.transpose();
 }
 
 /// The block as a cspace body of the two-point space `space`, felt by two scripted fingers,

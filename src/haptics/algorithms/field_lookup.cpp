@@ -15,7 +15,9 @@ Rendering FieldLookup::render(const FrameInputs& f, AlgorithmState& /*state*/) c
   }
   Rendering r;
   r.force = field.force;
-  r.torque = arm.cross(field.force);
+  // About the tool's origin: the force's moment at the point looked up, and the field's own
+  // torque there (a probe space's probe).
+  r.torque = arm.cross(field.force) + field.torque;
   r.touching = field.touching;
   r.point = f.position + arm;
   r.surface_time = f.contact->surface_time;

@@ -13,6 +13,7 @@ namespace tactus::haptics {
 struct FieldForce {
   Vec3 force = Vec3::Zero();  ///< the body's force on the tool [N]
   bool touching = false;      ///< the field has a value at the point
+  Vec3 torque = Vec3::Zero();  ///< the body's torque on the tool about the point looked up [N·m]
 };
 
 class ForceField {
