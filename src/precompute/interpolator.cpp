@@ -604,7 +604,13 @@ Interpolator::Located Interpolator::locate(const Vec3& p) const noexcept {
   return at;
 }
 
-Query Interpolator::force(const Vec3& p, const Located& at) const noexcept {
+Query Interpolator::force(const Vec3& p, const Located& at) const noexcept { return located<false>(p, at); }
+
+Query Interpolator::force_and_torque(const Vec3& p, const Located& at) const noexcept { return located<true>(p, at); }
+
+template <bool Torque>
+Query Interpolator::located(const Vec3& p, const Located& at) const noexcept {
+  const bool torque = Torque && space_->has_torques;
   // A grid cell without refinement (the common case): tricubic_force with the basis given.
   if (method_ == Interpolation::tricubic_hermite && !space_->is_refined({0, at.cell})) {
     std::array<std::size_t, 8> points{};
@@ -613,6 +619,7 @@ Query Interpolator::force(const Vec3& p, const Located& at) const noexcept {
       q.outside = at.outside;
       q.valid = true;
       q.force = hermite_sum(points, 0, at.basis);
+      if (torque) q.torque = hermite_sum<true>(points, 0, at.basis);
       return q;
     }
   }
@@ -621,9 +628,11 @@ Query Interpolator::force(const Vec3& p, const Located& at) const noexcept {
     w.query.outside = at.outside;
     w.query.valid = trilinear(at.cell, at.t, w);
     if (!w.query.valid) w.count = 0;
-    return weighted_force(w);
+    weighted_force(w);
+    if (torque) w.query.torque = weighted_sum(w, space_->torque, space_->torque_gradient);
+    return w.query;
   }
-  return force(p);
+  return Torque ? force_and_torque(p) : force(p);
 }
 
 Query Interpolator::force(const Vec3& p) const noexcept {
@@ -645,15 +654,20 @@ Query Interpolator::force(const Vec3& p) const noexcept {
   return weighted_force(w);
 }
 
-Query Interpolator::weighted_force(Weights& w) const noexcept {
-  Vec3 f = Vec3::Zero();
+Vec3 Interpolator::weighted_sum(const Weights& w, const std::vector<Vec3>& values,
+                                const std::vector<Mat3>& gradients) const noexcept {
+  Vec3 sum = Vec3::Zero();
   for (int i = 0; i < w.count; ++i) {
     const auto k = static_cast<std::size_t>(i);
     const auto point = static_cast<std::size_t>(w.point[k]);
-    f += w.weight[k] * space_->force[point];
-    if (w.with_gradients) f.noalias() += space_->force_gradient[point] * w.gradient[k];
+    sum += w.weight[k] * values[point];
+    if (w.with_gradients) sum.noalias() += gradients[point] * w.gradient[k];
   }
-  w.query.force = f;
+  return sum;
+}
+
+Query Interpolator::weighted_force(Weights& w) const noexcept {
+  w.query.force = weighted_sum(w, space_->force, space_->force_gradient);
   return w.query;
 }
 
@@ -661,31 +675,8 @@ Query Interpolator::force_and_torque(const Vec3& p) const noexcept {
   Weights w;
   weights(p, w);
   weighted_force(w);
-  if (!space_->has_torques) return w.query;
-  Vec3 torque = Vec3::Zero();
-  for (int i = 0; i < w.count; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    const auto point = static_cast<std::size_t>(w.point[k]);
-    torque += w.weight[k] * space_->torque[point];
-    if (w.with_gradients) torque.noalias() += space_->torque_gradient[point] * w.gradient[k];
-  }
-  w.query.torque = torque;
+  if (space_->has_torques) w.query.torque = weighted_sum(w, space_->torque, space_->torque_gradient);
   return w.query;
-}
-
-Query Interpolator::force_and_torque(const Vec3& p, const Located& at) const noexcept {
-  if (method_ == Interpolation::tricubic_hermite && !space_->is_refined({0, at.cell})) {
-    std::array<std::size_t, 8> points{};
-    if (corners({0, at.cell}, points)) {
-      Query q;
-      q.outside = at.outside;
-      q.valid = true;
-      q.force = hermite_sum(points, 0, at.basis);
-      if (space_->has_torques) q.torque = hermite_sum<true>(points, 0, at.basis);
-      return q;
-    }
-  }
-  return force_and_torque(p);
 }
 
 Query Interpolator::shape(const Vec3& p, VecX& displacement) const {

@@ -131,8 +131,14 @@ class Interpolator {
     Vec3 t = Vec3::Zero();
   };
   void weights(const Vec3& p, Weights& out) const noexcept;
+  /// Σ weight·value + Σ gradient·(∂/∂x, ∂/∂y, ∂/∂z) over the points and weights in `w`.
+  [[nodiscard]] Vec3 weighted_sum(const Weights& w, const std::vector<Vec3>& values,
+                                  const std::vector<Mat3>& gradients) const noexcept;
   /// The force of the points and weights in `w`, into w.query.force.
   Query weighted_force(Weights& w) const noexcept;
+  /// force(p, at), and with Torque force_and_torque(p, at).
+  template <bool Torque>
+  [[nodiscard]] Query located(const Vec3& p, const Located& at) const noexcept;
   bool trilinear(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
   bool scattered(const std::array<int, 3>& cell, const Vec3& t, Weights& out) const noexcept;
   /// The cell holding p (clamped onto the grid: query.outside) and p's place in it, [0, 1]³.

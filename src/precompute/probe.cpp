@@ -105,29 +105,22 @@ ProbeInterpolator::Stencil ProbeInterpolator::stencil(const Vec3& direction) con
 }
 
 Query ProbeInterpolator::force(const Vec3& p, const Vec3& direction) const noexcept {
+  return between_leans<false>(p, direction);
+}
+
+Query ProbeInterpolator::force_and_torque(const Vec3& p, const Vec3& direction) const noexcept {
+  return between_leans<true>(p, direction);
+}
+
+template <bool Torque>
+Query ProbeInterpolator::between_leans(const Vec3& p, const Vec3& direction) const noexcept {
   const Stencil s = stencil(direction);
   // Every lean shares the grid: p is located and its cell's Hermite weights made once.
   const Interpolator::Located at = levels_.front().locate(p);
   Query out;
   out.valid = true;
   for (std::size_t i = 0; i < s.level.size(); ++i) {
-    const Query q = levels_[s.level[i]].force(p, at);
-    out.valid = out.valid && q.valid;
-    out.outside = out.outside || q.outside;
-    out.fallback = out.fallback || q.fallback;
-    out.force += s.weight[i] * q.force;
-  }
-  if (!out.valid) out.force.setZero();
-  return out;
-}
-
-Query ProbeInterpolator::force_and_torque(const Vec3& p, const Vec3& direction) const noexcept {
-  const Stencil s = stencil(direction);
-  const Interpolator::Located at = levels_.front().locate(p);
-  Query out;
-  out.valid = true;
-  for (std::size_t i = 0; i < s.level.size(); ++i) {
-    const Query q = levels_[s.level[i]].force_and_torque(p, at);
+    const Query q = Torque ? levels_[s.level[i]].force_and_torque(p, at) : levels_[s.level[i]].force(p, at);
     out.valid = out.valid && q.valid;
     out.outside = out.outside || q.outside;
     out.fallback = out.fallback || q.fallback;

@@ -77,6 +77,9 @@ class ProbeInterpolator {
     std::array<double, 9> weight{};
   };
   [[nodiscard]] Stencil stencil(const Vec3& direction) const noexcept;
+  /// force(), and with Torque force_and_torque().
+  template <bool Torque>
+  [[nodiscard]] Query between_leans(const Vec3& p, const Vec3& direction) const noexcept;
 
   ProbeSettings probe_;
   ProbeFrame frame_;
