@@ -771,24 +771,29 @@ int probe(const Options& o) {
       worst = std::max(worst, e);
       worst_upright = std::max(worst_upright, e0);
     }
-    // Query latency: 100,000 queries along a path through the box, leaning as it goes.
-    std::vector<double> ns;
-    ns.reserve(100'000);
+    // Query latency: 100,000 queries along a path through the box, leaning as it goes (sorted
+    // nanoseconds of `query(p, d)`, which returns what it looked up).
     Vec3 sink = Vec3::Zero();
-    for (int i = 0; i < 100'000; ++i) {
-      const double a = 1e-4 * i;
-      const Vec3 p = lo + o.box * Vec3(0.5 + 0.4 * std::sin(a), 0.5 + 0.4 * std::cos(1.3 * a), 0.5 + 0.4 * std::sin(0.7 * a));
-      const Vec3 d = frame.direction(s.probe.max_tilt * Vec2(std::sin(2.1 * a), std::cos(1.7 * a)));
-      const auto t0 = std::chrono::steady_clock::now();
-      sink += in.force(p, d).force;
-      ns.push_back(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
-    }
-    std::sort(ns.begin(), ns.end());
+    auto latencies = [&](auto query) {
+      std::vector<double> ns;
+      ns.reserve(100'000);
+      for (int i = 0; i < 100'000; ++i) {
+        const double a = 1e-4 * i;
+        const Vec3 p =
+            lo + o.box * Vec3(0.5 + 0.4 * std::sin(a), 0.5 + 0.4 * std::cos(1.3 * a), 0.5 + 0.4 * std::sin(0.7 * a));
+        const Vec3 d = frame.direction(s.probe.max_tilt * Vec2(std::sin(2.1 * a), std::cos(1.7 * a)));
+        const auto t0 = std::chrono::steady_clock::now();
+        sink += query(p, d);
+        ns.push_back(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
+      }
+      std::sort(ns.begin(), ns.end());
+      return ns;
+    };
+    std::vector<double> ns = latencies([&](const Vec3& p, const Vec3& d) { return in.force(p, d).force; });
     std::printf("| %s | %.2f%% | %.2f%% | %.2f%% | %.2f%% | %.2f%% | %.2f%% | %.2f µs | %.2f µs |\n",
                 std::string(pc::to_string(method)).c_str(), 100 * mean, 100 * worst, 100 * mean_level,
                 100 * worst_level, 100 * mean_upright, 100 * worst_upright, 1e-3 * ns[ns.size() / 2],
                 1e-3 * ns[ns.size() * 99 / 100]);
-    if (!sink.allFinite()) std::printf("  (a query was not finite)\n");
 
     // The torque about the probe's end, its errors relative to the sample's largest torque
     // (it passes through zero where the probe presses straight), and the force-and-torque
@@ -800,19 +805,14 @@ int probe(const Options& o) {
       torque_mean += e / static_cast<double>(refs.size());
       torque_worst = std::max(torque_worst, e);
     }
-    ns.clear();
-    for (int i = 0; i < 100'000; ++i) {
-      const double a = 1e-4 * i;
-      const Vec3 p = lo + o.box * Vec3(0.5 + 0.4 * std::sin(a), 0.5 + 0.4 * std::cos(1.3 * a), 0.5 + 0.4 * std::sin(0.7 * a));
-      const Vec3 d = frame.direction(s.probe.max_tilt * Vec2(std::sin(2.1 * a), std::cos(1.7 * a)));
-      const auto t0 = std::chrono::steady_clock::now();
-      sink += in.force_and_torque(p, d).torque;
-      ns.push_back(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
-    }
-    std::sort(ns.begin(), ns.end());
+    ns = latencies([&](const Vec3& p, const Vec3& d) {
+      const pc::Query q = in.force_and_torque(p, d);
+      return Vec3(q.force + q.torque);
+    });
     torque_rows.push_back(fmt::format("| {} | {:.2f}% | {:.2f}% | {:.2f} µs | {:.2f} µs |", pc::to_string(method),
                                       100 * torque_mean, 100 * torque_worst, 1e-3 * ns[ns.size() / 2],
                                       1e-3 * ns[ns.size() * 99 / 100]));
+    if (!sink.allFinite()) std::printf("  (a query was not finite)\n");
   }
   if (largest_torque == 0.0) {
     std::printf("\n  no torque about the probe's end: an end of one node has no lever\n");
