@@ -819,7 +819,8 @@ int probe(const Options& o) {
     return 0;
   }
   std::printf("\n  torque about the probe's end (largest in the sample %.4g N·m), errors relative to it:\n"
-              "| method | torque error mean | torque error max | force and torque query p50 | p99 |\n|---|---|---|---|---|\n",
+              "| method | torque error mean | torque error max | force and torque query p50 | p99 |\n"
+              "|---|---|---|---|---|\n",
               largest_torque);
   for (const auto& row : torque_rows) std::printf("%s\n", row.c_str());
   return 0;

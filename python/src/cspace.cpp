@@ -234,8 +234,9 @@ void bind_cspace(py::module_& m) {
             auto t = torques.mutable_unchecked<2>();
             for (Eigen::Index i = 0; i < points.rows(); ++i) {
               const Vec3 at = points.row(i).transpose();
-              const precompute::Query q = c.probe ? c.probe->force_and_torque(at, directions[static_cast<std::size_t>(i)])
-                                                  : c.point->force_and_torque(at);
+              const precompute::Query q =
+                  c.probe ? c.probe->force_and_torque(at, directions[static_cast<std::size_t>(i)])
+                          : c.point->force_and_torque(at);
               for (py::ssize_t k = 0; k < 3; ++k) t(i, k) = q.torque[k];
               valid.mutable_at(i) = q.valid;
             }
