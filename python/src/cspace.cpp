@@ -86,6 +86,28 @@ Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> points_of(const py::ar
   return out;
 }
 
+/// (values (n, 3), valid (n,)): the interpolated force, or with `torque` the torque, at each
+/// point, with the probe's direction on a probe space.
+py::tuple query_points(const ConfigurationSpace& c, const py::array_t<double>& p,
+                       const std::optional<py::array_t<double>>& d, bool torque) {
+  const auto points = points_of(p);
+  const std::vector<Vec3> directions = query_directions(c, d, points.rows());
+  py::array_t<double> values({points.rows(), Eigen::Index{3}});
+  py::array_t<bool> valid(points.rows());
+  auto v = values.mutable_unchecked<2>();
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    const Vec3 at = points.row(i).transpose();
+    const Vec3* direction = c.probe ? &directions[static_cast<std::size_t>(i)] : nullptr;
+    const precompute::Query q = torque ? (direction ? c.probe->force_and_torque(at, *direction)
+                                                    : c.point->force_and_torque(at))
+                                       : (direction ? c.probe->force(at, *direction) : c.point->force(at));
+    const Vec3& value = torque ? q.torque : q.force;
+    for (py::ssize_t k = 0; k < 3; ++k) v(i, k) = value[k];
+    valid.mutable_at(i) = q.valid;
+  }
+  return py::make_tuple(values, valid);
+}
+
 }  // namespace
 
 void bind_cspace(py::module_& m) {
@@ -203,19 +225,7 @@ void bind_cspace(py::module_& m) {
       .def(
           "force",
           [](const ConfigurationSpace& c, const py::array_t<double>& p, const std::optional<py::array_t<double>>& d) {
-            const auto points = points_of(p);
-            const std::vector<Vec3> directions = query_directions(c, d, points.rows());
-            py::array_t<double> forces({points.rows(), Eigen::Index{3}});
-            py::array_t<bool> valid(points.rows());
-            auto f = forces.mutable_unchecked<2>();
-            for (Eigen::Index i = 0; i < points.rows(); ++i) {
-              const Vec3 at = points.row(i).transpose();
-              const precompute::Query q =
-                  c.probe ? c.probe->force(at, directions[static_cast<std::size_t>(i)]) : c.point->force(at);
-              for (py::ssize_t k = 0; k < 3; ++k) f(i, k) = q.force[k];
-              valid.mutable_at(i) = q.valid;
-            }
-            return py::make_tuple(forces, valid);
+            return query_points(c, p, d, false);
           },
           py::arg("points"), py::arg("directions") = py::none(),
           "The interpolated force at each point, (forces (n, 3) [N], valid (n,)): valid is False where no\n"
@@ -227,20 +237,7 @@ void bind_cspace(py::module_& m) {
           [](const ConfigurationSpace& c, const py::array_t<double>& p, const std::optional<py::array_t<double>>& d) {
             if (!c.space().has_torques)
               throw py::value_error("the space's file (before version 3) stores no torques: build it again");
-            const auto points = points_of(p);
-            const std::vector<Vec3> directions = query_directions(c, d, points.rows());
-            py::array_t<double> torques({points.rows(), Eigen::Index{3}});
-            py::array_t<bool> valid(points.rows());
-            auto t = torques.mutable_unchecked<2>();
-            for (Eigen::Index i = 0; i < points.rows(); ++i) {
-              const Vec3 at = points.row(i).transpose();
-              const precompute::Query q =
-                  c.probe ? c.probe->force_and_torque(at, directions[static_cast<std::size_t>(i)])
-                          : c.point->force_and_torque(at);
-              for (py::ssize_t k = 0; k < 3; ++k) t(i, k) = q.torque[k];
-              valid.mutable_at(i) = q.valid;
-            }
-            return py::make_tuple(torques, valid);
+            return query_points(c, p, d, true);
           },
           py::arg("points"), py::arg("directions") = py::none(),
           "The interpolated torque the body exerts on the tool about the interaction point (a probe's end),\n"

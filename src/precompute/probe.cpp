@@ -125,7 +125,7 @@ Query ProbeInterpolator::between_leans(const Vec3& p, const Vec3& direction) con
     out.outside = out.outside || q.outside;
     out.fallback = out.fallback || q.fallback;
     out.force += s.weight[i] * q.force;
-    out.torque += s.weight[i] * q.torque;
+    if constexpr (Torque) out.torque += s.weight[i] * q.torque;
   }
   if (!out.valid) {
     out.force.setZero();

@@ -2,6 +2,7 @@
 // A small StVK block held at its base, its top centre node the contact node: spaces of a few
 // dozen points solve in well under a second.
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <string>
 #include <utility>
@@ -10,6 +11,7 @@
 #include "mesh/generators.hpp"
 #include "physics/body.hpp"
 #include "physics/fem/tet_fem.hpp"
+#include "precompute/configuration_solver.hpp"
 #include "precompute/settings.hpp"
 
 namespace tactus::precompute::testing {
@@ -25,6 +27,21 @@ inline std::pair<double, double> relative_errors(const std::vector<Vec3>& truth,
     worst = std::max(worst, e);
   }
   return {sum / static_cast<double>(truth.size()), worst};
+}
+
+/// Configurations solved `step` either side of `at` along each axis by transitions from the
+/// solved `centre`: [k][0] at at + step·e_k, [k][1] at at − step·e_k (for central differences
+/// of what they store; the caller checks that each solved).
+inline std::array<std::array<PointResult, 2>, 3> solved_either_side(ConfigurationSolver& solver,
+                                                                     const PointResult& centre, const Vec3& at,
+                                                                     double step) {
+  std::array<std::array<PointResult, 2>, 3> out;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 d = step * Vec3::Unit(k);
+    out[static_cast<std::size_t>(k)] = {solver.transition(1, 0, centre.displacement, at, at + d),
+                                        solver.transition(2, 0, centre.displacement, at, at - d)};
+  }
+  return out;
 }
 
 inline physics::Body block_body(double young = 5.0e3, double poisson = 0.3) {
